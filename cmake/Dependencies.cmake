@@ -1,0 +1,22 @@
+# All dependencies come from Debian packages (scripts/setup.sh installs them).
+find_package(glm REQUIRED CONFIG)
+find_package(Threads REQUIRED)
+find_package(Vulkan REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED CONFIG)
+find_package(CLI11 CONFIG)
+find_package(PNG)
+find_program(GLSLANG_VALIDATOR NAMES glslangValidator REQUIRED)
+
+if(SHAPESPLINE_BUILD_TESTS)
+  find_package(GTest REQUIRED CONFIG)
+  include(GoogleTest)
+endif()
+if(SHAPESPLINE_BUILD_BENCH)
+  find_package(benchmark CONFIG)
+  if(NOT benchmark_FOUND)
+    message(STATUS "Google Benchmark not found: bench/ is skipped")
+    set(SHAPESPLINE_BUILD_BENCH OFF)
+  endif()
+  # OpenSubdiv is a bench-only peer; without it the bench builds and says so.
+  find_package(OpenSubdiv CONFIG QUIET)
+endif()

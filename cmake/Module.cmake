@@ -1,0 +1,15 @@
+# shapespline_module(NAME target DIR dir LINKS ...): a static library of every *.cpp in DIR, or an
+# INTERFACE library while the module has no sources yet (keeps the tree configurable as it grows).
+function(shapespline_module)
+  cmake_parse_arguments(ARG "" "NAME;DIR" "LINKS" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${ARG_DIR}/*.cpp)
+  if(srcs)
+    add_library(${ARG_NAME} STATIC ${srcs})
+    target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_SOURCE_DIR}/host)
+    target_link_libraries(${ARG_NAME} PUBLIC ${ARG_LINKS})
+  else()
+    add_library(${ARG_NAME} INTERFACE)
+    target_include_directories(${ARG_NAME} INTERFACE ${CMAKE_SOURCE_DIR}/host)
+    target_link_libraries(${ARG_NAME} INTERFACE ${ARG_LINKS})
+  endif()
+endfunction()

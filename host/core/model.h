@@ -1,0 +1,64 @@
+#pragma once
+// Plain data describing a curve or surface model (FORMAT.md). No evaluation here:
+// evaluators (core/curve.h, core/surface.h, gpu/) take these by const reference.
+#include <glm/vec3.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace shapespline {
+
+enum class Construction { ExtendedBSpline, AlphaEB, GB, UBP, GUBP, BSpline };
+
+// "extended_bspline", "alpha_eb", ... as spelled in model files.
+std::string_view constructionName(Construction c);
+
+// The shape-defining part of a family of local basis functions (MATH.md §1–§9).
+struct FamilySpec {
+  Construction construction = Construction::ExtendedBSpline;
+  int degree = 0;           // Xu-Wang degree 4..6 (ExtendedBSpline, AlphaEB)
+  int order = 0;            // UBP/GUBP 3..10, BSpline 2..10 (u order for surfaces)
+  double lambda = 0.0;      // ExtendedBSpline, AlphaEB, GB, UBP
+  std::vector<double> mu;   // GUBP: the half vector mu_0..mu_{floor(k/2)}
+};
+
+struct CurveModel {
+  FamilySpec family;
+  bool closed = false;
+  int dimension = 2;                 // 2 or 3; 2-D points carry z = 0
+  std::vector<glm::dvec3> points;
+  std::vector<double> alpha;         // AlphaEB only: one value per point (a scalar is expanded)
+  std::vector<double> knots;         // ExtendedBSpline/GB: span boundaries; BSpline: full knot vector
+};
+
+struct SurfaceModel {
+  FamilySpec family;                 // family.order is the u order for BSpline
+  int orderV = 0;                    // BSpline only: v order (else equal to family.order)
+  bool closedU = false;
+  bool closedV = false;
+  int rows = 0;                      // u direction (index i)
+  int cols = 0;                      // v direction (index j)
+  std::vector<glm::dvec3> points;    // row-major: points[i * cols + j]
+  std::vector<double> alpha;         // AlphaEB only: rows * cols values, row-major
+  std::vector<double> knotsU;        // BSpline with knot vectors only
+  std::vector<double> knotsV;
+
+  const glm::dvec3& at(int i, int j) const { return points[static_cast<size_t>(i) * cols + j]; }
+};
+
+// A model that breaks a rule of FORMAT.md / MATH.md §11. `field` is a JSON-path-like
+// name ("alpha[3]", "points[2][1]"), `value` the offending value as text, `rule` the rule.
+class ModelError : public std::invalid_argument {
+ public:
+  ModelError(std::string field, std::string value, std::string rule);
+  const std::string& field() const { return field_; }
+  const std::string& value() const { return value_; }
+  const std::string& rule() const { return rule_; }
+
+ private:
+  std::string field_, value_, rule_;
+};
+
+}  // namespace shapespline

@@ -1,0 +1,1 @@
+// Anchors the shapespline_shaders library; the SPIR-V lives in generated headers.
