@@ -1,0 +1,62 @@
+#pragma once
+// General B-splines on an arbitrary non-decreasing knot vector (MATH.md §10.1), de Boor–Cox.
+// Order k (degree k-1), control points P_0..P_n, knots t_0..t_{n+k}; domain [t_{k-1}, t_{n+1}].
+#include "core/span_basis.h"
+
+#include <glm/vec3.hpp>
+
+#include <span>
+#include <vector>
+
+namespace shapespline {
+
+struct BSplineCurveData {
+  int order = 0;
+  std::vector<double> knots;          // n + 1 + order values
+  std::vector<glm::dvec3> points;     // n + 1 points
+};
+
+// Index j of the non-empty knot span [t_j, t_{j+1}) containing t, k-1 <= j <= n; at the right end
+// of the domain the last non-empty span. t is clamped to the domain.
+int findKnotSpan(int order, std::span<const double> knots, int pointCount, double t);
+
+// Non-zero basis functions N_{j-k+1+r}(t), r = 0..k-1, and their first `derivs` (<= 2) derivatives:
+// out[d][r]. `span` from findKnotSpan.
+void bsplineBasisDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
+                        double out[3][kMaxBasisCount]);
+
+struct BSplineCurvePoint {
+  glm::dvec3 point{0.0}, d1{0.0}, d2{0.0};  // derivatives with respect to t (the knot parameter)
+};
+BSplineCurvePoint evalBSplineCurve(const BSplineCurveData& curve, double t);
+
+struct BSplineSurfaceData {
+  int orderU = 0, orderV = 0;
+  std::vector<double> knotsU, knotsV;
+  int rows = 0, cols = 0;              // rows along u (i), columns along v (j)
+  std::vector<glm::dvec3> points;      // row-major points[i * cols + j]
+};
+struct BSplineSurfacePoint {
+  glm::dvec3 point{0.0}, du{0.0}, dv{0.0}, duu{0.0}, duv{0.0}, dvv{0.0};
+};
+BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double u, double v);
+
+// Additions (extension module and its tests).
+
+// General form of bsplineBasisDerivs: derivatives 0..derivs (<= order-1) of the non-zero basis
+// functions at t on the given span, out[d][r] (Piegl & Tiller, The NURBS Book, A2.3). The span's
+// polynomial is used even when t lies outside [t_span, t_{span+1}] (one-sided limits at knots).
+void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
+                           double out[kMaxBasisCount][kMaxBasisCount]);
+
+// Derivatives 0..derivs (<= order-1) with respect to t of the polynomial piece of `span`, written to
+// out[0..derivs]. With span = findKnotSpan(t) this is the ordinary evaluation; with the span to the
+// left of a knot it gives the left-sided limits there (used to test continuity, MATH.md §10.5).
+void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, int derivs, glm::dvec3* out);
+
+// The knot-vector B-spline of a `bspline` model with `knots` (MATH.md §10.1). Throws ModelError when
+// the model is not a knot-vector B-spline (construction, closed, knot count).
+BSplineCurveData bsplineCurveFromModel(const CurveModel& model);
+BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model);
+
+}  // namespace shapespline
