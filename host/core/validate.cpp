@@ -1,0 +1,284 @@
+#include "core/validate.h"
+
+#include <charconv>
+#include <cmath>
+#include <string>
+
+namespace shapespline {
+
+namespace {
+
+// Shortest text that reads back as the same double, so the message shows what was parsed.
+std::string num(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+std::string idx(const std::string& base, size_t i) { return base + "[" + std::to_string(i) + "]"; }
+
+[[noreturn]] void fail(std::string field, std::string value, std::string rule) {
+  throw ModelError(std::move(field), std::move(value), std::move(rule));
+}
+
+bool usesXuWangBasis(Construction c) { return c == Construction::ExtendedBSpline || c == Construction::AlphaEB; }
+bool usesOrder(Construction c) {
+  return c == Construction::UBP || c == Construction::GUBP || c == Construction::BSpline;
+}
+std::string cname(Construction c) { return std::string(constructionName(c)); }
+
+void checkOrder(int order, Construction c, const std::string& field) {
+  const int lo = c == Construction::BSpline ? 2 : 3;
+  if (order < lo || order > 10) {
+    fail(field, std::to_string(order),
+         c == Construction::BSpline ? "bspline order must be an integer in 2..10"
+                                    : cname(c) + " order must be an integer in 3..10 (order 2 is only the seed function)");
+  }
+}
+
+void checkLambda(const FamilySpec& f) {
+  const double l = f.lambda;
+  if (!std::isfinite(l)) fail("lambda", num(l), "lambda must be a finite number");
+  switch (f.construction) {
+    case Construction::ExtendedBSpline:
+    case Construction::AlphaEB: {
+      const int k = f.degree;
+      const double lo = -static_cast<double>(k * (k - 2));
+      if (l < lo || l > 1.0)
+        fail("lambda", num(l),
+             "Xu-Wang degree-" + std::to_string(k) + " lambda must lie in [" + num(lo) + ", 1] (MATH.md §2.2)");
+      return;
+    }
+    case Construction::GB:
+      // -12 is a pole and (-12,-8) gives negative weights (MATH.md §7.1); no upper bound.
+      if (l < -8.0) fail("lambda", num(l), "GB lambda must be >= -8 (MATH.md §7.1)");
+      return;
+    case Construction::UBP: {
+      const double lo = ubpLambdaMin(f.order);
+      if (l < lo || l > 1.0)
+        fail("lambda", num(l),
+             "UBP order-" + std::to_string(f.order) + " lambda must lie in [lambda_min = " + num(lo) +
+                 ", 1] (MATH.md §8.2)");
+      return;
+    }
+    case Construction::GUBP:
+    case Construction::BSpline:
+      // These families have no lambda; a non-zero one means the caller meant another family.
+      if (l != 0.0) fail("lambda", num(l), "lambda is not used by construction " + cname(f.construction));
+      return;
+  }
+}
+
+// MATH.md §9: the model carries mu_0..mu_{floor(k/2)}; the full vector mu_0..mu_k is symmetric and
+// its even-index and odd-index sums must both be 1.
+void checkMu(const FamilySpec& f) {
+  const int k = f.order;
+  const size_t want = static_cast<size_t>(k / 2 + 1);
+  if (f.mu.size() != want)
+    fail("mu", std::to_string(f.mu.size()) + " values",
+         "GUBP order " + std::to_string(k) + " needs exactly floor(k/2)+1 = " + std::to_string(want) + " mu values");
+  for (size_t i = 0; i < f.mu.size(); ++i) {
+    const double m = f.mu[i];
+    if (!std::isfinite(m) || m < 0.0 || m > 1.0) fail(idx("mu", i), num(m), "each mu must lie in [0, 1]");
+  }
+  double even = 0.0, odd = 0.0;
+  for (int i = 0; i <= k; ++i) {
+    const double m = f.mu[static_cast<size_t>(i <= k / 2 ? i : k - i)];
+    (i % 2 == 0 ? even : odd) += m;
+  }
+  constexpr double kSumTol = 1e-9;
+  if (std::abs(even - 1.0) > kSumTol || std::abs(odd - 1.0) > kSumTol)
+    fail("mu", "even sum " + num(even) + ", odd sum " + num(odd),
+         "GUBP parity sums of the full symmetric mu vector must both equal 1 (MATH.md §9)");
+}
+
+// Fewest points an open/closed direction needs (FORMAT.md "Minimum sizes").
+int minPoints(Construction c, int order, bool closed) {
+  if (closed) return 3;
+  switch (c) {
+    case Construction::AlphaEB: return 2;
+    case Construction::ExtendedBSpline:
+    case Construction::GB: return 4;
+    default: return order;
+  }
+}
+
+std::string minRule(Construction c, int order, bool closed, const std::string& what, const std::string& unit) {
+  const int m = minPoints(c, order, closed);
+  std::string s = closed ? "a closed " : "an open ";
+  s += cname(c) + " " + what + " needs at least " + std::to_string(m) + " " + unit;
+  if (!closed && usesOrder(c)) s += " (order " + std::to_string(order) + ")";
+  return s;
+}
+
+// Full B-spline knot vector of n control points and order k (MATH.md §10.1). `field` is the JSON path
+// of the vector ("knots" or "knots[0]").
+void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::string& field) {
+  const size_t want = n + static_cast<size_t>(k);
+  if (t.size() != want)
+    fail(field, std::to_string(t.size()) + " knots",
+         "knot vector length must be N + order = " + std::to_string(n) + " + " + std::to_string(k) + " = " +
+             std::to_string(want));
+  for (size_t i = 0; i < t.size(); ++i)
+    if (!std::isfinite(t[i])) fail(idx(field, i), num(t[i]), "knots must be finite numbers");
+  for (size_t i = 1; i < t.size(); ++i)
+    if (t[i] < t[i - 1])
+      fail(idx(field, i), num(t[i]), "knots must be non-decreasing (previous knot " + num(t[i - 1]) + ")");
+  for (size_t i = 0; i < t.size();) {
+    size_t j = i;
+    while (j < t.size() && t[j] == t[i]) ++j;
+    if (j - i > static_cast<size_t>(k))
+      fail(idx(field, i), num(t[i]),
+           "knot multiplicity " + std::to_string(j - i) + " exceeds the order " + std::to_string(k));
+    i = j;
+  }
+  const double a = t[static_cast<size_t>(k - 1)], b = t[n];
+  if (!(a < b))
+    fail(field, "t_{k-1} = " + num(a) + ", t_N = " + num(b), "the domain must be non-empty: t_{k-1} < t_N");
+}
+
+void checkAlphaValue(double a, const std::string& field) {
+  if (!std::isfinite(a) || a <= 0.0 || a > 1.0)
+    fail(field, num(a), a == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
+}
+
+}  // namespace
+
+double ubpLambdaMin(int order) {
+  // MATH.md §8.2: exact minimum of N_{0,k} at x = k/2, as rationals rounded once to double.
+  switch (order) {
+    case 2: return -2.0;
+    case 3: return -6.0;
+    case 4: return -8.0;
+    case 5: return -1150.0 / 107.0;
+    case 6: return -66.0 / 5.0;
+    case 7: return -82418.0 / 5239.0;
+    case 8: return -4832.0 / 265.0;
+    case 9: return -14025042.0 / 676177.0;
+    case 10: return -156190.0 / 6719.0;
+    default: return NAN;
+  }
+}
+
+void validateFamily(const FamilySpec& f, int orderV, bool isSurface) {
+  const Construction c = f.construction;
+  if (usesXuWangBasis(c) && (f.degree < 4 || f.degree > 6))
+    fail("degree", std::to_string(f.degree), "degree must be 4, 5 or 6");
+  if (usesOrder(c)) {
+    const bool twoOrders = isSurface && c == Construction::BSpline;
+    checkOrder(f.order, c, twoOrders ? "order[0]" : "order");
+    if (twoOrders) {
+      checkOrder(orderV, c, "order[1]");
+    } else if (isSurface && orderV != 0 && orderV != f.order) {
+      fail("order", std::to_string(f.order) + " / " + std::to_string(orderV),
+           cname(c) + " surfaces use one order for both directions");
+    }
+  }
+  checkLambda(f);
+  if (c == Construction::GUBP) {
+    checkMu(f);
+  } else if (!f.mu.empty()) {
+    fail("mu", std::to_string(f.mu.size()) + " values", "mu is only used by gubp, not by " + cname(c));
+  }
+}
+
+void validateCurve(const CurveModel& m) {
+  const FamilySpec& f = m.family;
+  const Construction c = f.construction;
+  validateFamily(f);
+
+  if (m.dimension != 2 && m.dimension != 3)
+    fail("points", "dimension " + std::to_string(m.dimension), "curve points must have 2 or 3 coordinates");
+  const size_t n = m.points.size();
+  if (n < static_cast<size_t>(minPoints(c, f.order, m.closed)))
+    fail("points", std::to_string(n) + " points", minRule(c, f.order, m.closed, "curve", "points"));
+  for (size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < m.dimension; ++d)
+      if (!std::isfinite(m.points[i][d]))
+        fail(idx(idx("points", i), static_cast<size_t>(d)), num(m.points[i][d]), "coordinates must be finite numbers");
+    if (m.dimension == 2 && m.points[i].z != 0.0)
+      fail(idx("points", i), "z = " + num(m.points[i].z), "points of a 2-D curve must carry z = 0");
+  }
+
+  if (c == Construction::AlphaEB) {
+    if (m.alpha.empty()) fail("alpha", "missing", "alpha is required for alpha_eb");
+    if (m.alpha.size() != n)
+      fail("alpha", std::to_string(m.alpha.size()) + " values",
+           "alpha array length must equal the number of points (" + std::to_string(n) + ")");
+    for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], idx("alpha", i));
+  } else if (!m.alpha.empty()) {
+    fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
+  }
+
+  if (m.knots.empty()) return;
+  if (c == Construction::ExtendedBSpline || c == Construction::GB) {
+    // MATH.md §1 / R3: one boundary per span plus one; open 4-function curves have N-3 spans.
+    const size_t spans = m.closed ? n : n - 3;
+    if (m.knots.size() != spans + 1)
+      fail("knots", std::to_string(m.knots.size()) + " knots",
+           "span knots must number spans + 1 = " + std::to_string(spans + 1));
+    for (size_t i = 0; i < m.knots.size(); ++i)
+      if (!std::isfinite(m.knots[i])) fail(idx("knots", i), num(m.knots[i]), "knots must be finite numbers");
+    for (size_t i = 1; i < m.knots.size(); ++i)
+      if (!(m.knots[i] > m.knots[i - 1]))
+        fail(idx("knots", i), num(m.knots[i]),
+             "span knots must be strictly increasing (previous knot " + num(m.knots[i - 1]) + ")");
+  } else if (c == Construction::BSpline) {
+    if (m.closed) fail("closed", "true", "a bspline with a knot vector must be open (closed = false)");
+    checkKnotVector(m.knots, n, f.order, "knots");
+  } else {
+    fail("knots", std::to_string(m.knots.size()) + " knots", "knots are not used by construction " + cname(c));
+  }
+}
+
+void validateSurface(const SurfaceModel& m) {
+  const FamilySpec& f = m.family;
+  const Construction c = f.construction;
+  validateFamily(f, m.orderV, true);
+  const int orderU = f.order;
+  const int orderV = c == Construction::BSpline ? m.orderV : f.order;
+
+  if (m.rows < 0 || m.cols < 0 || m.points.size() != static_cast<size_t>(m.rows) * static_cast<size_t>(m.cols))
+    fail("points", std::to_string(m.points.size()) + " points",
+         "rows x cols = " + std::to_string(m.rows) + " x " + std::to_string(m.cols) + " must match the point count");
+  if (m.rows < minPoints(c, orderU, m.closedU))
+    fail("points", std::to_string(m.rows) + " rows", minRule(c, orderU, m.closedU, "surface", "rows (u direction)"));
+  if (m.cols < minPoints(c, orderV, m.closedV))
+    fail("points[0]", std::to_string(m.cols) + " columns",
+         minRule(c, orderV, m.closedV, "surface", "columns (v direction)"));
+  for (int i = 0; i < m.rows; ++i)
+    for (int j = 0; j < m.cols; ++j)
+      for (int d = 0; d < 3; ++d)
+        if (!std::isfinite(m.at(i, j)[d]))
+          fail(idx(idx(idx("points", static_cast<size_t>(i)), static_cast<size_t>(j)), static_cast<size_t>(d)),
+               num(m.at(i, j)[d]), "coordinates must be finite numbers");
+
+  if (c == Construction::AlphaEB) {
+    if (m.alpha.empty()) fail("alpha", "missing", "alpha is required for alpha_eb");
+    if (m.alpha.size() != m.points.size())
+      fail("alpha", std::to_string(m.alpha.size()) + " values",
+           "alpha must have one value per point (" + std::to_string(m.rows) + " x " + std::to_string(m.cols) + ")");
+    for (int i = 0; i < m.rows; ++i)
+      for (int j = 0; j < m.cols; ++j)
+        checkAlphaValue(m.alpha[static_cast<size_t>(i) * m.cols + j],
+                        idx(idx("alpha", static_cast<size_t>(i)), static_cast<size_t>(j)));
+  } else if (!m.alpha.empty()) {
+    fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
+  }
+
+  const bool hasKnots = !m.knotsU.empty() || !m.knotsV.empty();
+  if (!hasKnots) return;
+  if (c != Construction::BSpline)
+    fail("knots", "present", "surfaces take knots only for bspline (span knots are for curves only)");
+  if (m.knotsU.empty() || m.knotsV.empty())
+    fail("knots", m.knotsU.empty() ? "U missing" : "V missing", "a bspline surface takes both knot vectors [U, V]");
+  if (m.closedU || m.closedV)
+    fail("closed", std::string("[") + (m.closedU ? "true" : "false") + ", " + (m.closedV ? "true" : "false") + "]",
+         "a bspline surface with knot vectors must be open in both directions");
+  checkKnotVector(m.knotsU, static_cast<size_t>(m.rows), orderU, "knots[0]");
+  checkKnotVector(m.knotsV, static_cast<size_t>(m.cols), orderV, "knots[1]");
+}
+
+}  // namespace shapespline

@@ -1,0 +1,414 @@
+#include "io/model_json.h"
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/validate.h"
+
+namespace shapespline::io {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr size_t kMaxValueChars = 60;
+// Integers that any field can meaningfully hold; larger ones are rejected before conversion to int.
+constexpr double kMaxInteger = 1e6;
+
+std::string shortText(std::string s) {
+  if (s.size() > kMaxValueChars) s = s.substr(0, kMaxValueChars - 3) + "...";
+  return s;
+}
+std::string shortDump(const json& j) { return shortText(j.dump()); }
+
+std::string idx(const std::string& base, size_t i) { return base + "[" + std::to_string(i) + "]"; }
+
+[[noreturn]] void fail(std::string field, std::string value, std::string rule) {
+  throw ModelError(std::move(field), std::move(value), std::move(rule));
+}
+[[noreturn]] void failJson(std::string field, const json& value, std::string rule) {
+  fail(std::move(field), shortDump(value), std::move(rule));
+}
+
+std::optional<Construction> constructionFromName(const std::string& s) {
+  for (Construction c : {Construction::ExtendedBSpline, Construction::AlphaEB, Construction::GB, Construction::UBP,
+                         Construction::GUBP, Construction::BSpline})
+    if (constructionName(c) == s) return c;
+  return std::nullopt;
+}
+
+bool isXuWang(Construction c) { return c == Construction::ExtendedBSpline || c == Construction::AlphaEB; }
+bool hasOrder(Construction c) {
+  return c == Construction::UBP || c == Construction::GUBP || c == Construction::BSpline;
+}
+bool hasLambda(Construction c) { return c != Construction::GUBP && c != Construction::BSpline; }
+// Span knots exist for extended_bspline/gb curves only (MATH.md §1, R3); knot vectors for bspline.
+bool hasKnots(Construction c, bool surface) {
+  if (c == Construction::BSpline) return true;
+  return !surface && (c == Construction::ExtendedBSpline || c == Construction::GB);
+}
+
+// FORMAT.md "Fields": why a key that exists is not allowed here, or empty when it is.
+std::string unusedKeyRule(const std::string& key, Construction c, bool surface) {
+  const std::string name(constructionName(c));
+  bool used = true;
+  if (key == "degree") used = isXuWang(c);
+  else if (key == "order") used = hasOrder(c);
+  else if (key == "lambda") used = hasLambda(c);
+  else if (key == "mu") used = c == Construction::GUBP;
+  else if (key == "alpha") used = c == Construction::AlphaEB;
+  else if (key == "knots") used = hasKnots(c, surface);
+  if (used) return {};
+  if (key == "alpha") return "alpha is only allowed for alpha_eb, not " + name;
+  if (key == "knots" && surface && (c == Construction::ExtendedBSpline || c == Construction::GB))
+    return "span knots are only allowed for extended_bspline/gb curves, not surfaces";
+  return key + " is not used by construction " + name;
+}
+
+double getNumber(const json& j, const std::string& field) {
+  if (!j.is_number()) failJson(field, j, "must be a number");
+  const double v = j.get<double>();
+  // nlohmann cannot read NaN/inf from text, but a json built in code can hold them.
+  if (!std::isfinite(v)) fail(field, j.dump(), "must be a finite number");
+  return v;
+}
+
+// FORMAT.md: integers must be JSON integers; 5.0 is tolerated, 4.5 and "5" are not.
+int getInteger(const json& j, const std::string& field) {
+  double v = 0.0;
+  if (j.is_number_unsigned()) {
+    v = static_cast<double>(j.get<std::uint64_t>());
+  } else if (j.is_number_integer()) {
+    v = static_cast<double>(j.get<std::int64_t>());
+  } else if (j.is_number_float()) {
+    v = j.get<double>();
+    if (!std::isfinite(v) || v != std::floor(v)) failJson(field, j, "must be an integer");
+  } else {
+    failJson(field, j, "must be an integer (a JSON number, not a string or other type)");
+  }
+  if (std::abs(v) > kMaxInteger) failJson(field, j, "integer out of range");
+  return static_cast<int>(v);
+}
+
+bool getBool(const json& j, const std::string& field) {
+  if (!j.is_boolean()) failJson(field, j, "must be true or false");
+  return j.get<bool>();
+}
+
+std::vector<double> getNumberArray(const json& j, const std::string& field, const std::string& what) {
+  if (!j.is_array()) failJson(field, j, "must be an array of " + what);
+  std::vector<double> out;
+  out.reserve(j.size());
+  for (size_t i = 0; i < j.size(); ++i) out.push_back(getNumber(j[i], idx(field, i)));
+  return out;
+}
+
+// A point [x, y] or [x, y, z] with the allowed sizes; returns its size.
+size_t readPoint(const json& p, const std::string& field, bool surface, glm::dvec3& out) {
+  const bool ok = p.is_array() && (p.size() == 3 || (!surface && p.size() == 2));
+  if (!ok) failJson(field, p, surface ? "a surface point is [x, y, z]" : "a point is [x, y] or [x, y, z]");
+  out = glm::dvec3(0.0);
+  for (size_t c = 0; c < p.size(); ++c) out[static_cast<int>(c)] = getNumber(p[c], idx(field, c));
+  return p.size();
+}
+
+void readCommon(const json& doc, FamilySpec& f, bool surface) {
+  const Construction c = f.construction;
+  if (isXuWang(c)) f.degree = getInteger(doc.at("degree"), "degree");
+  if (hasLambda(c) && doc.contains("lambda")) f.lambda = getNumber(doc.at("lambda"), "lambda");
+  if (c == Construction::GUBP) f.mu = getNumberArray(doc.at("mu"), "mu", "numbers");
+  if (hasOrder(c) && !(surface && c == Construction::BSpline)) {
+    const json& o = doc.at("order");
+    if (surface && o.is_array())
+      failJson("order", o, std::string(constructionName(c)) + " surfaces take one integer order for both directions");
+    f.order = getInteger(o, "order");
+  }
+}
+
+// Scalar alpha: checked here so that the error names "alpha", the field the file actually has.
+std::optional<double> scalarAlpha(const json& a) {
+  if (!a.is_number()) return std::nullopt;
+  const double v = getNumber(a, "alpha");
+  if (!(v > 0.0 && v <= 1.0))
+    fail("alpha", shortDump(a), v == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
+  return v;
+}
+
+CurveModel readCurve(const json& doc, Construction c) {
+  CurveModel m;
+  m.family.construction = c;
+  readCommon(doc, m.family, false);
+  if (doc.contains("closed")) m.closed = getBool(doc.at("closed"), "closed");
+
+  const json& pts = doc.at("points");
+  if (!pts.is_array()) failJson("points", pts, "must be an array of points");
+  size_t dim = 0;
+  m.points.resize(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const size_t d = readPoint(pts[i], idx("points", i), false, m.points[i]);
+    if (dim == 0) dim = d;
+    if (d != dim)
+      failJson(idx("points", i), pts[i],
+               "all points must share one dimension (points[0] has " + std::to_string(dim) + " coordinates)");
+  }
+  m.dimension = dim == 0 ? 2 : static_cast<int>(dim);
+
+  if (doc.contains("alpha")) {
+    const json& a = doc.at("alpha");
+    if (auto v = scalarAlpha(a)) {
+      m.alpha.assign(m.points.size(), *v);
+    } else {
+      if (!a.is_array()) failJson("alpha", a, "alpha must be a number or an array of one number per point");
+      if (a.size() != m.points.size())
+        fail("alpha", std::to_string(a.size()) + " values",
+             "alpha array length must equal the number of points (" + std::to_string(m.points.size()) + ")");
+      m.alpha = getNumberArray(a, "alpha", "numbers");
+    }
+  }
+  if (doc.contains("knots")) m.knots = getNumberArray(doc.at("knots"), "knots", "numbers");
+  return m;
+}
+
+SurfaceModel readSurface(const json& doc, Construction c) {
+  SurfaceModel m;
+  m.family.construction = c;
+  readCommon(doc, m.family, true);
+  if (c == Construction::BSpline) {
+    const json& o = doc.at("order");
+    if (o.is_array()) {
+      if (o.size() != 2) failJson("order", o, "a bspline surface order is [k, l] (u order, v order)");
+      m.family.order = getInteger(o[0], "order[0]");
+      m.orderV = getInteger(o[1], "order[1]");
+    } else {
+      // A single integer is read as the same order in both directions.
+      m.family.order = m.orderV = getInteger(o, "order");
+    }
+  } else {
+    m.orderV = m.family.order;
+  }
+  if (doc.contains("closed")) {
+    const json& cl = doc.at("closed");
+    if (!cl.is_array() || cl.size() != 2) failJson("closed", cl, "a surface takes closed = [closed_u, closed_v]");
+    m.closedU = getBool(cl[0], "closed[0]");
+    m.closedV = getBool(cl[1], "closed[1]");
+  }
+
+  const json& pts = doc.at("points");
+  if (!pts.is_array()) failJson("points", pts, "must be an array of rows, each an array of [x, y, z] points");
+  m.rows = static_cast<int>(pts.size());
+  m.cols = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const json& row = pts[i];
+    const std::string rowField = idx("points", i);
+    if (!row.is_array()) failJson(rowField, row, "each row must be an array of [x, y, z] points");
+    if (i == 0) m.cols = static_cast<int>(row.size());
+    if (row.size() != static_cast<size_t>(m.cols))
+      fail(rowField, std::to_string(row.size()) + " points",
+           "all rows must have equal length (points[0] has " + std::to_string(m.cols) + ")");
+    for (size_t j = 0; j < row.size(); ++j) {
+      glm::dvec3 p;
+      readPoint(row[j], idx(rowField, j), true, p);
+      m.points.push_back(p);
+    }
+  }
+
+  if (doc.contains("alpha")) {
+    const json& a = doc.at("alpha");
+    if (auto v = scalarAlpha(a)) {
+      m.alpha.assign(m.points.size(), *v);
+    } else {
+      const std::string shape = std::to_string(m.rows) + " x " + std::to_string(m.cols);
+      if (!a.is_array() || a.size() != static_cast<size_t>(m.rows))
+        fail("alpha", a.is_array() ? std::to_string(a.size()) + " rows" : shortDump(a),
+             "alpha must be a number or an array of rows shaped like points (" + shape + ")");
+      for (size_t i = 0; i < a.size(); ++i) {
+        if (!a[i].is_array() || a[i].size() != static_cast<size_t>(m.cols))
+          fail(idx("alpha", i), a[i].is_array() ? std::to_string(a[i].size()) + " values" : shortDump(a[i]),
+               "each alpha row must have one number per column (" + std::to_string(m.cols) + ")");
+        const auto row = getNumberArray(a[i], idx("alpha", i), "numbers");
+        m.alpha.insert(m.alpha.end(), row.begin(), row.end());
+      }
+    }
+  }
+  if (doc.contains("knots")) {
+    const json& k = doc.at("knots");
+    if (!k.is_array() || k.size() != 2 || !k[0].is_array() || !k[1].is_array())
+      failJson("knots", k, "a bspline surface takes knots = [U, V], two arrays of numbers");
+    m.knotsU = getNumberArray(k[0], "knots[0]", "numbers");
+    m.knotsV = getNumberArray(k[1], "knots[1]", "numbers");
+  }
+  return m;
+}
+
+// Parser callback that rejects duplicate keys, which nlohmann would otherwise resolve silently
+// (last one wins) and so hide a conflicting value.
+struct DuplicateKeyGuard {
+  std::vector<std::vector<std::string>> open;
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start: open.emplace_back(); break;
+      case json::parse_event_t::object_end:
+        if (!open.empty()) open.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        const std::string key = parsed.get<std::string>();
+        auto& seen = open.back();
+        for (const auto& s : seen)
+          if (s == key) fail(key, "(repeated)", "duplicate key in a JSON object");
+        seen.push_back(key);
+        break;
+      }
+      default: break;
+    }
+    return true;
+  }
+};
+
+}  // namespace
+
+Model parseModel(const json& doc) {
+  if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
+
+  static const std::array<const char*, 12> kKnownKeys = {"kind",  "construction", "degree", "order",
+                                                         "lambda", "mu",          "closed", "points",
+                                                         "alpha", "knots",        "name",   "comment"};
+  for (const auto& [key, value] : doc.items()) {
+    bool known = false;
+    for (const char* k : kKnownKeys) known = known || key == k;
+    if (!known) failJson(key, value, "unknown key (FORMAT.md lists the allowed keys)");
+  }
+  for (const char* k : {"name", "comment"})
+    if (doc.contains(k) && !doc.at(k).is_string()) failJson(k, doc.at(k), "must be a string");
+
+  if (!doc.contains("kind")) fail("kind", "(missing)", "kind is required: \"curve\" or \"surface\"");
+  const json& kindJ = doc.at("kind");
+  if (!kindJ.is_string() || (kindJ != "curve" && kindJ != "surface"))
+    failJson("kind", kindJ, "kind must be \"curve\" or \"surface\"");
+  const bool surface = kindJ == "surface";
+
+  if (!doc.contains("construction"))
+    fail("construction", "(missing)",
+         "construction is required: extended_bspline, alpha_eb, gb, ubp, gubp or bspline");
+  const json& consJ = doc.at("construction");
+  const auto cons = consJ.is_string() ? constructionFromName(consJ.get<std::string>()) : std::nullopt;
+  if (!cons)
+    failJson("construction", consJ, "construction must be one of extended_bspline, alpha_eb, gb, ubp, gubp, bspline");
+  const Construction c = *cons;
+
+  for (const auto& [key, value] : doc.items())
+    if (auto rule = unusedKeyRule(key, c, surface); !rule.empty()) failJson(key, value, rule);
+
+  const std::string cname(constructionName(c));
+  auto require = [&](const char* key, bool needed) {
+    if (needed && !doc.contains(key)) fail(key, "(missing)", std::string(key) + " is required for " + cname);
+  };
+  require("degree", isXuWang(c));
+  require("order", hasOrder(c));
+  require("mu", c == Construction::GUBP);
+  require("alpha", c == Construction::AlphaEB);
+  require("points", true);
+
+  if (surface) {
+    SurfaceModel m = readSurface(doc, c);
+    validateSurface(m);
+    return m;
+  }
+  CurveModel m = readCurve(doc, c);
+  validateCurve(m);
+  return m;
+}
+
+Model parseModelText(std::string_view text) {
+  json doc;
+  try {
+    DuplicateKeyGuard guard;
+    doc = json::parse(text.begin(), text.end(), std::ref(guard));
+  } catch (const json::exception& e) {
+    // parse_error carries the byte position in its message; show the text around it as the value.
+    std::string near;
+    if (const auto* pe = dynamic_cast<const json::parse_error*>(&e)) {
+      const size_t at = pe->byte > 0 ? pe->byte - 1 : 0;
+      const size_t from = at > 20 ? at - 20 : 0;
+      if (from < text.size()) near = "near \"" + std::string(text.substr(from, 40)) + "\"";
+    }
+    fail("(document)", shortText(near), std::string("malformed JSON: ") + e.what());
+  }
+  return parseModel(doc);
+}
+
+Model loadModelFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open model file: " + path.string());
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw std::runtime_error("cannot read model file: " + path.string());
+  return parseModelText(ss.str());
+}
+
+json toJson(const CurveModel& m) {
+  const FamilySpec& f = m.family;
+  json j;
+  j["kind"] = "curve";
+  j["construction"] = std::string(constructionName(f.construction));
+  if (isXuWang(f.construction)) j["degree"] = f.degree;
+  if (hasOrder(f.construction)) j["order"] = f.order;
+  if (hasLambda(f.construction)) j["lambda"] = f.lambda;
+  if (f.construction == Construction::GUBP) j["mu"] = f.mu;
+  j["closed"] = m.closed;
+  json pts = json::array();
+  for (const auto& p : m.points)
+    pts.push_back(m.dimension == 2 ? json::array({p.x, p.y}) : json::array({p.x, p.y, p.z}));
+  j["points"] = std::move(pts);
+  if (f.construction == Construction::AlphaEB) j["alpha"] = m.alpha;
+  if (!m.knots.empty()) j["knots"] = m.knots;
+  return j;
+}
+
+json toJson(const SurfaceModel& m) {
+  const FamilySpec& f = m.family;
+  json j;
+  j["kind"] = "surface";
+  j["construction"] = std::string(constructionName(f.construction));
+  if (isXuWang(f.construction)) j["degree"] = f.degree;
+  if (f.construction == Construction::BSpline) j["order"] = json::array({f.order, m.orderV});
+  else if (hasOrder(f.construction)) j["order"] = f.order;
+  if (hasLambda(f.construction)) j["lambda"] = f.lambda;
+  if (f.construction == Construction::GUBP) j["mu"] = f.mu;
+  j["closed"] = json::array({m.closedU, m.closedV});
+  json pts = json::array();
+  for (int i = 0; i < m.rows; ++i) {
+    json row = json::array();
+    for (int c = 0; c < m.cols; ++c) {
+      const auto& p = m.at(i, c);
+      row.push_back(json::array({p.x, p.y, p.z}));
+    }
+    pts.push_back(std::move(row));
+  }
+  j["points"] = std::move(pts);
+  if (f.construction == Construction::AlphaEB && m.alpha.size() != m.points.size()) {
+    j["alpha"] = m.alpha;  // not a valid model; write what is there rather than index past it
+  } else if (f.construction == Construction::AlphaEB) {
+    json a = json::array();
+    for (int i = 0; i < m.rows; ++i) {
+      json row = json::array();
+      for (int c = 0; c < m.cols; ++c) row.push_back(m.alpha[static_cast<size_t>(i) * m.cols + c]);
+      a.push_back(std::move(row));
+    }
+    j["alpha"] = std::move(a);
+  }
+  if (!m.knotsU.empty() || !m.knotsV.empty()) j["knots"] = json::array({m.knotsU, m.knotsV});
+  return j;
+}
+
+json toJson(const Model& model) {
+  return std::visit([](const auto& m) { return toJson(m); }, model);
+}
+
+}  // namespace shapespline::io

@@ -1,0 +1,35 @@
+#pragma once
+// Model files (FORMAT.md) to typed models and back.
+//
+// Reading checks the JSON-level rules of FORMAT.md "Fields" (object, known keys only, keys the
+// construction uses only, required keys, JSON types, integer-valued numbers, finite numbers, point /
+// row shapes, alpha shape) and then the typed rules of MATH.md §11 via core/validate.h. Every failure
+// is a ModelError naming the field as a JSON path ("points[2][1]", "alpha[1][2]", "order[1]"), the
+// offending value (short dump) and the rule; malformed JSON text gives field "(document)".
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string_view>
+#include <variant>
+
+#include "core/model.h"
+
+namespace shapespline::io {
+
+using Model = std::variant<CurveModel, SurfaceModel>;
+
+// JSON value -> validated model. Throws ModelError.
+Model parseModel(const nlohmann::json& doc);
+// JSON text -> validated model. Throws ModelError (field "(document)" for malformed text).
+Model parseModelText(std::string_view text);
+// File -> validated model. Throws ModelError for bad content and std::runtime_error when the file
+// cannot be read (so a caller can tell an I/O failure from an invalid model).
+Model loadModelFile(const std::filesystem::path& path);
+
+// Model -> FORMAT.md JSON: 2-D curves as [x, y], alpha as a per-vertex array, doubles written
+// round-trippably, so parseModel(toJson(m)) reproduces m exactly.
+nlohmann::json toJson(const Model& model);
+nlohmann::json toJson(const CurveModel& model);
+nlohmann::json toJson(const SurfaceModel& model);
+
+}  // namespace shapespline::io
