@@ -1,0 +1,355 @@
+#include "core/grid_sampler.h"
+
+#include "core/singular_blend.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <future>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace shapespline {
+namespace {
+
+constexpr FieldMask kCurveFields = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
+constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
+                                     fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
+                                     fieldBit(Field::Normal);
+
+bool wants(FieldMask mask, Field f) { return (mask & fieldBit(f)) != 0; }
+
+double gridParameter(int a, int samples) { return samples > 1 ? static_cast<double>(a) / (samples - 1) : 0.0; }
+
+// Basis (and singular blend) values of one direction at every grid parameter, laid out so that the
+// inner loops run over contiguous samples: b[d][r * samples + a] = B_r^(d)(t_a).
+struct DirectionTable {
+  int count = 0, samples = 0;
+  std::vector<double> b[3];
+  std::vector<BlendValue> blend;
+
+  const double* row(int d, int r) const { return b[d].data() + static_cast<size_t>(r) * samples; }
+};
+
+DirectionTable tabulate(const SpanBasis& basis, int samples) {
+  DirectionTable tab;
+  tab.count = basis.count;
+  tab.samples = samples;
+  for (auto& v : tab.b) v.assign(static_cast<size_t>(basis.count) * samples, 0.0);
+  tab.blend.resize(samples);
+  for (int a = 0; a < samples; ++a) {
+    const double t = gridParameter(a, samples);
+    double v[3][kMaxBasisCount];
+    evalSpanBasis(basis, t, v[0], v[1], v[2]);
+    for (int d = 0; d < 3; ++d)
+      for (int r = 0; r < basis.count; ++r) tab.b[d][static_cast<size_t>(r) * samples + a] = v[d][r];
+    tab.blend[a] = singularBlend(t);
+  }
+  return tab;
+}
+
+// Output planes of one chunk buffer: plane[f] holds 3 doubles per point, or is empty.
+struct ChunkBuffer {
+  std::vector<double> planes[kFieldCount];
+  void allocate(FieldMask fields, size_t points) {
+    for (int f = 0; f < kFieldCount; ++f)
+      if (fields & (1u << f)) planes[f].resize(points * 3);
+  }
+  double* plane(Field f) {
+    auto& p = planes[static_cast<int>(f)];
+    return p.empty() ? nullptr : p.data();
+  }
+};
+
+void put(double* plane, size_t point, const glm::dvec3& v) {
+  if (!plane) return;
+  plane[point * 3 + 0] = v.x;
+  plane[point * 3 + 1] = v.y;
+  plane[point * 3 + 2] = v.z;
+}
+
+// Runs compute(buffer, itemBegin, itemEnd, firstPointInBuffer) for every chunk, split over threads,
+// and hands finished chunks to the consumer in order while the next chunk is being computed.
+template <class Compute>
+void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldMask fields,
+                const SamplerOptions& options, const ChunkConsumer& consumer, Compute compute) {
+  if (itemCount == 0) return;
+  const int threads = options.threads > 0 ? options.threads
+                                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const size_t itemsPerChunk =
+      std::clamp<size_t>(options.maxChunkPoints / std::max<size_t>(pointsPerItem, 1), 1, itemCount);
+  const size_t chunkCount = (itemCount + itemsPerChunk - 1) / itemsPerChunk;
+  ChunkBuffer buffers[2];
+  for (auto& b : buffers) b.allocate(fields, itemsPerChunk * pointsPerItem);
+
+  auto launch = [&](size_t chunk) {
+    const size_t begin = firstItem + chunk * itemsPerChunk;
+    const size_t end = std::min(begin + itemsPerChunk, firstItem + itemCount);
+    const size_t n = end - begin;
+    const size_t slices = std::min<size_t>(static_cast<size_t>(threads), n);
+    std::vector<std::future<void>> work;
+    ChunkBuffer* buffer = &buffers[chunk % 2];
+    for (size_t s = 0; s < slices; ++s) {
+      const size_t b = begin + n * s / slices, e = begin + n * (s + 1) / slices;
+      work.push_back(std::async(std::launch::async, [=, &compute] { compute(*buffer, b, e, (b - begin) * pointsPerItem); }));
+    }
+    return work;
+  };
+  auto finish = [](std::vector<std::future<void>>& work) {
+    for (auto& w : work) w.wait();
+    for (auto& w : work) w.get();  // rethrows the first failure
+  };
+
+  auto pending = launch(0);
+  for (size_t chunk = 0; chunk < chunkCount; ++chunk) {
+    finish(pending);
+    if (chunk + 1 < chunkCount) pending = launch(chunk + 1);
+    GridChunk out;
+    out.firstItem = firstItem + chunk * itemsPerChunk;
+    out.itemCount = std::min(itemsPerChunk, firstItem + itemCount - out.firstItem);
+    out.pointsPerItem = pointsPerItem;
+    out.precision = Precision::Double;
+    for (int f = 0; f < kFieldCount; ++f) out.planes[f] = buffers[chunk % 2].plane(static_cast<Field>(f));
+    try {
+      consumer(out);
+    } catch (...) {
+      if (chunk + 1 < chunkCount)
+        for (auto& w : pending) w.wait();  // no worker may outlive the buffers
+      throw;
+    }
+  }
+}
+
+void checkGrid(const GridSpec& grid, size_t items, bool surface, size_t& first, size_t& count) {
+  if (grid.samplesU < 2) throw std::invalid_argument("samplesU must be >= 2, got " + std::to_string(grid.samplesU));
+  if (surface && grid.samplesV < 2)
+    throw std::invalid_argument("samplesV must be >= 2, got " + std::to_string(grid.samplesV));
+  if (!surface && grid.samplesV != 1) throw std::invalid_argument("curves sample with samplesV = 1");
+  first = grid.firstItem;
+  count = grid.itemCount == 0 ? (first <= items ? items - first : 0) : grid.itemCount;
+  if (first > items || count > items - first)
+    throw std::invalid_argument("item range [" + std::to_string(first) + ", " + std::to_string(first + count) +
+                                ") outside the model's " + std::to_string(items) + " items");
+}
+
+}  // namespace
+
+std::vector<int> curveGridItems(const Curve& curve) {
+  std::vector<int> items;
+  const SpanRange r = curve.spans();
+  for (int j = r.first; j <= r.last; ++j) {
+    if (curve.usesKnotVector()) {
+      const auto& k = curve.model().knots;
+      if (!(k[j] < k[j + 1])) continue;
+    }
+    items.push_back(j);
+  }
+  return items;
+}
+
+std::vector<std::pair<int, int>> surfaceGridItems(const Surface& surface) {
+  std::vector<std::pair<int, int>> items;
+  const PatchRange r = surface.patches();
+  const auto& m = surface.model();
+  for (int i = r.u.first; i <= r.u.last; ++i) {
+    if (surface.usesKnotVector() && !(m.knotsU[i] < m.knotsU[i + 1])) continue;
+    for (int j = r.v.first; j <= r.v.last; ++j) {
+      if (surface.usesKnotVector() && !(m.knotsV[j] < m.knotsV[j + 1])) continue;
+      items.emplace_back(i, j);
+    }
+  }
+  return items;
+}
+
+void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
+                     const SamplerOptions& options) {
+  if (fields & ~kCurveFields) throw std::invalid_argument("curves provide the fields point, d1 and d2 only");
+  const std::vector<int> items = curveGridItems(curve);
+  size_t first = 0, count = 0;
+  checkGrid(grid, items.size(), false, first, count);
+  const int S = grid.samplesU;
+  const DirectionTable tab = tabulate(curve.basis(), S);
+  const bool alphaEB = curve.model().family.construction == Construction::AlphaEB;
+  const auto& knots = curve.spanKnots();
+  const int firstSpan = curve.spans().first;
+  const int n = static_cast<int>(curve.model().points.size());
+
+  auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
+    double* outP = buffer.plane(Field::Point);
+    double* outD1 = buffer.plane(Field::D1);
+    double* outD2 = buffer.plane(Field::D2);
+    size_t point = firstPoint;
+    for (size_t item = begin; item < end; ++item) {
+      const int span = items[item];
+      if (curve.usesKnotVector()) {
+        for (int a = 0; a < S; ++a, ++point) {
+          const CurvePoint cp = curve.evaluate(span, gridParameter(a, S));
+          put(outP, point, cp.point), put(outD1, point, cp.d1), put(outD2, point, cp.d2);
+        }
+        continue;
+      }
+      const glm::dvec3* P = curve.spanPoints().data() + span + curve.spanPointOffset();
+      const double invH = knots.empty() ? 1.0 : 1.0 / (knots[span - firstSpan + 1] - knots[span - firstSpan]);
+      glm::dvec3 v0{0.0}, v1{0.0};
+      double a0 = 0.0, a1 = 0.0;
+      if (alphaEB) {
+        const int j1 = (span + 1) % n;
+        v0 = curve.alphaV()[span], v1 = curve.alphaV()[j1];
+        a0 = curve.alphas()[span], a1 = curve.alphas()[j1];
+      }
+      for (int a = 0; a < S; ++a, ++point) {
+        glm::dvec3 c[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+        for (int r = 0; r < tab.count; ++r)
+          for (int d = 0; d < 3; ++d) c[d] += tab.b[d][static_cast<size_t>(r) * S + a] * P[r];
+        if (alphaEB) {  // MATH.md §4.2
+          const BlendValue s = tab.blend[a];
+          const double al = (1 - s.s) * a0 + s.s * a1, al1 = s.d1 * (a1 - a0), al2 = s.d2 * (a1 - a0);
+          const glm::dvec3 L = (1 - s.s) * v0 + s.s * v1, L1 = s.d1 * (v1 - v0), L2 = s.d2 * (v1 - v0);
+          const glm::dvec3 M = L - c[0], M1 = L1 - c[1], M2 = L2 - c[2];
+          c[2] = c[2] + al * M2 + 2 * al1 * M1 + al2 * M;
+          c[1] = c[1] + al * M1 + al1 * M;
+          c[0] = c[0] + al * M;
+        }
+        put(outP, point, c[0]);
+        put(outD1, point, c[1] * invH);
+        put(outD2, point, c[2] * (invH * invH));
+      }
+    }
+  };
+  runChunked(first, count, static_cast<size_t>(S), fields, options, consumer, compute);
+}
+
+void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask fields,
+                       const ChunkConsumer& consumer, const SamplerOptions& options) {
+  if (fields & ~kSurfaceFields)
+    throw std::invalid_argument("surfaces provide the fields point, du, dv, duu, duv, dvv and normal only");
+  const auto items = surfaceGridItems(surface);
+  size_t first = 0, count = 0;
+  checkGrid(grid, items.size(), true, first, count);
+  const int Su = grid.samplesU, Sv = grid.samplesV;
+  const DirectionTable tu = tabulate(surface.basisU(), Su), tv = tabulate(surface.basisV(), Sv);
+  const SurfaceModel& model = surface.model();
+  const bool alphaEB = model.family.construction == Construction::AlphaEB;
+  const bool normal = wants(fields, Field::Normal);
+  // Which partials of the base surface the requested fields need (α-EB second partials need the
+  // first ones too, MATH.md §5.3).
+  const bool needUU = wants(fields, Field::Duu), needVV = wants(fields, Field::Dvv), needUV = wants(fields, Field::Duv);
+  const bool needU = wants(fields, Field::Du) || normal || ((needUU || needUV) && alphaEB);
+  const bool needV = wants(fields, Field::Dv) || normal || ((needVV || needUV) && alphaEB);
+  const int mu = tu.count, mv = tv.count;
+
+  auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
+    double* out[kFieldCount];
+    for (int f = 0; f < kFieldCount; ++f) out[f] = buffer.plane(static_cast<Field>(f));
+    // Row buffers (structure of arrays over v samples): C, Cu, Cv, Cuu, Cuv, Cvv per coordinate.
+    std::vector<double> rows(static_cast<size_t>(6 * 3) * Sv);
+    auto row = [&](int k, int c) { return rows.data() + static_cast<size_t>(k * 3 + c) * Sv; };
+    size_t point = firstPoint;
+    for (size_t item = begin; item < end; ++item) {
+      const auto [i, j] = items[item];
+      if (surface.usesKnotVector()) {
+        for (int a = 0; a < Su; ++a)
+          for (int b = 0; b < Sv; ++b, ++point) {
+            const SurfacePoint sp = surface.evaluate(i, j, gridParameter(a, Su), gridParameter(b, Sv));
+            put(out[0], point, sp.point), put(out[int(Field::Du)], point, sp.du), put(out[int(Field::Dv)], point, sp.dv);
+            put(out[int(Field::Duu)], point, sp.duu), put(out[int(Field::Duv)], point, sp.duv);
+            put(out[int(Field::Dvv)], point, sp.dvv), put(out[int(Field::Normal)], point, sp.normal);
+          }
+        continue;
+      }
+      const int stride = surface.netCols();
+      const glm::dvec3* P = surface.patchNet().data() + static_cast<size_t>(i + surface.netOffsetU()) * stride +
+                            (j + surface.netOffsetV());
+      double alpha[4] = {0, 0, 0, 0};
+      glm::dvec3 V[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+      if (alphaEB) {  // corners (i,j), (i,j+1), (i+1,j), (i+1,j+1), wrapped in closed directions
+        const int i1 = (i + 1) % model.rows, j1 = (j + 1) % model.cols;
+        const int idx[4] = {i * model.cols + j, i * model.cols + j1, i1 * model.cols + j, i1 * model.cols + j1};
+        for (int k = 0; k < 4; ++k) alpha[k] = surface.alphas()[idx[k]], V[k] = surface.alphaV()[idx[k]];
+      }
+      for (int a = 0; a < Su; ++a) {
+        // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
+        glm::dvec3 T[3][kMaxBasisCount];
+        for (int s = 0; s < mv; ++s) {
+          T[0][s] = T[1][s] = T[2][s] = glm::dvec3(0.0);
+          for (int r = 0; r < mu; ++r) {
+            const glm::dvec3& p = P[static_cast<size_t>(r) * stride + s];
+            T[0][s] += tu.row(0, r)[a] * p;
+            if (needU || needUV) T[1][s] += tu.row(1, r)[a] * p;
+            if (needUU) T[2][s] += tu.row(2, r)[a] * p;
+          }
+        }
+        // v-expansion over the whole row of samples (contiguous, vectorisable axpy loops).
+        std::fill(rows.begin(), rows.end(), 0.0);
+        for (int s = 0; s < mv; ++s) {
+          const double* bv0 = tv.row(0, s);
+          const double* bv1 = tv.row(1, s);
+          const double* bv2 = tv.row(2, s);
+          for (int c = 0; c < 3; ++c) {
+            const double t0 = T[0][s][c], t1 = T[1][s][c], t2 = T[2][s][c];
+            double* C = row(0, c);
+            for (int b = 0; b < Sv; ++b) C[b] += bv0[b] * t0;
+            if (needU) { double* R = row(1, c); for (int b = 0; b < Sv; ++b) R[b] += bv0[b] * t1; }
+            if (needV) { double* R = row(2, c); for (int b = 0; b < Sv; ++b) R[b] += bv1[b] * t0; }
+            if (needUU) { double* R = row(3, c); for (int b = 0; b < Sv; ++b) R[b] += bv0[b] * t2; }
+            if (needUV) { double* R = row(4, c); for (int b = 0; b < Sv; ++b) R[b] += bv1[b] * t1; }
+            if (needVV) { double* R = row(5, c); for (int b = 0; b < Sv; ++b) R[b] += bv2[b] * t0; }
+          }
+        }
+        const BlendValue su = tu.blend[a];
+        const double uA = gridParameter(a, Su);
+        for (int b = 0; b < Sv; ++b, ++point) {
+          glm::dvec3 q[6];
+          for (int k = 0; k < 6; ++k) q[k] = glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]);
+          if (alphaEB) {
+            // MATH.md §5.3: weight derivative (r,q) = u-factor of order r times v-factor of order q.
+            const BlendValue sv = tv.blend[b];
+            const double fu[3][2] = {{1 - su.s, su.s}, {-su.d1, su.d1}, {-su.d2, su.d2}};
+            const double fv[3][2] = {{1 - sv.s, sv.s}, {-sv.d1, sv.d1}, {-sv.d2, sv.d2}};
+            const int orders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+            double al[6];
+            glm::dvec3 M[6];
+            for (int k = 0; k < 6; ++k) {
+              const int r = orders[k][0], o = orders[k][1];
+              al[k] = 0.0;
+              glm::dvec3 L(0.0);
+              for (int cu = 0; cu < 2; ++cu)
+                for (int cv = 0; cv < 2; ++cv) {
+                  const double w = fu[r][cu] * fv[o][cv];
+                  al[k] += w * alpha[cu * 2 + cv];
+                  L += w * V[cu * 2 + cv];
+                }
+              M[k] = L - q[k];
+            }
+            const glm::dvec3 C = q[0], Cu = q[1], Cv = q[2], Cuu = q[3], Cuv = q[4], Cvv = q[5];
+            q[0] = C + al[0] * M[0];
+            q[1] = Cu + al[0] * M[1] + al[1] * M[0];
+            q[2] = Cv + al[0] * M[2] + al[2] * M[0];
+            q[3] = Cuu + al[0] * M[3] + 2 * al[1] * M[1] + al[3] * M[0];
+            q[4] = Cuv + al[0] * M[4] + al[1] * M[2] + al[2] * M[1] + al[4] * M[0];
+            q[5] = Cvv + al[0] * M[5] + 2 * al[2] * M[2] + al[5] * M[0];
+          }
+          put(out[int(Field::Point)], point, q[0]);
+          put(out[int(Field::Du)], point, q[1]);
+          put(out[int(Field::Dv)], point, q[2]);
+          put(out[int(Field::Duu)], point, q[3]);
+          put(out[int(Field::Duv)], point, q[4]);
+          put(out[int(Field::Dvv)], point, q[5]);
+          if (normal) {
+            const glm::dvec3 n = glm::cross(q[1], q[2]);
+            const bool corner = (a == 0 || a == Su - 1) && (b == 0 || b == Sv - 1);
+            // Corners of α-EB patches and degenerate crosses follow the full §5.3 convention.
+            if ((alphaEB && corner) || degenerateCross(q[1], q[2], n))
+              put(out[int(Field::Normal)], point, surface.evaluate(i, j, uA, gridParameter(b, Sv)).normal);
+            else
+              put(out[int(Field::Normal)], point, n / glm::length(n));
+          }
+        }
+      }
+    }
+  };
+  runChunked(first, count, static_cast<size_t>(Su) * Sv, fields, options, consumer, compute);
+}
+
+}  // namespace shapespline

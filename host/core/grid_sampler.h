@@ -1,0 +1,36 @@
+#pragma once
+// CPU fp64 grid sampling of curves and surfaces, delivered chunk by chunk (core/sample_grid.h).
+//
+// On a regular grid the basis values depend only on the sample position, not on the span or
+// patch, so they are tabulated once per grid and every patch is a small tensor contraction
+// (v first, then u). Items are split among threads; each point is computed by the same code
+// whatever the thread count or chunk size, so the output is byte-identical across both.
+// Points where the fast path does not apply (knot-vector B-splines, α-EB corner samples, and
+// degenerate normals) go through Curve::evaluate / Surface::evaluate.
+#include "core/curve.h"
+#include "core/sample_grid.h"
+#include "core/surface.h"
+
+#include <vector>
+
+namespace shapespline {
+
+struct SamplerOptions {
+  int threads = 0;                      // 0 = all hardware threads
+  size_t maxChunkPoints = size_t{1} << 20;  // points per delivered chunk (rounded to whole items)
+};
+
+// The sampled items: span indices of a curve (for knot-vector B-splines only non-empty intervals).
+std::vector<int> curveGridItems(const Curve& curve);
+// Patches (i, j) of a surface, row-major (i outer); knot-vector B-splines: non-empty intervals only.
+std::vector<std::pair<int, int>> surfaceGridItems(const Surface& surface);
+
+// Fields allowed: Point, D1, D2 (curves); Point, Du, Dv, Duu, Duv, Dvv, Normal (surfaces).
+// Throws std::invalid_argument for another field, fewer than 2 samples, or an item range outside
+// the model; chunks are delivered in increasing item order on the calling thread.
+void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
+                     const SamplerOptions& options = {});
+void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask fields,
+                       const ChunkConsumer& consumer, const SamplerOptions& options = {});
+
+}  // namespace shapespline
