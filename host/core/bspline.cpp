@@ -1,0 +1,211 @@
+#include "core/bspline.h"
+
+#include <algorithm>
+#include <string>
+
+namespace shapespline {
+
+int findKnotSpan(int order, std::span<const double> knots, int pointCount, double t) {
+  const int n = pointCount - 1;
+  const int lo = order - 1;
+  const double a = knots[lo], b = knots[n + 1];
+  if (!(t > a)) t = a;  // also maps NaN to the left end rather than reading out of range
+  if (t >= b) {
+    // Right end: the last non-empty span, so that C(b) is the limit from the left.
+    int j = n;
+    while (j > lo && !(knots[j] < knots[j + 1])) --j;
+    return j;
+  }
+  // Largest j in [k-1, n] with t_j <= t; then t < t_{j+1} because t < b = t_{n+1}.
+  int left = lo, right = n + 1;  // invariant: t_left <= t < t_right
+  while (right - left > 1) {
+    const int mid = (left + right) / 2;
+    if (t < knots[mid]) right = mid;
+    else left = mid;
+  }
+  return left;
+}
+
+void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
+                           double out[kMaxBasisCount][kMaxBasisCount]) {
+  // The NURBS Book A2.3 with p = order-1. Every divisor is a difference of knots that brackets the
+  // non-empty span [t_span, t_{span+1}], so it is positive.
+  const int p = order - 1;
+  double ndu[kMaxBasisCount][kMaxBasisCount];
+  double left[kMaxBasisCount], right[kMaxBasisCount];
+  double a[2][kMaxBasisCount];
+  ndu[0][0] = 1.0;
+  for (int j = 1; j <= p; ++j) {
+    left[j] = t - knots[span + 1 - j];
+    right[j] = knots[span + j] - t;
+    double saved = 0.0;
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];
+      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+  for (int r = 0; r <= p; ++r) out[0][r] = ndu[r][p];
+  const int n = std::min(derivs, p);
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = 1.0;
+    for (int k = 1; k <= n; ++k) {
+      double d = 0.0;
+      const int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      const int j1 = rk >= -1 ? 1 : -rk;
+      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      out[k][r] = d;
+      std::swap(s1, s2);
+    }
+  }
+  double factor = p;
+  for (int k = 1; k <= n; ++k) {
+    for (int j = 0; j <= p; ++j) out[k][j] *= factor;
+    factor *= (p - k);
+  }
+  for (int k = n + 1; k <= derivs; ++k)
+    for (int j = 0; j <= p; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
+}
+
+void bsplineBasisDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
+                        double out[3][kMaxBasisCount]) {
+  double all[kMaxBasisCount][kMaxBasisCount];
+  bsplineBasisAllDerivs(order, knots, span, t, derivs, all);
+  for (int d = 0; d <= derivs; ++d)
+    for (int r = 0; r < order; ++r) out[d][r] = all[d][r];
+}
+
+void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, int derivs, glm::dvec3* out) {
+  double basis[kMaxBasisCount][kMaxBasisCount];
+  bsplineBasisAllDerivs(curve.order, curve.knots, span, t, derivs, basis);
+  const int first = span - curve.order + 1;
+  for (int d = 0; d <= derivs; ++d) {
+    glm::dvec3 sum(0.0);
+    for (int r = 0; r < curve.order; ++r) sum += basis[d][r] * curve.points[first + r];
+    out[d] = sum;
+  }
+}
+
+BSplineCurvePoint evalBSplineCurve(const BSplineCurveData& curve, double t) {
+  const int count = static_cast<int>(curve.points.size());
+  const int span = findKnotSpan(curve.order, curve.knots, count, t);
+  const double a = curve.knots[curve.order - 1], b = curve.knots[count];
+  t = std::clamp(t, a, b);
+  const int derivs = std::min(2, curve.order - 1);
+  double basis[3][kMaxBasisCount] = {};
+  bsplineBasisDerivs(curve.order, curve.knots, span, t, derivs, basis);
+  BSplineCurvePoint result;
+  const int first = span - curve.order + 1;
+  for (int r = 0; r < curve.order; ++r) {
+    const glm::dvec3& p = curve.points[first + r];
+    result.point += basis[0][r] * p;
+    result.d1 += basis[1][r] * p;
+    result.d2 += basis[2][r] * p;
+  }
+  return result;
+}
+
+BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double u, double v) {
+  const int ku = surface.orderU, kv = surface.orderV;
+  const int spanU = findKnotSpan(ku, surface.knotsU, surface.rows, u);
+  const int spanV = findKnotSpan(kv, surface.knotsV, surface.cols, v);
+  u = std::clamp(u, surface.knotsU[ku - 1], surface.knotsU[surface.rows]);
+  v = std::clamp(v, surface.knotsV[kv - 1], surface.knotsV[surface.cols]);
+  double bu[3][kMaxBasisCount] = {}, bv[3][kMaxBasisCount] = {};
+  bsplineBasisDerivs(ku, surface.knotsU, spanU, u, std::min(2, ku - 1), bu);
+  bsplineBasisDerivs(kv, surface.knotsV, spanV, v, std::min(2, kv - 1), bv);
+  const int firstU = spanU - ku + 1, firstV = spanV - kv + 1;
+  BSplineSurfacePoint result;
+  for (int r = 0; r < ku; ++r) {
+    // Contract in v first: one row of the local net gives the row curve and its v-derivatives.
+    glm::dvec3 row0(0.0), row1(0.0), row2(0.0);
+    const glm::dvec3* rowPoints = &surface.points[static_cast<size_t>(firstU + r) * surface.cols + firstV];
+    for (int s = 0; s < kv; ++s) {
+      row0 += bv[0][s] * rowPoints[s];
+      row1 += bv[1][s] * rowPoints[s];
+      row2 += bv[2][s] * rowPoints[s];
+    }
+    result.point += bu[0][r] * row0;
+    result.du += bu[1][r] * row0;
+    result.duu += bu[2][r] * row0;
+    result.dv += bu[0][r] * row1;
+    result.duv += bu[1][r] * row1;
+    result.dvv += bu[0][r] * row2;
+  }
+  return result;
+}
+
+namespace {
+
+void checkKnotVector(const std::string& field, const std::vector<double>& knots, int order, int count) {
+  if (static_cast<int>(knots.size()) != count + order)
+    throw ModelError(field, "length " + std::to_string(knots.size()),
+                     "a B-spline knot vector has N + order = " + std::to_string(count + order) + " values");
+  for (size_t i = 1; i < knots.size(); ++i)
+    if (!(knots[i] >= knots[i - 1]))
+      throw ModelError(field + "[" + std::to_string(i) + "]", std::to_string(knots[i]), "knots must be non-decreasing");
+  for (size_t i = 0, run = 1; i + 1 < knots.size(); ++i) {
+    run = knots[i + 1] == knots[i] ? run + 1 : 1;
+    if (static_cast<int>(run) > order)
+      throw ModelError(field + "[" + std::to_string(i + 1) + "]", std::to_string(knots[i + 1]),
+                       "no knot may be repeated more than order times");
+  }
+  if (!(knots[order - 1] < knots[count]))
+    throw ModelError(field, "", "the domain [t_{k-1}, t_N] must be non-empty");
+}
+
+}  // namespace
+
+BSplineCurveData bsplineCurveFromModel(const CurveModel& model) {
+  if (model.family.construction != Construction::BSpline)
+    throw ModelError("construction", std::string(constructionName(model.family.construction)),
+                     "a knot-vector B-spline is required");
+  if (model.closed) throw ModelError("closed", "true", "a B-spline with a knot vector must be open");
+  const int order = model.family.order;
+  if (order < 2 || order > kMaxBasisCount)
+    throw ModelError("order", std::to_string(order), "B-spline order must be 2..10");
+  const int count = static_cast<int>(model.points.size());
+  if (count < order) throw ModelError("points", std::to_string(count), "an order-k B-spline needs N >= k points");
+  checkKnotVector("knots", model.knots, order, count);
+  return BSplineCurveData{order, model.knots, model.points};
+}
+
+BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model) {
+  if (model.family.construction != Construction::BSpline)
+    throw ModelError("construction", std::string(constructionName(model.family.construction)),
+                     "a knot-vector B-spline surface is required");
+  if (model.closedU || model.closedV) throw ModelError("closed", "", "a B-spline with knot vectors must be open");
+  BSplineSurfaceData s;
+  s.orderU = model.family.order;
+  s.orderV = model.orderV;
+  for (auto [name, k] : {std::pair{"order[0]", s.orderU}, std::pair{"order[1]", s.orderV}})
+    if (k < 2 || k > kMaxBasisCount) throw ModelError(name, std::to_string(k), "B-spline order must be 2..10");
+  s.rows = model.rows;
+  s.cols = model.cols;
+  if (s.rows < s.orderU || s.cols < s.orderV)
+    throw ModelError("points", std::to_string(s.rows) + "x" + std::to_string(s.cols),
+                     "an order k x l B-spline surface needs at least k rows and l columns");
+  checkKnotVector("knots[0]", model.knotsU, s.orderU, s.rows);
+  checkKnotVector("knots[1]", model.knotsV, s.orderV, s.cols);
+  s.knotsU = model.knotsU;
+  s.knotsV = model.knotsV;
+  s.points = model.points;
+  return s;
+}
+
+}  // namespace shapespline
