@@ -1,0 +1,90 @@
+#pragma once
+// GPU evaluators (OpenSubdiv style): each holds the compiled pipelines of one precision and
+// evaluates any GpuCurve / GpuSurface (gpu_model.h) of that precision. Kernels: shaders/*.comp,
+// buffer layouts: shaders/layout.h, math: MATH.md §1–§6 mirrored from host/core.
+//
+// Grid jobs (core/sample_grid.h) run chunk by chunk: a chunk is a whole number of spans/patches
+// whose output planes each fit in EvaluatorOptions::maxPlaneBytes (and maxStorageBufferRange), so
+// device and host memory stay bounded whatever the job size; the consumer sees each chunk once,
+// in order, while the output buffers are mapped.
+#include "core/curve.h"
+#include "core/sample_grid.h"
+#include "core/span_basis.h"
+#include "core/surface.h"
+#include "gpu/gpu_model.h"
+#include "vk/context.h"
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace shapespline::gpu {
+
+class KernelSet;
+
+struct EvaluatorOptions {
+  uint32_t workgroupSize = 64;                 // spec constant of every kernel
+  size_t maxPlaneBytes = size_t(64) << 20;     // per output plane and chunk (default 64 MiB)
+};
+
+struct CurveSample {
+  int span = 0;      // model span index (Curve::spans())
+  double t = 0.0;    // local parameter in [0,1]
+};
+struct SurfaceSample {
+  int i = 0, j = 0;  // model patch indices (Surface::patches())
+  double u = 0.0, v = 0.0;
+};
+
+class CurveEvaluator {
+ public:
+  // Throws std::runtime_error for Precision::Double on a device without shaderFloat64.
+  CurveEvaluator(std::shared_ptr<vk::Context> ctx, Precision precision, EvaluatorOptions options = {});
+  ~CurveEvaluator();
+  Precision precision() const;
+
+  // fields ⊆ {Point, D1, D2}: S = grid.samplesU samples per span, t_s = s/(S-1); derivatives with
+  // respect to the global u (span knots: 1/h^r).
+  void evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer);
+  // Point, d1, d2 at arbitrary (span, t).
+  std::vector<CurvePoint> evaluateList(GpuCurve& curve, std::span<const CurveSample> samples);
+
+ private:
+  std::unique_ptr<KernelSet> kernels_;
+  EvaluatorOptions options_;
+};
+
+class SurfaceEvaluator {
+ public:
+  SurfaceEvaluator(std::shared_ptr<vk::Context> ctx, Precision precision, EvaluatorOptions options = {});
+  ~SurfaceEvaluator();
+  Precision precision() const;
+
+  // fields ⊆ {Point, Du, Dv, Duu, Duv, Dvv, Normal}: Su x Sv samples per patch (u_a = a/(Su-1)),
+  // patches row-major over Surface::patches(); normals by the MATH.md §5.3 convention.
+  void evaluateGrid(GpuSurface& surface, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer);
+  // Every field at arbitrary (patch, u, v); normalRule is not reported (always Regular).
+  std::vector<SurfacePoint> evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples);
+
+ private:
+  std::unique_ptr<KernelSet> kernels_;
+  EvaluatorOptions options_;
+};
+
+// B_r, B_r', B_r'' of a SpanBasis at N uniform parameters t_a = a/(N-1) (basis_table.comp); the
+// same table the grid kernels read. Row a of the result holds values[0..m), d1[0..m), d2[0..m).
+class BasisTableEvaluator {
+ public:
+  BasisTableEvaluator(std::shared_ptr<vk::Context> ctx, Precision precision, EvaluatorOptions options = {});
+  ~BasisTableEvaluator();
+  // Returns N * 3 * m values (layout.h TABLE layout).
+  std::vector<double> evaluate(const SpanBasis& basis, int sampleCount);
+  // The same at arbitrary parameters t (each in [0,1]).
+  std::vector<double> evaluateAt(const SpanBasis& basis, std::span<const double> t);
+
+ private:
+  std::vector<double> run(const SpanBasis& basis, int sampleCount, std::span<const double> list);
+  std::unique_ptr<KernelSet> kernels_;
+};
+
+}  // namespace shapespline::gpu

@@ -1,0 +1,131 @@
+#pragma once
+// GPU-side state of one curve or surface model (OpenSubdiv style: the evaluators in
+// curve_evaluator.h / surface_evaluator.h hold pipelines, this holds data). The (extended) net is
+// uploaded once; λ/μ/α changes rewrite only the small PARAMS buffer (basis coefficients + α) and
+// mark the α-EB vertex pass (alpha_eb_vertices.comp, run by the next evaluation) dirty, so nodes and
+// V are recomputed on the GPU without touching the net. Buffer layouts: shaders/layout.h.
+#include "core/curve.h"
+#include "core/sample_grid.h"
+#include "core/surface.h"
+#include "vk/buffer.h"
+#include "vk/context.h"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace shapespline::gpu {
+
+// Byte counters of everything written into a model's buffers (tests use them to prove that a
+// parameter change never re-uploads the net).
+struct UploadStats {
+  uint64_t netBytes = 0, netWrites = 0;
+  uint64_t paramBytes = 0, paramWrites = 0;
+  uint64_t vertexPasses = 0;  // alpha_eb_vertices dispatches run for this model
+};
+
+// Buffers + parameters shared by GpuCurve and GpuSurface.
+class GpuModel {
+ public:
+  Precision precision() const { return precision_; }
+  bool alphaEB() const { return alphaEB_; }
+  const UploadStats& uploadStats() const { return stats_; }
+  const vk::Buffer& netBuffer() const { return net_; }
+  const vk::Buffer& paramBuffer() const { return params_; }
+  // α-EB: V (rows*cols REAL4) then nodes (rows*cols REAL4); a 256-byte placeholder otherwise.
+  const vk::Buffer& vertexBuffer() const { return verts_; }
+  bool verticesDirty() const { return vertsDirty_; }
+  const SpanBasis& basisU() const { return basisU_; }
+  const SpanBasis& basisV() const { return basisV_; }
+  uint32_t alphaOffset() const;
+  uint32_t invHOffset() const;  // layout::kNoOffset without span knots
+  uint32_t vertexRows() const { return rows_; }
+  uint32_t vertexCols() const { return cols_; }
+  uint32_t netCols() const { return netCols_; }
+
+  // α-EB: V_ij (nodes = false) or node_ij (nodes = true) as last computed by the vertex pass, read
+  // back in fp64 (debugging and tests).
+  std::vector<glm::dvec3> downloadVertices(bool nodes) const;
+
+  // Called by the evaluators after they ran the vertex pass.
+  void markVerticesClean() {
+    vertsDirty_ = false;
+    ++stats_.vertexPasses;
+  }
+
+ protected:
+  GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision);
+  void createBuffers(std::span<const glm::dvec3> net, size_t alphaCount, size_t invHCount);
+  void writeParams();  // whole PARAMS block (a few hundred bytes)
+  void writeNetEntry(size_t index, const glm::dvec3& p);
+  void setBases(const SpanBasis& u, const SpanBasis& v);
+
+  std::shared_ptr<vk::Context> ctx_;
+  Precision precision_;
+  bool alphaEB_ = false;
+  vk::Buffer net_, params_, verts_;
+  SpanBasis basisU_, basisV_;
+  std::vector<double> alpha_, invH_;
+  uint32_t rows_ = 1, cols_ = 1, netCols_ = 1;
+  bool vertsDirty_ = false;
+  UploadStats stats_;
+};
+
+class GpuCurve : public GpuModel {
+ public:
+  // Uploads the span point list (core/curve.h) and the parameter block. Knot-vector B-splines are
+  // not handled here (std::invalid_argument). Double needs shaderFloat64.
+  GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precision precision);
+
+  const CurveModel& model() const { return model_; }
+  SpanRange spans() const { return spans_; }
+  size_t spanCount() const { return static_cast<size_t>(spans_.last - spans_.first + 1); }
+  uint32_t netOffset() const { return static_cast<uint32_t>(netOffset_); }
+
+  // λ of ExtendedBSpline/AlphaEB/GB/UBP (validated like a model file: std::invalid_argument).
+  void setLambda(double lambda);
+  // Any family of the same construction and basis size (the net layout depends on m).
+  void setParameters(const FamilySpec& family);
+  // α-EB only; α in (0,1].
+  void setAlpha(int i, double alpha);
+  void setAlphas(std::span<const double> alphas);
+  // Moves control point i: rewrites only the net entries that depend on it (wrapped copies,
+  // phantom points).
+  void updateControlPoint(int i, const glm::dvec3& p);
+
+ private:
+  CurveModel model_;
+  SpanRange spans_;
+  int netOffset_ = 0;
+  std::vector<ExtendedIndex> ext_;
+};
+
+class GpuSurface : public GpuModel {
+ public:
+  // Uploads the patch net (core/surface.h) and the parameter block. Knot-vector B-spline surfaces
+  // are not handled here (std::invalid_argument). Double needs shaderFloat64.
+  GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision);
+
+  const SurfaceModel& model() const { return model_; }
+  PatchRange patches() const { return patches_; }
+  size_t patchesU() const { return static_cast<size_t>(patches_.u.last - patches_.u.first + 1); }
+  size_t patchesV() const { return static_cast<size_t>(patches_.v.last - patches_.v.first + 1); }
+  size_t patchCount() const { return patchesU() * patchesV(); }
+  uint32_t netOffsetU() const { return static_cast<uint32_t>(offU_); }
+  uint32_t netOffsetV() const { return static_cast<uint32_t>(offV_); }
+
+  void setLambda(double lambda);
+  void setParameters(const FamilySpec& family);
+  void setAlpha(int i, int j, double alpha);
+  void setAlphas(std::span<const double> alphas);  // rows*cols, row-major
+  void updateControlPoint(int i, int j, const glm::dvec3& p);
+
+ private:
+  SurfaceModel model_;
+  PatchRange patches_;
+  int offU_ = 0, offV_ = 0;
+  std::vector<ExtendedIndex> extU_, extV_;
+};
+
+}  // namespace shapespline::gpu

@@ -1,0 +1,103 @@
+#include "gpu/kernels.h"
+
+#include "layout.h"
+#include "shaders/alpha_eb_vertices_comp.h"
+#include "shaders/alpha_eb_vertices_comp_f64.h"
+#include "shaders/basis_table_comp.h"
+#include "shaders/basis_table_comp_f64.h"
+#include "shaders/curve_eval_comp.h"
+#include "shaders/curve_eval_comp_f64.h"
+#include "shaders/surface_eval_comp.h"
+#include "shaders/surface_eval_comp_f64.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+namespace shapespline::gpu {
+
+std::vector<std::byte> toReal(std::span<const double> values, Precision p) {
+  std::vector<std::byte> out(values.size() * realSize(p));
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (p == Precision::Double) {
+      std::memcpy(out.data() + 8 * i, &values[i], 8);
+    } else {
+      const float f = static_cast<float>(values[i]);
+      std::memcpy(out.data() + 4 * i, &f, 4);
+    }
+  }
+  return out;
+}
+
+std::vector<std::byte> toReal4(std::span<const glm::dvec3> points, Precision p) {
+  std::vector<double> v(points.size() * 4, 0.0);
+  for (size_t i = 0; i < points.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[4 * i + k] = points[i][k];
+  return toReal(v, p);
+}
+
+void requirePrecision(const vk::Context& ctx, Precision p) {
+  if (p == Precision::Double && !ctx.supportsFloat64())
+    throw std::runtime_error("precision double needs shaderFloat64, which device '" + ctx.deviceName() +
+                             "' does not support; use precision float");
+}
+
+KernelSet::KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize)
+    : ctx_(std::move(ctx)), precision_(precision), workgroupSize_(workgroupSize) {
+  requirePrecision(*ctx_, precision_);
+  dummy_ = vk::Buffer::create(*ctx_, 256, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.dummy");
+}
+
+const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<uint32_t>& spec) {
+  auto key = std::make_pair(static_cast<int>(kernel), spec);
+  auto it = pipelines_.find(key);
+  if (it != pipelines_.end()) return it->second;
+  const bool d = precision_ == Precision::Double;
+  std::span<const uint32_t> code;
+  uint32_t push = sizeof(layout::EvalPush);
+  const char* label = "";
+  switch (kernel) {
+    case Kernel::CurveEval:
+      code = d ? std::span<const uint32_t>(curve_eval_comp_f64) : std::span<const uint32_t>(curve_eval_comp);
+      label = "curve_eval";
+      break;
+    case Kernel::SurfaceEval:
+      code = d ? std::span<const uint32_t>(surface_eval_comp_f64) : std::span<const uint32_t>(surface_eval_comp);
+      label = "surface_eval";
+      break;
+    case Kernel::AlphaEBVertices:
+      code = d ? std::span<const uint32_t>(alpha_eb_vertices_comp_f64)
+               : std::span<const uint32_t>(alpha_eb_vertices_comp);
+      push = sizeof(layout::VertexPush);
+      label = "alpha_eb_vertices";
+      break;
+    case Kernel::BasisTable:
+      code = d ? std::span<const uint32_t>(basis_table_comp_f64) : std::span<const uint32_t>(basis_table_comp);
+      push = sizeof(layout::TablePush);
+      label = "basis_table";
+      break;
+  }
+  vk::ComputePipelineDesc desc;
+  desc.spirv = code;
+  desc.specConstants.push_back({layout::kSpecWorkgroupSize, workgroupSize_});
+  for (size_t i = 0; i < spec.size(); ++i) desc.specConstants.push_back({static_cast<uint32_t>(i + 1), spec[i]});
+  desc.pushConstantBytes = push;
+  desc.storageBufferCount = kBindingCount;
+  desc.label = std::string(label) + (d ? "_f64" : "_f32");
+  auto [pos, ok] = pipelines_.emplace(key, vk::ComputePipeline::create(*ctx_, desc));
+  (void)ok;
+  return pos->second;
+}
+
+void KernelSet::dispatch(VkCommandBuffer cmd, uint64_t invocations) const {
+  if (invocations == 0) return;
+  const uint64_t groups = (invocations + workgroupSize_ - 1) / workgroupSize_;
+  const uint64_t maxX = ctx_->limits().maxComputeWorkGroupCount[0];
+  const uint64_t x = std::min<uint64_t>(groups, maxX);
+  const uint64_t y = (groups + x - 1) / x;
+  if (y > ctx_->limits().maxComputeWorkGroupCount[1])
+    throw std::length_error("gpu dispatch of " + std::to_string(invocations) + " invocations exceeds the group limits");
+  vkCmdDispatch(cmd, static_cast<uint32_t>(x), static_cast<uint32_t>(y), 1);
+}
+
+}  // namespace shapespline::gpu

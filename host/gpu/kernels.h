@@ -1,0 +1,60 @@
+#pragma once
+// Internal to host/gpu: the embedded SPIR-V of every evaluation kernel in both precisions, a
+// pipeline table keyed by (kernel, specialization constants) so that each degree/mask combination
+// is compiled once per evaluator, and the helpers every evaluator shares (REAL conversion, dispatch
+// sizing, a dummy buffer for bindings a variant does not use).
+#include "core/sample_grid.h"
+
+#include <glm/vec3.hpp>
+#include "vk/buffer.h"
+#include "vk/context.h"
+#include "vk/pipeline.h"
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace shapespline::gpu {
+
+enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable };
+
+// Bytes of one REAL.
+inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }
+
+// Converts fp64 values to REAL bytes.
+std::vector<std::byte> toReal(std::span<const double> values, Precision p);
+// xyz of each point into REAL4 bytes (w = 0).
+std::vector<std::byte> toReal4(std::span<const glm::dvec3> points, Precision p);
+
+// Throws std::runtime_error naming the device when Double is asked of a device without shaderFloat64.
+void requirePrecision(const vk::Context& ctx, Precision p);
+
+class KernelSet {
+ public:
+  KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize);
+
+  vk::Context& context() const { return *ctx_; }
+  const std::shared_ptr<vk::Context>& contextPtr() const { return ctx_; }
+  Precision precision() const { return precision_; }
+  uint32_t workgroupSize() const { return workgroupSize_; }
+  // spec[i] is the value of constant_id i + 1 (id 0 is the workgroup size).
+  const vk::ComputePipeline& pipeline(Kernel kernel, const std::vector<uint32_t>& spec);
+  // 256-byte buffer bound to every binding a pipeline variant does not use.
+  const vk::Buffer& dummy() const { return dummy_; }
+  // Records a dispatch of `invocations` 1-D invocations (x then y when over the group limit).
+  void dispatch(VkCommandBuffer cmd, uint64_t invocations) const;
+
+ private:
+  std::shared_ptr<vk::Context> ctx_;
+  Precision precision_;
+  uint32_t workgroupSize_;
+  std::map<std::pair<int, std::vector<uint32_t>>, vk::ComputePipeline> pipelines_;
+  vk::Buffer dummy_;
+};
+
+// Number of storage-buffer bindings of every evaluation pipeline (layout.h: outputs 5..13).
+inline constexpr uint32_t kBindingCount = 14;
+
+}  // namespace shapespline::gpu

@@ -1,0 +1,34 @@
+#version 450
+// α-EB vertex pass (MATH.md §4.2, §5.2): node = C(0) (curve) or C_ij(0,0) (surface) from the extended
+// polygon/net and the basis coefficients, and V = P + ((1-α)/α)(P - node), one invocation per
+// vertex. Runs on the GPU so that a λ or α change re-uploads only PARAMS, never the net.
+// B_r(0) is the constant coefficient coef[r][0] (Horner at t = 0 returns it exactly).
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(std430, binding = 2) writeonly buffer VertBuf { REAL4 verts[]; };
+layout(push_constant) uniform PushBlock { VertexPush pc; };
+
+void main() {
+  uint idx = gl_GlobalInvocationID.x;
+  uint count = pc.rows * pc.cols;
+  if (idx >= count) return;
+  uint i = idx / pc.cols, j = idx - i * pc.cols;
+  REAL3 node = REAL3(0), P;
+  if (SURFACE != 0u) {
+    // Same order as evalTensorPatch at (0,0): v first, then u.
+    for (uint r = 0; r < BASIS_COUNT_U; ++r) {
+      REAL3 s0 = REAL3(0);
+      for (uint s = 0; s < BASIS_COUNT_V; ++s)
+        s0 += params[kParamCoefV + s * kCoefStride] * net[(i + r) * pc.netCols + j + s].xyz;
+      node += params[kParamCoefU + r * kCoefStride] * s0;
+    }
+    P = net[(i + 1u) * pc.netCols + j + 1u].xyz;
+  } else {
+    for (uint r = 0; r < BASIS_COUNT_U; ++r) node += params[kParamCoefU + r * kCoefStride] * net[i + r].xyz;
+    P = net[i + 1u].xyz;
+  }
+  REAL alpha = params[pc.alphaOffset + idx];
+  verts[idx] = REAL4(P + ((REAL(1) - alpha) / alpha) * (P - node), 0);
+  verts[count + idx] = REAL4(node, 0);
+}

@@ -1,0 +1,76 @@
+// Shared GLSL of the evaluation kernels: precision switch, specialization constants, buffers and
+// the raw kernels mirrored from host/core (same names, same operation order as the fp64 C++).
+// Compiled with REAL_IS_DOUBLE=1 for the fp64 variant (needs shaderFloat64).
+#ifndef SHAPESPLINE_COMMON_GLSL
+#define SHAPESPLINE_COMMON_GLSL
+
+#if defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE
+#define REAL double
+#define REAL3 dvec3
+#define REAL4 dvec4
+#else
+#define REAL float
+#define REAL3 vec3
+#define REAL4 vec4
+#endif
+#define SHAPESPLINE_GLSL 1
+#include "layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint BASIS_COUNT_U = 4;
+layout(constant_id = 2) const uint POLY_DEGREE_U = 3;
+layout(constant_id = 3) const uint BASIS_COUNT_V = 4;
+layout(constant_id = 4) const uint POLY_DEGREE_V = 3;
+layout(constant_id = 5) const uint OUTPUT_MASK = 1;
+layout(constant_id = 6) const uint ALPHA_EB = 0;
+layout(constant_id = 7) const uint LIST_MODE = 0;
+layout(constant_id = 8) const uint SURFACE = 0;
+
+layout(std430, binding = 0) readonly buffer NetBuf { REAL4 net[]; };
+layout(std430, binding = 1) readonly buffer ParamBuf { REAL params[]; };
+
+// core/span_basis.cpp evalSpanBasis: simultaneous Horner for p, p', p''/2 in the local t.
+// Coefficients coef[r][d] of the basis start at params[coefOffset].
+void evalSpanBasis(uint coefOffset, uint count, uint degree, REAL t,
+                   out REAL b[kMaxBasis], out REAL d1[kMaxBasis], out REAL d2[kMaxBasis]) {
+  for (uint r = 0; r < count; ++r) {
+    uint c = coefOffset + r * kCoefStride;
+    REAL p = params[c + degree], dp = REAL(0), ddp = REAL(0);
+    for (int d = int(degree) - 1; d >= 0; --d) {
+      ddp = ddp * t + dp;
+      dp = dp * t + p;
+      p = p * t + params[c + uint(d)];
+    }
+    b[r] = p;
+    d1[r] = dp;
+    d2[r] = REAL(2) * ddp;
+  }
+}
+
+// core/singular_blend.cpp singularBlend: S, S', S'' (MATH.md §3).
+REAL3 singularBlend(REAL t) {
+  if (t <= REAL(1.0 / 3.0)) return REAL3(REAL(4.5) * t * t * t, REAL(13.5) * t * t, REAL(27) * t);
+  if (t <= REAL(2.0 / 3.0))
+    return REAL3(REAL(0.5) + t * (REAL(-4.5) + t * (REAL(13.5) - REAL(9) * t)),
+                 REAL(-4.5) + t * (REAL(27) - REAL(27) * t), REAL(27) - REAL(54) * t);
+  REAL u = REAL(1) - t;
+  return REAL3(REAL(1) - REAL(4.5) * u * u * u, REAL(13.5) * u * u, REAL(-27) * u);
+}
+
+// Stores value (xyz of point k) into a packed xyz plane viewed as REAL4[].
+#define STORE_XYZ_SCALAR(plane, k, value)           \
+  {                                                 \
+    uint s_ = 3u * (k);                             \
+    plane[s_ >> 2][s_ & 3u] = (value).x;            \
+    plane[(s_ + 1u) >> 2][(s_ + 1u) & 3u] = (value).y; \
+    plane[(s_ + 2u) >> 2][(s_ + 2u) & 3u] = (value).z; \
+  }
+// Four consecutive points q*4 .. q*4+3 as three REAL4 stores.
+#define STORE_XYZ4(plane, q, v0, v1, v2, v3)                \
+  {                                                         \
+    plane[3u * (q)] = REAL4((v0).xyz, (v1).x);              \
+    plane[3u * (q) + 1u] = REAL4((v1).yz, (v2).xy);         \
+    plane[3u * (q) + 2u] = REAL4((v2).z, (v3).xyz);         \
+  }
+
+#endif  // SHAPESPLINE_COMMON_GLSL
