@@ -1,0 +1,237 @@
+#include "core/curve.h"
+
+#include "core/singular_blend.h"
+#include "core/validate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace shapespline {
+
+namespace {
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+[[noreturn]] void throwSpan(int span, SpanRange r) {
+  throw std::out_of_range("span " + std::to_string(span) + " outside the valid span range [" +
+                          std::to_string(r.first) + ", " + std::to_string(r.last) + "]");
+}
+
+void checkLocal(const char* name, double t) {
+  // Written so that NaN fails too.
+  if (!(t >= 0.0 && t <= 1.0))
+    throw std::out_of_range(std::string(name) + " = " + fmt(t) + " outside the local parameter range [0, 1]");
+}
+
+int wrap(int i, int n) { return ((i % n) + n) % n; }
+
+}  // namespace
+
+// ---- Raw kernels --------------------------------------------------------------------------------
+
+void evalLocalSpan(const SpanBasis& basis, const glm::dvec3* pts, double t, double invH, CurvePoint& out) {
+  double b[kMaxBasisCount], d1[kMaxBasisCount], d2[kMaxBasisCount];
+  evalSpanBasis(basis, t, b, d1, d2);
+  glm::dvec3 p(0.0), q1(0.0), q2(0.0);
+  for (int r = 0; r < basis.count; ++r) {
+    p += b[r] * pts[r];
+    q1 += d1[r] * pts[r];
+    q2 += d2[r] * pts[r];
+  }
+  out.point = p;
+  out.d1 = q1 * invH;
+  out.d2 = q2 * (invH * invH);
+}
+
+void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::dvec3& v0, const glm::dvec3& v1,
+                     double a0, double a1, double t, CurvePoint& out) {
+  CurvePoint c;
+  evalLocalSpan(basis, pts, t, 1.0, c);
+  const BlendValue s = singularBlend(t);
+  const double da = a1 - a0;
+  const glm::dvec3 dv = v1 - v0;
+  const double a = a0 + s.s * da, a_1 = s.d1 * da, a_2 = s.d2 * da;
+  const glm::dvec3 l = v0 + s.s * dv, l1 = s.d1 * dv, l2 = s.d2 * dv;
+  const glm::dvec3 m = l - c.point, m1 = l1 - c.d1, m2 = l2 - c.d2;
+  out.point = c.point + a * m;
+  out.d1 = c.d1 + a * m1 + a_1 * m;
+  out.d2 = c.d2 + a * m2 + 2.0 * a_1 * m1 + a_2 * m;
+}
+
+glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha) {
+  return p + ((1.0 - alpha) / alpha) * (p - node);
+}
+
+// ---- Helpers ------------------------------------------------------------------------------------
+
+std::vector<ExtendedIndex> extendedIndices(int n, bool closed, bool phantom, int count, int centre, int& offset) {
+  std::vector<ExtendedIndex> out;
+  if (phantom) {
+    offset = 0;
+    const int size = closed ? n + 3 : n + 2;
+    out.resize(size);
+    for (int i = 0; i < size; ++i) {
+      const int k = i - 1;  // entry i is P_{i-1}
+      if (closed) {
+        out[i] = {wrap(k, n), 0, 1.0, 0.0};
+      } else if (k < 0) {
+        out[i] = {0, 1, 2.0, -1.0};  // P_{-1} = 2 P_0 - P_1
+      } else if (k >= n) {
+        out[i] = {n - 1, n - 2, 2.0, -1.0};  // P_n = 2 P_{n-1} - P_{n-2}
+      } else {
+        out[i] = {k, 0, 1.0, 0.0};
+      }
+    }
+    return out;
+  }
+  if (closed) {
+    offset = 0;
+    out.resize(n + count - 1);
+    for (int i = 0; i < n + count - 1; ++i) out[i] = {wrap(i - centre, n), 0, 1.0, 0.0};
+  } else {
+    offset = -centre;
+    out.resize(n);
+    for (int i = 0; i < n; ++i) out[i] = {i, 0, 1.0, 0.0};
+  }
+  return out;
+}
+
+// ---- Curve --------------------------------------------------------------------------------------
+
+Curve Curve::create(CurveModel model) {
+  validateCurve(model);
+  Curve c;
+  c.model_ = std::move(model);
+  const CurveModel& m = c.model_;
+  const int n = static_cast<int>(m.points.size());
+  const Construction kind = m.family.construction;
+
+  if (kind == Construction::BSpline && !m.knots.empty()) {
+    c.knotVector_ = true;
+    c.bspline_.order = m.family.order;
+    c.bspline_.knots = m.knots;
+    c.bspline_.points = m.points;
+    c.spans_ = {m.family.order - 1, n - 1};
+    return c;
+  }
+
+  c.alphaEB_ = kind == Construction::AlphaEB;
+  c.basis_ = makeSpanBasis(m.family);
+  const int count = c.basis_.count, centre = c.basis_.centre;
+  if (c.alphaEB_) {
+    c.spans_ = {0, m.closed ? n - 1 : n - 2};
+  } else {
+    c.spans_ = m.closed ? SpanRange{0, n - 1} : SpanRange{centre, n - count + centre};
+  }
+  const std::vector<ExtendedIndex> ext =
+      extendedIndices(n, m.closed, c.alphaEB_, count, centre, c.spanPointOffset_);
+  c.spanPoints_.resize(ext.size());
+  for (size_t i = 0; i < ext.size(); ++i)
+    c.spanPoints_[i] = ext[i].w1 == 0.0 ? m.points[ext[i].i0]
+                                        : ext[i].w0 * m.points[ext[i].i0] + ext[i].w1 * m.points[ext[i].i1];
+  if (kind == Construction::ExtendedBSpline || kind == Construction::GB) c.spanKnots_ = m.knots;
+
+  if (c.alphaEB_) {
+    // node_j = C_j(0) over P_{j-1..j+2}, i.e. extended entries j..j+3; V_j once per model (§14).
+    c.nodes_.resize(n);
+    c.v_.resize(n);
+    for (int j = 0; j < n; ++j) {
+      CurvePoint node;
+      evalLocalSpan(c.basis_, &c.spanPoints_[j], 0.0, 1.0, node);
+      c.nodes_[j] = node.point;
+      c.v_[j] = alphaEBVertex(m.points[j], node.point, m.alpha[j]);
+    }
+  }
+  return c;
+}
+
+std::pair<double, double> Curve::parameterRange() const {
+  if (knotVector_) {
+    const int k = bspline_.order, n = static_cast<int>(bspline_.points.size());
+    return {bspline_.knots[k - 1], bspline_.knots[n]};
+  }
+  if (!spanKnots_.empty()) return {spanKnots_.front(), spanKnots_.back()};
+  return {static_cast<double>(spans_.first), static_cast<double>(spans_.last + 1)};
+}
+
+double Curve::parameterOf(int span, double t) const {
+  if (span < spans_.first || span > spans_.last) throwSpan(span, spans_);
+  if (knotVector_) {
+    const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
+    return a + t * (b - a);
+  }
+  if (!spanKnots_.empty()) {
+    const int s = span - spans_.first;
+    return spanKnots_[s] + t * (spanKnots_[s + 1] - spanKnots_[s]);
+  }
+  return span + t;
+}
+
+CurvePoint Curve::evalSpan(int span, double t) const {
+  CurvePoint out;
+  if (alphaEB_) {
+    const int n = static_cast<int>(model_.points.size());
+    const int j1 = span + 1 == n ? 0 : span + 1;  // only reached for closed curves
+    evalAlphaEBSpan(basis_, &spanPoints_[span], v_[span], v_[j1], model_.alpha[span], model_.alpha[j1], t, out);
+    return out;
+  }
+  double invH = 1.0;
+  if (!spanKnots_.empty()) {
+    const int s = span - spans_.first;
+    invH = 1.0 / (spanKnots_[s + 1] - spanKnots_[s]);
+  }
+  evalLocalSpan(basis_, &spanPoints_[span + spanPointOffset_], t, invH, out);
+  return out;
+}
+
+CurvePoint Curve::evaluate(int span, double t) const {
+  if (span < spans_.first || span > spans_.last) throwSpan(span, spans_);
+  checkLocal("t", t);
+  if (knotVector_) {
+    const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
+    if (!(b > a))
+      throw std::out_of_range("span " + std::to_string(span) + " is the empty knot interval [" + fmt(a) + ", " +
+                              fmt(b) + "]");
+    const BSplineCurvePoint p = evalBSplineCurve(bspline_, a + t * (b - a));
+    return {p.point, p.d1, p.d2};
+  }
+  return evalSpan(span, t);
+}
+
+int Curve::spanOfParameter(double u, double& t) const {
+  if (!spanKnots_.empty()) {
+    const auto it = std::upper_bound(spanKnots_.begin(), spanKnots_.end(), u);
+    int s = static_cast<int>(it - spanKnots_.begin()) - 1;
+    s = std::clamp(s, 0, static_cast<int>(spanKnots_.size()) - 2);
+    t = (u - spanKnots_[s]) / (spanKnots_[s + 1] - spanKnots_[s]);
+    t = std::clamp(t, 0.0, 1.0);
+    return spans_.first + s;
+  }
+  int j = static_cast<int>(std::floor(u));
+  j = std::clamp(j, spans_.first, spans_.last);
+  t = std::clamp(u - j, 0.0, 1.0);
+  return j;
+}
+
+CurvePoint Curve::evaluateAt(double u) const {
+  const auto [lo, hi] = parameterRange();
+  if (!(u >= lo && u <= hi))
+    throw std::out_of_range("u = " + fmt(u) + " outside the parameter range [" + fmt(lo) + ", " + fmt(hi) + "]");
+  if (knotVector_) {
+    const BSplineCurvePoint p = evalBSplineCurve(bspline_, u);
+    return {p.point, p.d1, p.d2};
+  }
+  double t = 0.0;
+  const int span = spanOfParameter(u, t);
+  return evalSpan(span, t);
+}
+
+}  // namespace shapespline

@@ -1,0 +1,126 @@
+#pragma once
+// Curve evaluation on the CPU in fp64 (MATH.md §1, §2, §4, §7–§10).
+//
+// Two tiers, as in tinynurbs: raw kernels over plain arrays (no allocation, fixed maximum order)
+// that the GLSL compute shaders mirror line for line, and the typed `Curve`, built once from a
+// validated CurveModel, that owns the precomputed data (span basis, span point list, α-EB nodes and
+// V points) and maps spans / global parameters to kernel calls.
+//
+// Span point list ("span points"): every uniform construction is stored as one contiguous array
+// `spanPoints()` such that span j reads the m = basis.count points spanPoints()[j + spanPointOffset()
+// + r], r = 0..m-1, i.e. P_{j-c+r} of MATH.md §1 with closed indices already wrapped (R2) and, for
+// α-EB, the phantom points of §4.1 already in place. The GPU uploads this array and never wraps.
+#include "core/bspline.h"
+#include "core/model.h"
+#include "core/span_basis.h"
+
+#include <glm/vec3.hpp>
+
+#include <utility>
+#include <vector>
+
+namespace shapespline {
+
+// A point of a curve and its first two derivatives with respect to the GLOBAL parameter u
+// (MATH.md §1 and R16: span knots divide the t-derivatives by h^r; knot-vector B-splines use the
+// knot parameter).
+struct CurvePoint {
+  glm::dvec3 point{0.0}, d1{0.0}, d2{0.0};
+};
+
+// Inclusive span index range [first, last] (MATH.md §1 / §4.1).
+struct SpanRange {
+  int first = 0, last = -1;
+};
+
+// ---- Raw kernels (mirrored by GLSL) -------------------------------------------------------------
+
+// One span of a local family: C(t) = sum_r B_r(t) pts[r], r < basis.count (MATH.md §1), and its
+// derivatives times invH^1 and invH^2 (invH = 1/h_s for span knots, else 1).
+void evalLocalSpan(const SpanBasis& basis, const glm::dvec3* pts, double t, double invH, CurvePoint& out);
+
+// One α-EB span (MATH.md §4.2): pts = P_{j-1..j+2} of the extended polygon (4 points), v0/v1 =
+// V_j/V_{j+1}, a0/a1 = α_j/α_{j+1}. Q = C + a (L - C) with a, L blended by the singular blend S (§3).
+void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::dvec3& v0, const glm::dvec3& v1,
+                     double a0, double a1, double t, CurvePoint& out);
+
+// V_j = P_j + ((1-α_j)/α_j)(P_j - node_j) (MATH.md §4.2, §5.2).
+glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha);
+
+// ---- Typed curve --------------------------------------------------------------------------------
+
+class Curve {
+ public:
+  // Validates (core/validate.h, throws ModelError) and precomputes everything evaluation needs.
+  static Curve create(CurveModel model);
+
+  const CurveModel& model() const { return model_; }
+  int dimension() const { return model_.dimension; }
+  // True for `bspline` with a knot vector (MATH.md §10.1); evaluation then goes through
+  // core/bspline.h and the parameter is the knot parameter.
+  bool usesKnotVector() const { return knotVector_; }
+
+  // Valid spans. Local families: MATH.md §1 (open j = c..N-m+c, closed 0..N-1); α-EB: §4.1 (open
+  // 0..N-2, closed 0..N-1). Knot-vector B-splines: the knot interval indices k-1..n of §10.1
+  // (an empty interval is rejected by evaluate()).
+  SpanRange spans() const { return spans_; }
+  // [u_min, u_max] of the global parameter: j + t, span knots κ, or [t_{k-1}, t_N].
+  std::pair<double, double> parameterRange() const;
+  // Global parameter of (span, t).
+  double parameterOf(int span, double t) const;
+
+  // Span `span`, local t in [0,1]: point and derivatives w.r.t. the global u, one-sided at t = 0/1
+  // (the span's own polynomial). Throws std::out_of_range for a span or t outside the valid range.
+  CurvePoint evaluate(int span, double t) const;
+  // Global u in parameterRange(). At an interior joint the span to the right is used, except at
+  // u_max. Throws std::out_of_range outside the range.
+  CurvePoint evaluateAt(double u) const;
+
+  // Span basis of the family (not meaningful for knot-vector B-splines).
+  const SpanBasis& basis() const { return basis_; }
+  // See the header comment: span j reads spanPoints()[j + spanPointOffset() + r], r < basis().count.
+  const std::vector<glm::dvec3>& spanPoints() const { return spanPoints_; }
+  int spanPointOffset() const { return spanPointOffset_; }
+  // Span knots κ_0..κ_S (empty when the spans are uniform).
+  const std::vector<double>& spanKnots() const { return spanKnots_; }
+
+  // α-EB only (empty otherwise). extendedPoints()[i] = P_{i-1}: open N+2 points with the phantom
+  // points P_{-1}, P_N of §4.1, closed N+3 points wrapped mod N; span j reads entries j..j+3.
+  // alphaNodes()[j] = node_j = C_j(0), alphaV()[j] = V_j, alphas()[j] = α_j, all of size N;
+  // span j uses index j and (j+1) mod N.
+  const std::vector<glm::dvec3>& extendedPoints() const { return alphaEB_ ? spanPoints_ : emptyPoints_; }
+  const std::vector<glm::dvec3>& alphaNodes() const { return nodes_; }
+  const std::vector<glm::dvec3>& alphaV() const { return v_; }
+  const std::vector<double>& alphas() const { return model_.alpha; }
+
+ private:
+  Curve() = default;
+  CurvePoint evalSpan(int span, double t) const;  // no range checks
+  int spanOfParameter(double u, double& t) const;
+
+  CurveModel model_;
+  SpanBasis basis_;
+  SpanRange spans_;
+  bool knotVector_ = false, alphaEB_ = false;
+  std::vector<glm::dvec3> spanPoints_;
+  int spanPointOffset_ = 0;
+  std::vector<glm::dvec3> nodes_, v_;
+  std::vector<double> spanKnots_;
+  BSplineCurveData bspline_;  // knot-vector B-splines only
+  std::vector<glm::dvec3> emptyPoints_;
+};
+
+// ---- Shared helpers (also used by core/surface.cpp) ---------------------------------------------
+
+// One entry of an extended/wrapped index sequence: ext = w0 * P[i0] + w1 * P[i1].
+struct ExtendedIndex {
+  int i0 = 0, i1 = 0;
+  double w0 = 1.0, w1 = 0.0;
+};
+// The 1-D span point sequence of one direction with n points (see the header comment).
+// phantom = true: α-EB rule of §4.1 / §5.1 (c = 1; open: P_{-1} = 2P_0 - P_1, P_n = 2P_{n-1} - P_{n-2};
+// closed: mod n), entry i is P_{i-1}. phantom = false: plain rule of §1 (open: P itself, offset -c;
+// closed: entry i is P_{(i-c) mod n}, n + m - 1 entries, offset 0). `offset` receives the offset.
+std::vector<ExtendedIndex> extendedIndices(int n, bool closed, bool phantom, int count, int centre, int& offset);
+
+}  // namespace shapespline

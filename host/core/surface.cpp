@@ -1,0 +1,361 @@
+#include "core/surface.h"
+
+#include "core/singular_blend.h"
+#include "core/validate.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace shapespline {
+
+namespace {
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+std::string rangeText(const SpanRange& r) {
+  return "[" + std::to_string(r.first) + ", " + std::to_string(r.last) + "]";
+}
+
+void checkLocal(const char* name, double t) {
+  if (!(t >= 0.0 && t <= 1.0))
+    throw std::out_of_range(std::string(name) + " = " + fmt(t) + " outside the local parameter range [0, 1]");
+}
+
+// The u- or v-factor pair of §5.3: (1-S, S) for order 0 and (-S^(r), S^(r)) for r >= 1.
+struct FactorPairs {
+  double f[3][2];
+};
+FactorPairs blendFactors(double t) {
+  const BlendValue s = singularBlend(t);
+  return {{{1.0 - s.s, s.s}, {-s.d1, s.d1}, {-s.d2, s.d2}}};
+}
+
+// A patch-net index sequence for one direction, plus the knot interval range for B-splines.
+SpanRange knotIntervals(int order, int n) { return {order - 1, n - 1}; }
+
+}  // namespace
+
+// ---- Raw kernels --------------------------------------------------------------------------------
+
+void evalTensorPatch(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3* net, int stride, double u,
+                     double v, PatchDerivs& out) {
+  double b0[kMaxBasisCount], b1[kMaxBasisCount], b2[kMaxBasisCount];
+  double c0[kMaxBasisCount], c1[kMaxBasisCount], c2[kMaxBasisCount];
+  evalSpanBasis(bu, u, b0, b1, b2);
+  evalSpanBasis(bv, v, c0, c1, c2);
+  PatchDerivs d;
+  for (int r = 0; r < bu.count; ++r) {
+    // Row r contracted with the v basis first: three v-partials of one row curve.
+    glm::dvec3 row0(0.0), row1(0.0), row2(0.0);
+    const glm::dvec3* p = net + static_cast<ptrdiff_t>(r) * stride;
+    for (int s = 0; s < bv.count; ++s) {
+      row0 += c0[s] * p[s];
+      row1 += c1[s] * p[s];
+      row2 += c2[s] * p[s];
+    }
+    d.p += b0[r] * row0;
+    d.u += b1[r] * row0;
+    d.uu += b2[r] * row0;
+    d.v += b0[r] * row1;
+    d.uv += b1[r] * row1;
+    d.vv += b0[r] * row2;
+  }
+  out = d;
+}
+
+void evalAlphaEBPatch(const SpanBasis& basis, const glm::dvec3* net, int stride, const glm::dvec3 V[4],
+                      const double alpha[4], double u, double v, PatchDerivs& out, PatchDerivs* base) {
+  PatchDerivs c;
+  evalTensorPatch(basis, basis, net, stride, u, v, c);
+  const FactorPairs fu = blendFactors(u), fv = blendFactors(v);
+  // a_{rq} and L_{rq} for (r,q) in {00, 10, 01, 20, 11, 02}; corner k = 2*cu + cv.
+  double a[6] = {};
+  glm::dvec3 l[6] = {};
+  static constexpr int kOrders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+  for (int o = 0; o < 6; ++o) {
+    for (int k = 0; k < 4; ++k) {
+      const double w = fu.f[kOrders[o][0]][k >> 1] * fv.f[kOrders[o][1]][k & 1];
+      a[o] += w * alpha[k];
+      l[o] += w * V[k];
+    }
+  }
+  const glm::dvec3 m = l[0] - c.p, mu = l[1] - c.u, mv = l[2] - c.v;
+  const glm::dvec3 muu = l[3] - c.uu, muv = l[4] - c.uv, mvv = l[5] - c.vv;
+  out.p = c.p + a[0] * m;
+  out.u = c.u + a[0] * mu + a[1] * m;
+  out.v = c.v + a[0] * mv + a[2] * m;
+  out.uu = c.uu + a[0] * muu + 2.0 * a[1] * mu + a[3] * m;
+  out.uv = c.uv + a[0] * muv + a[1] * mv + a[2] * mu + a[4] * m;
+  out.vv = c.vv + a[0] * mvv + 2.0 * a[2] * mv + a[5] * m;
+  if (base) *base = c;
+}
+
+glm::dvec3 alphaEBCornerNormal(const glm::dvec3& p, const glm::dvec3& node, const glm::dvec3& vU, double alphaU,
+                               const glm::dvec3& vV, double alphaV, double sU, double sV) {
+  const glm::dvec3 aU = vU - p + (1.0 - alphaU) * (node - p);
+  const glm::dvec3 aV = vV - p + (1.0 - alphaV) * (node - p);
+  return glm::cross(sU * aU, sV * aV);
+}
+
+bool degenerateCross(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& cross) {
+  if (a == glm::dvec3(0.0) || b == glm::dvec3(0.0)) return true;
+  const double n = glm::length(cross);
+  // !(>=) so that NaN/Inf inputs count as degenerate.
+  return !(n >= kNormalDegeneracy * glm::length(a) * glm::length(b)) || !std::isfinite(n) || n == 0.0;
+}
+
+// ---- Surface ------------------------------------------------------------------------------------
+
+Surface Surface::create(SurfaceModel model) {
+  validateSurface(model);
+  Surface s;
+  s.model_ = std::move(model);
+  const SurfaceModel& m = s.model_;
+  const Construction kind = m.family.construction;
+
+  if (kind == Construction::BSpline && (!m.knotsU.empty() || !m.knotsV.empty())) {
+    s.knotVector_ = true;
+    s.bspline_.orderU = m.family.order;
+    s.bspline_.orderV = m.orderV > 0 ? m.orderV : m.family.order;
+    s.bspline_.knotsU = m.knotsU;
+    s.bspline_.knotsV = m.knotsV;
+    s.bspline_.rows = m.rows;
+    s.bspline_.cols = m.cols;
+    s.bspline_.points = m.points;
+    s.patches_ = {knotIntervals(s.bspline_.orderU, m.rows), knotIntervals(s.bspline_.orderV, m.cols)};
+    return s;
+  }
+
+  s.alphaEB_ = kind == Construction::AlphaEB;
+  s.basisU_ = makeSpanBasis(m.family);
+  if (kind == Construction::BSpline && m.orderV > 0) {
+    s.basisV_ = uniformBSplineSpanBasis(m.orderV);
+  } else {
+    s.basisV_ = s.basisU_;
+  }
+  auto range = [&](int n, bool closed, const SpanBasis& b) {
+    if (s.alphaEB_) return SpanRange{0, closed ? n - 1 : n - 2};
+    return closed ? SpanRange{0, n - 1} : SpanRange{b.centre, n - b.count + b.centre};
+  };
+  s.patches_ = {range(m.rows, m.closedU, s.basisU_), range(m.cols, m.closedV, s.basisV_)};
+
+  // The u and v rules are linear and act on different indices, so the tensor product of the two
+  // 1-D combinations equals applying them one after the other (§5.1: they commute).
+  const std::vector<ExtendedIndex> eu =
+      extendedIndices(m.rows, m.closedU, s.alphaEB_, s.basisU_.count, s.basisU_.centre, s.offU_);
+  const std::vector<ExtendedIndex> ev =
+      extendedIndices(m.cols, m.closedV, s.alphaEB_, s.basisV_.count, s.basisV_.centre, s.offV_);
+  s.netRows_ = static_cast<int>(eu.size());
+  s.netCols_ = static_cast<int>(ev.size());
+  s.net_.resize(eu.size() * ev.size());
+  for (int a = 0; a < s.netRows_; ++a) {
+    for (int b = 0; b < s.netCols_; ++b) {
+      const ExtendedIndex& x = eu[a];
+      const ExtendedIndex& y = ev[b];
+      // Row combination first, then the column combination of the rows (same order as §5.1 text).
+      auto rowPoint = [&](int i) {
+        return y.w1 == 0.0 ? m.at(i, y.i0) : y.w0 * m.at(i, y.i0) + y.w1 * m.at(i, y.i1);
+      };
+      s.net_[static_cast<size_t>(a) * s.netCols_ + b] =
+          x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1);
+    }
+  }
+
+  if (s.alphaEB_) {
+    const size_t count = static_cast<size_t>(m.rows) * m.cols;
+    s.nodes_.resize(count);
+    s.v_.resize(count);
+    for (int i = 0; i < m.rows; ++i) {
+      for (int j = 0; j < m.cols; ++j) {
+        PatchDerivs c;
+        evalTensorPatch(s.basisU_, s.basisV_, &s.net_[static_cast<size_t>(i) * s.netCols_ + j], s.netCols_, 0.0,
+                        0.0, c);
+        const size_t k = static_cast<size_t>(i) * m.cols + j;
+        s.nodes_[k] = c.p;
+        s.v_[k] = alphaEBVertex(m.at(i, j), c.p, m.alpha[k]);
+      }
+    }
+  }
+  return s;
+}
+
+std::pair<double, double> Surface::parameterRangeU() const {
+  if (knotVector_) return {bspline_.knotsU[bspline_.orderU - 1], bspline_.knotsU[bspline_.rows]};
+  return {static_cast<double>(patches_.u.first), static_cast<double>(patches_.u.last + 1)};
+}
+
+std::pair<double, double> Surface::parameterRangeV() const {
+  if (knotVector_) return {bspline_.knotsV[bspline_.orderV - 1], bspline_.knotsV[bspline_.cols]};
+  return {static_cast<double>(patches_.v.first), static_cast<double>(patches_.v.last + 1)};
+}
+
+std::pair<double, double> Surface::parameterOf(int i, int j, double u, double v) const {
+  if (i < patches_.u.first || i > patches_.u.last || j < patches_.v.first || j > patches_.v.last)
+    throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
+                            ") outside the valid patch range " + rangeText(patches_.u) + " x " +
+                            rangeText(patches_.v));
+  if (knotVector_) {
+    const double u0 = bspline_.knotsU[i], u1 = bspline_.knotsU[i + 1];
+    const double v0 = bspline_.knotsV[j], v1 = bspline_.knotsV[j + 1];
+    return {u0 + u * (u1 - u0), v0 + v * (v1 - v0)};
+  }
+  return {i + u, j + v};
+}
+
+void Surface::evalPatch(int i, int j, double u, double v, PatchDerivs& out, PatchDerivs& base) const {
+  if (knotVector_) {
+    const double u0 = bspline_.knotsU[i], u1 = bspline_.knotsU[i + 1];
+    const double v0 = bspline_.knotsV[j], v1 = bspline_.knotsV[j + 1];
+    const BSplineSurfacePoint p = evalBSplineSurface(bspline_, u0 + u * (u1 - u0), v0 + v * (v1 - v0));
+    out = {p.point, p.du, p.dv, p.duu, p.duv, p.dvv};
+    base = out;
+    return;
+  }
+  const glm::dvec3* net = &net_[static_cast<size_t>(i + offU_) * netCols_ + (j + offV_)];
+  if (!alphaEB_) {
+    evalTensorPatch(basisU_, basisV_, net, netCols_, u, v, out);
+    base = out;
+    return;
+  }
+  const int i1 = i + 1 == model_.rows ? 0 : i + 1;  // only reached in closed directions
+  const int j1 = j + 1 == model_.cols ? 0 : j + 1;
+  const size_t k00 = static_cast<size_t>(i) * model_.cols + j, k01 = static_cast<size_t>(i) * model_.cols + j1;
+  const size_t k10 = static_cast<size_t>(i1) * model_.cols + j, k11 = static_cast<size_t>(i1) * model_.cols + j1;
+  const glm::dvec3 V[4] = {v_[k00], v_[k01], v_[k10], v_[k11]};
+  const double alpha[4] = {model_.alpha[k00], model_.alpha[k01], model_.alpha[k10], model_.alpha[k11]};
+  evalAlphaEBPatch(basisU_, net, netCols_, V, alpha, u, v, out, &base);
+}
+
+bool Surface::cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const {
+  const int rows = model_.rows, cols = model_.cols;
+  const int p = (i + cu) % rows, q = (j + cv) % cols;          // the vertex
+  const int pn = (i + 1 - cu) % rows, qn = (j + 1 - cv) % cols;  // its neighbours inside the patch
+  const size_t kv = static_cast<size_t>(p) * cols + q;
+  if (model_.alpha[kv] != 1.0) return false;
+  const size_t ku = static_cast<size_t>(pn) * cols + q, kw = static_cast<size_t>(p) * cols + qn;
+  const glm::dvec3& P = model_.at(p, q);
+  const glm::dvec3 c = alphaEBCornerNormal(P, nodes_[kv], v_[ku], model_.alpha[ku], v_[kw], model_.alpha[kw],
+                                           cu == 0 ? 1.0 : -1.0, cv == 0 ? 1.0 : -1.0);
+  const double len = glm::length(c);
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  n = c / len;
+  return true;
+}
+
+SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
+  PatchDerivs q, c;
+  evalPatch(i, j, u, v, q, c);
+  SurfacePoint out;
+  out.point = q.p;
+  out.du = q.u;
+  out.dv = q.v;
+  out.duu = q.uu;
+  out.duv = q.uv;
+  out.dvv = q.vv;
+
+  // 1. α = 1 vertex at an exact patch corner: diagonal limit.
+  if (alphaEB_ && (u == 0.0 || u == 1.0) && (v == 0.0 || v == 1.0)) {
+    glm::dvec3 n;
+    if (cornerLimit(i, j, u == 0.0 ? 0 : 1, v == 0.0 ? 0 : 1, n)) {
+      out.normal = n;
+      out.normalRule = NormalRule::CornerLimit;
+      return out;
+    }
+  }
+  // 2. Regular point.
+  glm::dvec3 x = glm::cross(q.u, q.v);
+  if (!degenerateCross(q.u, q.v, x)) {
+    out.normal = x / glm::length(x);
+    out.normalRule = NormalRule::Regular;
+    return out;
+  }
+  // 3. Moved towards the patch centre by δ in each parameter.
+  auto towardCentre = [](double t) { return t < 0.5 ? t + kNormalShift : t > 0.5 ? t - kNormalShift : t; };
+  PatchDerivs qs, cs;
+  evalPatch(i, j, towardCentre(u), towardCentre(v), qs, cs);
+  x = glm::cross(qs.u, qs.v);
+  if (!degenerateCross(qs.u, qs.v, x)) {
+    out.normal = x / glm::length(x);
+    out.normalRule = NormalRule::Shifted;
+    return out;
+  }
+  // 4. Base surface at the original point.
+  x = glm::cross(c.u, c.v);
+  if (!degenerateCross(c.u, c.v, x)) {
+    out.normal = x / glm::length(x);
+    out.normalRule = NormalRule::Base;
+    return out;
+  }
+  out.normal = glm::dvec3(0.0, 0.0, 1.0);
+  out.normalRule = NormalRule::FixedAxis;
+  return out;
+}
+
+SurfacePoint Surface::evaluate(int i, int j, double u, double v) const {
+  if (i < patches_.u.first || i > patches_.u.last || j < patches_.v.first || j > patches_.v.last)
+    throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
+                            ") outside the valid patch range " + rangeText(patches_.u) + " x " +
+                            rangeText(patches_.v));
+  checkLocal("u", u);
+  checkLocal("v", v);
+  if (knotVector_) {
+    if (!(bspline_.knotsU[i + 1] > bspline_.knotsU[i]) || !(bspline_.knotsV[j + 1] > bspline_.knotsV[j]))
+      throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
+                              ") is an empty knot interval");
+  }
+  return evalWithNormal(i, j, u, v);
+}
+
+int Surface::patchOf(double x, const SpanRange& r, double& local) const {
+  int i = static_cast<int>(std::floor(x));
+  i = std::clamp(i, r.first, r.last);
+  local = std::clamp(x - i, 0.0, 1.0);
+  return i;
+}
+
+SurfacePoint Surface::evaluateAt(double U, double V) const {
+  const auto [ulo, uhi] = parameterRangeU();
+  const auto [vlo, vhi] = parameterRangeV();
+  if (!(U >= ulo && U <= uhi) || !(V >= vlo && V <= vhi))
+    throw std::out_of_range("(U, V) = (" + fmt(U) + ", " + fmt(V) + ") outside the parameter range [" + fmt(ulo) +
+                            ", " + fmt(uhi) + "] x [" + fmt(vlo) + ", " + fmt(vhi) + "]");
+  if (knotVector_) {
+    const int n = bspline_.rows, kU = bspline_.orderU;
+    const int i = findKnotSpan(kU, bspline_.knotsU, n, U);
+    const int j = findKnotSpan(bspline_.orderV, bspline_.knotsV, bspline_.cols, V);
+    const double u = (U - bspline_.knotsU[i]) / (bspline_.knotsU[i + 1] - bspline_.knotsU[i]);
+    const double v = (V - bspline_.knotsV[j]) / (bspline_.knotsV[j + 1] - bspline_.knotsV[j]);
+    return evalWithNormal(i, j, std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0));
+  }
+  double u = 0.0, v = 0.0;
+  const int i = patchOf(U, patches_.u, u);
+  const int j = patchOf(V, patches_.v, v);
+  return evalWithNormal(i, j, u, v);
+}
+
+glm::dvec3 Surface::limitNormal(int i, int j, int cornerU, int cornerV) const {
+  if (!alphaEB_) throw std::logic_error("limitNormal: only α-EB surfaces have α = 1 vertices");
+  if (i < patches_.u.first || i > patches_.u.last || j < patches_.v.first || j > patches_.v.last)
+    throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
+                            ") outside the valid patch range " + rangeText(patches_.u) + " x " +
+                            rangeText(patches_.v));
+  if ((cornerU != 0 && cornerU != 1) || (cornerV != 0 && cornerV != 1))
+    throw std::out_of_range("limitNormal: corner indices must be 0 or 1");
+  const int p = (i + cornerU) % model_.rows, q = (j + cornerV) % model_.cols;
+  if (model_.alpha[static_cast<size_t>(p) * model_.cols + q] != 1.0)
+    throw std::logic_error("limitNormal: vertex (" + std::to_string(p) + ", " + std::to_string(q) +
+                           ") has alpha != 1");
+  return evalWithNormal(i, j, cornerU, cornerV).normal;
+}
+
+}  // namespace shapespline

@@ -1,0 +1,141 @@
+#pragma once
+// Surface evaluation on the CPU in fp64: α-EB surfaces (MATH.md §5), plain tensor surfaces of every
+// uniform family (§6) and knot-vector B-spline surfaces (§10.1 via core/bspline.h).
+//
+// Two tiers like core/curve.h. The net is stored once as the "patch net" `patchNet()` of
+// netRows() x netCols() points (row-major) such that patch (i,j) reads the m_u x m_v block starting
+// at row i + netOffsetU(), column j + netOffsetV(): P_{i-c+r, j-c+s} of §1/§5.2 with closed
+// directions wrapped and, for α-EB, the phantom rows/columns/corners of §5.1 in place.
+//
+// Normals (§5.3, rendering convention; never NaN):
+//  1. α-EB, (u,v) exactly at a patch corner whose vertex has α = 1: the per-patch diagonal limit
+//     n = (s_u A_u) x (s_v A_v) (alphaEBCornerNormal / Surface::limitNormal).
+//  2. Otherwise Q_u x Q_v. If |Q_u x Q_v| < 1e-12 |Q_u||Q_v| or a partial is exactly 0, re-evaluate
+//     at the point moved towards the patch centre by δ = 2^-12 in each parameter (a parameter
+//     already at 1/2 stays); if still degenerate use the base surface's C_u x C_v at the original
+//     point (for plain surfaces C = Q); last resort the fixed axis +z.
+// Every step normalises; `normalRule` in SurfacePoint reports which step produced the normal.
+#include "core/bspline.h"
+#include "core/curve.h"
+#include "core/model.h"
+#include "core/span_basis.h"
+
+#include <glm/vec3.hpp>
+
+#include <utility>
+#include <vector>
+
+namespace shapespline {
+
+// Which rule of the normal convention produced SurfacePoint::normal (see the header comment).
+enum class NormalRule { Regular, CornerLimit, Shifted, Base, FixedAxis };
+
+// Point, first and second partials with respect to the local patch parameters (u,v) — equal to
+// the global ones for uniform families (R16); the knot parameters for knot-vector B-splines —
+// and the unit normal.
+struct SurfacePoint {
+  glm::dvec3 point{0.0}, du{0.0}, dv{0.0}, duu{0.0}, duv{0.0}, dvv{0.0}, normal{0.0, 0.0, 1.0};
+  NormalRule normalRule = NormalRule::Regular;
+};
+
+// Inclusive patch index ranges per direction (MATH.md §5.1, §6).
+struct PatchRange {
+  SpanRange u, v;
+};
+
+// ---- Raw kernels (mirrored by GLSL) -------------------------------------------------------------
+
+// Partials of a tensor patch sum_r sum_s B_r(u) B'_s(v) net[r*stride + s] (MATH.md §1, §6):
+// bu.count rows, bv.count columns of `net` starting at the patch's first point.
+struct PatchDerivs {
+  glm::dvec3 p{0.0}, u{0.0}, v{0.0}, uu{0.0}, uv{0.0}, vv{0.0};
+};
+void evalTensorPatch(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3* net, int stride, double u,
+                     double v, PatchDerivs& out);
+
+// One α-EB patch (MATH.md §5.2, §5.3): net = first of the 4x4 extended points P_{i-1.., j-1..},
+// corners in the order (i,j), (i,j+1), (i+1,j), (i+1,j+1) for V and alpha. `base` (optional)
+// receives the base surface C_ij and its partials.
+void evalAlphaEBPatch(const SpanBasis& basis, const glm::dvec3* net, int stride, const glm::dvec3 V[4],
+                      const double alpha[4], double u, double v, PatchDerivs& out, PatchDerivs* base);
+
+// The diagonal-limit normal at an α = 1 vertex P (MATH.md §5.3), unnormalised:
+// A_u = V_u - P + (1 - α_u)(node - P), A_v likewise, n = (s_u A_u) x (s_v A_v), where (V_u, α_u)
+// belong to the vertex's neighbour along u inside the patch, s_u = +1 if the vertex is at local
+// u = 0 and -1 at u = 1 (same for v).
+glm::dvec3 alphaEBCornerNormal(const glm::dvec3& p, const glm::dvec3& node, const glm::dvec3& vU, double alphaU,
+                               const glm::dvec3& vV, double alphaV, double sU, double sV);
+
+// True when the cross product of a and b cannot give a direction (§5.3 thresholds).
+bool degenerateCross(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& cross);
+
+inline constexpr double kNormalShift = 1.0 / 4096.0;        // δ = 2^-12 (§5.3)
+inline constexpr double kNormalDegeneracy = 1e-12;          // |a x b| < 1e-12 |a||b| (§5.3)
+
+// ---- Typed surface ------------------------------------------------------------------------------
+
+class Surface {
+ public:
+  // Validates (core/validate.h, throws ModelError) and precomputes everything evaluation needs.
+  static Surface create(SurfaceModel model);
+
+  const SurfaceModel& model() const { return model_; }
+  bool usesKnotVector() const { return knotVector_; }
+
+  // Valid patches per direction: §5.1 for α-EB, §1 per direction for plain families; knot-vector
+  // B-splines: knot interval indices k-1..n per direction (empty intervals rejected by evaluate()).
+  PatchRange patches() const { return patches_; }
+  std::pair<double, double> parameterRangeU() const;
+  std::pair<double, double> parameterRangeV() const;
+  // Global (U,V) of patch (i,j) at local (u,v): (i+u, j+v), or the knot parameters.
+  std::pair<double, double> parameterOf(int i, int j, double u, double v) const;
+
+  // Patch (i,j) at local (u,v) in [0,1]^2: partials w.r.t. the local parameters (= global for
+  // uniform families), one-sided at patch edges, and the normal by the convention above.
+  // Throws std::out_of_range for a patch or (u,v) outside the valid range.
+  SurfacePoint evaluate(int i, int j, double u, double v) const;
+  // Global (U,V) in the parameter ranges; the patch to the right/above is used at interior joints.
+  SurfacePoint evaluateAt(double U, double V) const;
+
+  // Unit diagonal-limit normal of the α = 1 vertex at corner (cornerU, cornerV) ∈ {0,1}^2 of patch
+  // (i,j), as used by evaluate() at that corner (§5.3). Throws std::logic_error when the surface is
+  // not α-EB or that vertex has α != 1. Falls back like evaluate() if the limit itself degenerates.
+  glm::dvec3 limitNormal(int i, int j, int cornerU, int cornerV) const;
+
+  const SpanBasis& basisU() const { return basisU_; }
+  const SpanBasis& basisV() const { return basisV_; }
+  const std::vector<glm::dvec3>& patchNet() const { return net_; }
+  int netRows() const { return netRows_; }
+  int netCols() const { return netCols_; }
+  int netOffsetU() const { return offU_; }
+  int netOffsetV() const { return offV_; }
+
+  // α-EB only (empty otherwise). extendedNet() is the patch net: entry (a,b) = P_{a-1,b-1} of §5.1,
+  // (R+2 or R+3) x (C+2 or C+3), row-major with netCols() columns. alphaNodes(), alphaV() and
+  // alphas() are R x C row-major (node_ij = C_ij(0,0), V_ij, α_ij); patch (i,j) uses entries
+  // (i, j), (i, j+1), (i+1, j), (i+1, j+1), wrapped in closed directions.
+  const std::vector<glm::dvec3>& extendedNet() const { return alphaEB_ ? net_ : emptyPoints_; }
+  const std::vector<glm::dvec3>& alphaNodes() const { return nodes_; }
+  const std::vector<glm::dvec3>& alphaV() const { return v_; }
+  const std::vector<double>& alphas() const { return model_.alpha; }
+
+ private:
+  Surface() = default;
+  // Point and partials without normal; `base` gets C for α-EB (= the result for plain surfaces).
+  void evalPatch(int i, int j, double u, double v, PatchDerivs& out, PatchDerivs& base) const;
+  SurfacePoint evalWithNormal(int i, int j, double u, double v) const;
+  bool cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const;
+  int patchOf(double x, const SpanRange& r, double& local) const;
+
+  SurfaceModel model_;
+  SpanBasis basisU_, basisV_;
+  PatchRange patches_;
+  bool knotVector_ = false, alphaEB_ = false;
+  std::vector<glm::dvec3> net_;
+  int netRows_ = 0, netCols_ = 0, offU_ = 0, offV_ = 0;
+  std::vector<glm::dvec3> nodes_, v_;
+  std::vector<glm::dvec3> emptyPoints_;
+  BSplineSurfaceData bspline_;  // knot-vector B-splines only
+};
+
+}  // namespace shapespline
