@@ -17,6 +17,16 @@ if(SHAPESPLINE_BUILD_BENCH)
     message(STATUS "Google Benchmark not found: bench/ is skipped")
     set(SHAPESPLINE_BUILD_BENCH OFF)
   endif()
-  # OpenSubdiv is a bench-only peer; without it the bench builds and says so.
-  find_package(OpenSubdiv CONFIG QUIET)
+  # OpenSubdiv is a bench-only peer; without it the bench builds and says so. Looked up by hand:
+  # Debian's OpenSubdivConfig.cmake names static libraries the package does not ship and fails.
+  find_path(OPENSUBDIV_INCLUDE_DIR opensubdiv/far/patchTable.h)
+  find_library(OPENSUBDIV_CPU_LIBRARY osdCPU)
+  if(OPENSUBDIV_INCLUDE_DIR AND OPENSUBDIV_CPU_LIBRARY)
+    add_library(OpenSubdiv::osdCPU UNKNOWN IMPORTED)
+    set_target_properties(OpenSubdiv::osdCPU PROPERTIES IMPORTED_LOCATION ${OPENSUBDIV_CPU_LIBRARY}
+                          INTERFACE_INCLUDE_DIRECTORIES ${OPENSUBDIV_INCLUDE_DIR})
+    set(OpenSubdiv_FOUND TRUE)
+  else()
+    message(STATUS "OpenSubdiv not found: the bench runs without the OpenSubdiv baseline")
+  endif()
 endif()
