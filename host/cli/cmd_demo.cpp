@@ -1,0 +1,95 @@
+// `shapespline demo`: no input needed. Writes built-in example models (the same as
+// examples/models/) and their samples as OBJ and SVG into ./shapespline-demo/, and prints the list.
+#include "cli/cmd_sample.h"
+#include "cli/common.h"
+#include "io/atomic_file.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace shapespline::cli {
+namespace {
+
+constexpr const char* kButterfly = R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": -1, "closed": true,
+ "name": "butterfly", "comment": "closed butterfly-like alpha-EB curve; alpha = 1 at the body, tension in the wings",
+ "points": [[0, 0.5], [1.5, 3], [4, 4.5], [5.5, 3], [4.5, 1], [2, 0], [4.5, -1.5], [5, -3.5], [3, -4], [1, -2],
+            [0, -0.5], [-1, -2], [-3, -4], [-5, -3.5], [-4.5, -1.5], [-2, 0], [-4.5, 1], [-5.5, 3], [-4, 4.5], [-1.5, 3]],
+ "alpha": [1, 0.5, 0.5, 0.5, 0.75, 1, 0.75, 0.5, 0.5, 0.5, 1, 0.5, 0.5, 0.5, 0.75, 1, 0.75, 0.5, 0.5, 0.5]}
+)";
+
+std::string openCurve(const std::string& alpha) {
+  return R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": -2.5, "closed": false,
+ "name": "open alpha-EB curve, alpha = )" + alpha + R"(",
+ "points": [[0, 0], [1, 2], [3, 3], [5, 1], [6, 4], [8, 3]], "alpha": )" + alpha + "}\n";
+}
+
+std::string surface(const std::string& lambda) {
+  return R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "lambda": )" + lambda +
+         R"(, "closed": [false, false],
+ "name": "alpha-EB surface, lambda = )" + lambda + R"(",
+ "points": [[[0, 0, 0], [0, 1, 0.5], [0, 2, 0], [0, 3, -0.5], [0, 4, 0]],
+            [[1, 0, 0.5], [1, 1, 1.5], [1, 2, 0.5], [1, 3, 0], [1, 4, 0.5]],
+            [[2, 0, 0], [2, 1, 0.5], [2, 2, 2], [2, 3, 0.5], [2, 4, 0]],
+            [[3, 0, -0.5], [3, 1, 0], [3, 2, 0.5], [3, 3, 1.5], [3, 4, 0.5]],
+            [[4, 0, 0], [4, 1, 0.5], [4, 2, 0], [4, 3, 0.5], [4, 4, 0]]],
+ "alpha": [[0.5, 0.5, 0.5, 0.5, 0.5], [0.5, 0.5, 0.5, 0.5, 0.5], [0.5, 0.5, 1, 0.5, 0.5],
+           [0.5, 0.5, 0.5, 0.5, 0.5], [0.5, 0.5, 0.5, 0.5, 0.5]]}
+)";
+}
+
+struct DemoArgs {
+  std::string dir = "shapespline-demo", device = "cpu";
+};
+
+void runDemo(const DemoArgs& a) {
+  std::error_code ec;
+  std::filesystem::create_directories(a.dir, ec);
+  if (ec) throw io::OutputPathError("--dir", a.dir, "cannot create the folder: " + ec.message());
+  struct Item {
+    std::string name, text;
+    bool surface;
+  };
+  std::vector<Item> items = {{"butterfly_aeb", kButterfly, false}};
+  for (const char* alpha : {"0.25", "0.5", "1"}) items.push_back({std::string("open_aeb_alpha_") + alpha, openCurve(alpha), false});
+  for (const char* lambda : {"-2", "0", "1"}) items.push_back({std::string("surface_aeb_lambda_") + lambda, surface(lambda), true});
+
+  std::vector<std::string> written;
+  for (const auto& it : items) {
+    const std::string base = (std::filesystem::path(a.dir) / it.name).string();
+    {
+      io::AtomicFile f(base + ".json", "--dir");
+      f.write(it.text);
+      f.commit();
+      written.push_back(base + ".json");
+    }
+    SampleArgs s;
+    s.model = base + ".json";
+    s.device = a.device;
+    s.quiet = true;
+    s.out = base + ".obj";
+    if (it.surface) s.grid = "24x24"; else s.samples = 48;
+    runSample(s);
+    written.push_back(s.out);
+    if (!it.surface) {
+      s.out = base + ".svg";
+      runSample(s);
+      written.push_back(s.out);
+    }
+  }
+  std::printf("shapespline demo wrote %zu files:\n", written.size());
+  for (const auto& w : written) std::printf("  %s\n", w.c_str());
+}
+
+}  // namespace
+
+void registerDemo(CLI::App& app) {
+  auto a = std::make_shared<DemoArgs>();
+  CLI::App* sub = app.add_subcommand("demo", "Write example models and their samples (OBJ, SVG) into ./shapespline-demo/.");
+  sub->add_option("--dir", a->dir, "output folder (default ./shapespline-demo)");
+  sub->add_option("--device", a->device, "cpu (default) or vulkan");
+  sub->footer(kExitCodeHelp);
+  sub->callback([a] { runDemo(*a); });
+}
+
+}  // namespace shapespline::cli

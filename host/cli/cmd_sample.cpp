@@ -1,0 +1,231 @@
+// `shapespline sample MODEL -o OUT`: a regular grid per span/patch, streamed chunk by chunk into
+// the writer chosen by the output extension, through a temporary file renamed at the end.
+#include "cli/cmd_sample.h"
+#include "cli/common.h"
+#include "cli/sampling.h"
+#include "io/sample_writer.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <optional>
+
+namespace shapespline::cli {
+namespace {
+
+constexpr int kMaxSamplesPerDirection = 65536;
+constexpr double kMaxTotalPoints = 1e12;
+constexpr size_t kMaxSvgPoints = 2'000'000;
+
+int parseCount(const std::string& text, const std::string& field) {
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE) {
+    throw InputError(field, text, "expected a positive integer");
+  }
+  if (v < 2 || v > kMaxSamplesPerDirection) {
+    throw InputError(field, text, "samples per direction must be in [2, " + std::to_string(kMaxSamplesPerDirection) + "]");
+  }
+  return static_cast<int>(v);
+}
+
+std::pair<int, int> parseShard(const std::string& text) {
+  if (text.empty()) return {1, 1};
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) throw InputError("--shard", text, "expected K/N with 1 <= K <= N");
+  char* e1 = nullptr;
+  char* e2 = nullptr;
+  const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
+  const long long k = std::strtoll(a.c_str(), &e1, 10), n = std::strtoll(b.c_str(), &e2, 10);
+  if (a.empty() || b.empty() || *e1 || *e2 || n < 1 || k < 1 || k > n || n > 1'000'000'000) {
+    throw InputError("--shard", text, "expected K/N with 1 <= K <= N");
+  }
+  return {static_cast<int>(k), static_cast<int>(n)};
+}
+
+void requireFiniteChunk(const GridChunk& c) {
+  const size_t n = c.pointCount() * 3;
+  for (int f = 0; f < kFieldCount; ++f) {
+    const void* p = c.planes[static_cast<size_t>(f)];
+    if (!p) continue;
+    for (size_t i = 0; i < n; ++i) {
+      const double v = c.precision == Precision::Double ? static_cast<const double*>(p)[i]
+                                                        : static_cast<double>(static_cast<const float*>(p)[i]);
+      if (!std::isfinite(v)) {
+        throw std::runtime_error("internal error: non-finite " + std::string(io::fieldName(static_cast<Field>(f))) +
+                                 " at item " + std::to_string(c.firstItem + i / 3 / c.pointsPerItem) +
+                                 " (output removed)");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void runSample(const SampleArgs& args) {
+  const io::OutputFormat format = io::outputFormatFromPath(args.out, "-o");
+  const Device requested = parseDevice(args.device);
+  const Precision precision = parsePrecision(args.precision);
+  const auto [shardK, shardN] = parseShard(args.shard);
+  if (args.threads < 0) throw InputError("--threads", std::to_string(args.threads), "must be >= 0");
+
+  io::Model model = loadModel(args.model);
+  const bool isSurface = std::holds_alternative<SurfaceModel>(model);
+
+  int su = 0, sv = 1;
+  if (isSurface) {
+    if (!args.grid.empty()) {
+      const size_t x = args.grid.find_first_of("xX");
+      su = parseCount(args.grid.substr(0, x), "--grid");
+      sv = x == std::string::npos ? su : parseCount(args.grid.substr(x + 1), "--grid");
+    } else if (args.samples != 0) {
+      su = sv = parseCount(std::to_string(args.samples), "--samples");
+    } else {
+      su = sv = 16;
+    }
+  } else {
+    if (!args.grid.empty()) throw InputError("--grid", args.grid, "curves take --samples N per span");
+    su = args.samples != 0 ? parseCount(std::to_string(args.samples), "--samples") : 32;
+  }
+  const std::string countField = isSurface ? "--grid" : "--samples";
+
+  FieldMask fields = io::requiredFields(format, isSurface);
+  if (args.derivatives) {
+    fields |= isSurface ? fieldBit(Field::Du) | fieldBit(Field::Dv) | fieldBit(Field::Duu) | fieldBit(Field::Duv) |
+                              fieldBit(Field::Dvv)
+                        : fieldBit(Field::D1) | fieldBit(Field::D2);
+  }
+  if (args.normals) {
+    if (!isSurface) throw InputError("--normals", "", "curves have no normals (surfaces only)");
+    fields |= fieldBit(Field::Normal);
+  }
+  if (format == io::OutputFormat::Svg && isSurface) {
+    throw InputError("-o", args.out, "SVG output is for curves only (use .obj, .ply, .csv, .f32 or .f64)");
+  }
+
+  std::optional<Curve> curve;
+  std::optional<Surface> surface;
+  io::SampleLayout layout;
+  layout.surface = isSurface;
+  layout.samplesU = su;
+  layout.samplesV = sv;
+  layout.fields = fields;
+  layout.precision = precision;
+  layout.source = args.model;
+  layout.shardIndex = shardK;
+  layout.shardCount = shardN;
+  if (isSurface) {
+    surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
+    const auto items = surfaceGridItems(*surface);
+    for (const auto& [i, j] : items) {
+      if (layout.spanU.empty() || layout.spanU.back() != i) layout.spanU.push_back(i);
+      if (layout.spanU.size() == 1) layout.spanV.push_back(j);
+    }
+    layout.itemsV = layout.spanV.size();
+    layout.totalItems = items.size();
+    if (layout.spanU.size() * layout.spanV.size() != items.size()) {
+      throw std::logic_error("surface items do not form a grid");
+    }
+    const auto& sm = surface->model();
+    auto interval = [&](int i, const std::vector<double>& knots) {
+      return surface->usesKnotVector() ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
+                                       : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
+    };
+    for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
+    for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
+  } else {
+    curve.emplace(Curve::create(std::get<CurveModel>(std::move(model))));
+    layout.spanU = curveGridItems(*curve);
+    layout.spanV = {0};
+    layout.paramV = {{0.0, 0.0}};
+    layout.totalItems = layout.spanU.size();
+    layout.dimension = curve->dimension();
+    for (int s : layout.spanU) layout.paramU.emplace_back(curve->parameterOf(s, 0.0), curve->parameterOf(s, 1.0));
+    layout.controlPoints = curve->model().points;
+    layout.closed = curve->model().closed;
+    for (int s : layout.spanU) layout.dataPoints.push_back(curve->evaluate(s, 0.0).point);
+    if (!layout.spanU.empty() && !layout.closed) layout.dataPoints.push_back(curve->evaluate(layout.spanU.back(), 1.0).point);
+  }
+
+  const double totalPoints = static_cast<double>(layout.totalItems) * su * sv;
+  if (totalPoints > kMaxTotalPoints) {
+    throw InputError(countField, isSurface ? std::to_string(su) + "x" + std::to_string(sv) : std::to_string(su),
+                     "the job would produce " + std::to_string(static_cast<long long>(totalPoints)) +
+                         " points; at most 1e12 are allowed");
+  }
+  layout.firstItem = layout.totalItems * static_cast<size_t>(shardK - 1) / static_cast<size_t>(shardN);
+  layout.itemCount = layout.totalItems * static_cast<size_t>(shardK) / static_cast<size_t>(shardN) - layout.firstItem;
+  if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max()) {
+    throw InputError(countField, std::to_string(layout.pointCount()) + " vertices",
+                     "PLY holds at most 2^32-1 vertices; use --shard or a raw format");
+  }
+  if (format == io::OutputFormat::Svg && layout.pointCount() > kMaxSvgPoints) {
+    throw InputError(countField, std::to_string(layout.pointCount()) + " points",
+                     "SVG output holds at most " + std::to_string(kMaxSvgPoints) + " points");
+  }
+
+  io::AtomicFile out(args.out, "-o");
+  std::optional<io::AtomicFile> sidecar;
+  if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64) {
+    sidecar.emplace(args.out + ".json", "-o");
+  }
+  Device device = resolveDevice(requested, precision, args.quiet);
+  if (device == Device::Vulkan && !gpuHandles(curve ? &*curve : nullptr, surface ? &*surface : nullptr, args.quiet)) {
+    device = Device::Cpu;
+  }
+
+  auto writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
+  writer->begin(layout);
+  if (layout.itemCount > 0) {
+    Progress progress(layout.pointCount(), args.quiet);
+    GridJob job;
+    job.curve = curve ? &*curve : nullptr;
+    job.surface = surface ? &*surface : nullptr;
+    job.grid.samplesU = su;
+    job.grid.samplesV = sv;
+    job.grid.firstItem = layout.firstItem;
+    job.grid.itemCount = layout.itemCount;
+    job.fields = fields;
+    job.precision = precision;
+    job.device = device;
+    job.threads = args.threads;
+    runGrid(job, [&](const GridChunk& chunk) {
+      requireFiniteChunk(chunk);
+      writer->consume(chunk);
+      progress.add(chunk.pointCount());
+    });
+  }
+  writer->finish();
+  out.commit();
+  if (sidecar) sidecar->commit();
+  if (!args.quiet) {
+    std::fprintf(stderr, "shapespline: wrote %s (%zu %s, %zu points%s)\n", args.out.c_str(), layout.itemCount,
+                 isSurface ? "patches" : "spans", layout.pointCount(),
+                 sidecar ? (", layout in " + args.out + ".json").c_str() : "");
+  }
+}
+
+void registerSample(CLI::App& app) {
+  auto args = std::make_shared<SampleArgs>();
+  CLI::App* sub = app.add_subcommand("sample", "Sample a model on a regular grid per span/patch and write a file.");
+  sub->add_option("MODEL", args->model, "model file (FORMAT.md)")->required();
+  sub->add_option("-o,--output", args->out,
+                  "output file; format from the extension: .obj .ply .csv .f32 .f64 (+ OUT.json sidecar) .svg")
+      ->required();
+  sub->add_option("--samples", args->samples, "samples per span (curves, default 32; both ends included)");
+  sub->add_option("--grid", args->grid, "samples per patch, U or UxV (surfaces, default 16x16)");
+  sub->add_option("--device", args->device, "vulkan (default; falls back to cpu with a notice) or cpu");
+  sub->add_option("--precision", args->precision, "float or double (default double)");
+  sub->add_flag("--derivatives", args->derivatives, "also write derivatives (d1, d2 / du, dv, duu, duv, dvv)");
+  sub->add_flag("--normals", args->normals, "also write unit normals (surfaces)");
+  sub->add_option("--shard", args->shard,
+                  "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches; see README for merging");
+  sub->add_option("--threads", args->threads, "CPU threads (0 = all)");
+  sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
+  sub->footer(kExitCodeHelp);
+  sub->callback([args] { runSample(*args); });
+}
+
+}  // namespace shapespline::cli

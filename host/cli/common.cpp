@@ -1,0 +1,167 @@
+#include "cli/common.h"
+
+#include "io/number_text.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace shapespline::cli {
+
+io::Model loadModel(const std::string& path) {
+  try {
+    return io::loadModelFile(path);
+  } catch (const ModelError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("MODEL", path, std::string("cannot read the model file: ") + e.what());
+  }
+}
+
+nlohmann::json readJsonFile(const std::string& path, const std::string& field) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(field, path, "cannot open the file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  try {
+    return nlohmann::json::parse(ss.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(field, path, std::string("malformed JSON: ") + e.what());
+  }
+}
+
+std::vector<double> parseNumbers(const std::string& text, const std::string& field) {
+  std::vector<double> out;
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size()) {
+      throw InputError(field, text, "expected comma-separated numbers");
+    }
+    if (!std::isfinite(v)) throw InputError(field, text, "numbers must be finite");
+    out.push_back(v);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  return out;
+}
+
+glm::dvec3 parsePoint(const std::string& text, const std::string& field, int* dims) {
+  const auto v = parseNumbers(text, field);
+  if (v.size() != 2 && v.size() != 3) throw InputError(field, text, "expected X,Y or X,Y,Z");
+  if (dims) *dims = static_cast<int>(v.size());
+  return {v[0], v[1], v.size() == 3 ? v[2] : 0.0};
+}
+
+Device parseDevice(const std::string& text) {
+  if (text == "vulkan" || text == "gpu") return Device::Vulkan;
+  if (text == "cpu") return Device::Cpu;
+  throw InputError("--device", text, "expected vulkan or cpu");
+}
+
+Precision parsePrecision(const std::string& text) {
+  if (text == "float" || text == "fp32") return Precision::Float;
+  if (text == "double" || text == "fp64") return Precision::Double;
+  throw InputError("--precision", text, "expected float or double");
+}
+
+void requireFinite(const glm::dvec3& v, const char* what) {
+  if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+    throw std::runtime_error(std::string("internal error: evaluation produced a non-finite ") + what);
+  }
+}
+
+Progress::Progress(uint64_t total, bool quiet) : total_(total) {
+  enabled_ = !quiet && total >= 4'000'000 && ::isatty(STDERR_FILENO);
+  last_ = std::chrono::steady_clock::now();
+}
+
+Progress::~Progress() {
+  if (enabled_) {
+    draw(true);
+    std::fputc('\n', stderr);
+  }
+}
+
+void Progress::add(uint64_t done) {
+  done_ += done;
+  if (!enabled_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_ < std::chrono::milliseconds(200)) return;
+  last_ = now;
+  draw(false);
+}
+
+void Progress::draw(bool) {
+  const double f = total_ ? static_cast<double>(done_) / static_cast<double>(total_) : 1.0;
+  const int width = 40, full = static_cast<int>(f * width);
+  std::string bar(static_cast<size_t>(full), '#');
+  bar.resize(width, ' ');
+  std::fprintf(stderr, "\r[%s] %5.1f%%  %llu / %llu points", bar.c_str(), 100.0 * f,
+               static_cast<unsigned long long>(done_), static_cast<unsigned long long>(total_));
+  std::fflush(stderr);
+}
+
+std::string number17(double v) {
+  char buf[io::kMaxNumberChars];
+  return std::string(buf, io::writeNumber17(buf, v));
+}
+
+std::string vector17(const glm::dvec3& v, int dims) {
+  std::string s = "[" + number17(v.x) + ", " + number17(v.y);
+  if (dims == 3) s += ", " + number17(v.z);
+  return s + "]";
+}
+
+}  // namespace shapespline::cli
+
+#include "core/grid_sampler.h"
+#include "io/atomic_file.h"
+#include "io/svg_writer.h"
+
+namespace shapespline::cli {
+
+std::string curveSvg(const Curve& curve, const std::vector<glm::dvec3>& dataPoints, const std::string& title,
+                     int samplesPerSpan) {
+  io::SvgPlot plot(true, title);
+  io::SvgPolyline poly;
+  for (const auto& p : curve.model().points) poly.points.emplace_back(p.x, p.y);
+  poly.color = "#888888";
+  poly.width = 1.0;
+  poly.dashed = true;
+  poly.closed = curve.model().closed;
+  io::SvgMarkers ctrl;
+  ctrl.points = poly.points;
+  ctrl.color = "#555555";
+  ctrl.radius = 3.0;
+  ctrl.filled = false;
+  plot.add(std::move(poly));
+  plot.add(std::move(ctrl));
+  for (int s : curveGridItems(curve)) {
+    io::SvgPolyline line;
+    for (int i = 0; i < samplesPerSpan; ++i) {
+      const auto p = curve.evaluate(s, static_cast<double>(i) / (samplesPerSpan - 1)).point;
+      line.points.emplace_back(p.x, p.y);
+    }
+    plot.add(std::move(line));
+  }
+  io::SvgMarkers data;
+  for (const auto& p : dataPoints) data.points.emplace_back(p.x, p.y);
+  plot.add(std::move(data));
+  return plot.render();
+}
+
+void writeModelFile(const io::Model& model, const std::string& path, const std::string& option) {
+  io::AtomicFile out(path, option);
+  out.write(io::toJson(model).dump(2));
+  out.write("\n");
+  out.commit();
+}
+
+}  // namespace shapespline::cli

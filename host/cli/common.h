@@ -1,0 +1,79 @@
+#pragma once
+// Helpers shared by the subcommands: model loading, argument parsing, device choice, progress.
+#include "cli/exit_codes.h"
+#include "core/curve.h"
+#include "core/sample_grid.h"
+#include "core/surface.h"
+#include "io/model_json.h"
+
+#include <CLI/CLI.hpp>
+#include <glm/vec3.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shapespline::cli {
+
+// Every subcommand registers itself on the app; the callback runs the command.
+void registerSample(CLI::App& app);
+void registerEval(CLI::App& app);
+void registerBasis(CLI::App& app);
+void registerGbFit(CLI::App& app);
+void registerExtend(CLI::App& app);
+void registerInfo(CLI::App& app);
+void registerDemo(CLI::App& app);
+void registerMerge(CLI::App& app);
+
+// Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
+// becomes InputError("MODEL", path, ...).
+io::Model loadModel(const std::string& path);
+// Reads a JSON file; malformed JSON or an unreadable file is an InputError naming `field`.
+nlohmann::json readJsonFile(const std::string& path, const std::string& field);
+
+// "X,Y" or "X,Y,Z" -> point (z = 0 for two values). `dims` receives the count.
+glm::dvec3 parsePoint(const std::string& text, const std::string& field, int* dims = nullptr);
+// "a,b,c" -> finite numbers.
+std::vector<double> parseNumbers(const std::string& text, const std::string& field);
+
+enum class Device { Vulkan, Cpu };
+Device parseDevice(const std::string& text);
+Precision parsePrecision(const std::string& text);
+
+// The GPU path, when the build has one and a device exists; otherwise a notice on stderr and the
+// CPU path. Returns the device that will actually be used.
+Device resolveDevice(Device requested, Precision precision, bool quiet);
+
+// Throws std::runtime_error (exit 3) when a vector is not finite: an evaluation bug, never input.
+void requireFinite(const glm::dvec3& v, const char* what);
+
+// Progress bar on stderr, shown only when stderr is a terminal, the job is long and not --quiet.
+class Progress {
+ public:
+  Progress(uint64_t total, bool quiet);
+  ~Progress();
+  void add(uint64_t done);
+
+ private:
+  void draw(bool final);
+  uint64_t total_ = 0, done_ = 0;
+  bool enabled_ = false;
+  std::chrono::steady_clock::time_point last_;
+};
+
+// JSON output with 17 significant digits (the `eval` promise).
+std::string number17(double v);
+std::string vector17(const glm::dvec3& v, int dims);
+
+}  // namespace shapespline::cli
+
+namespace shapespline::cli {
+
+// SVG of a curve (x, y projection): the curve, its control polygon (dashed) and `dataPoints` (red).
+std::string curveSvg(const Curve& curve, const std::vector<glm::dvec3>& dataPoints, const std::string& title,
+                     int samplesPerSpan = 64);
+// Writes a model file atomically (io::toJson, 2-space indent).
+void writeModelFile(const io::Model& model, const std::string& path, const std::string& option = "-o");
+
+}  // namespace shapespline::cli

@@ -1,0 +1,90 @@
+// CSV with one header line. Curves: span,t,u,<fields>; surfaces: patch_i,patch_j,u,v,U,V,<fields>
+// (u,v local, U,V global). Each field is written as <name>_x,<name>_y[,<name>_z] (2-D curves have
+// no z column). Numbers in the shortest form that reads back exactly.
+#include "io/number_text.h"
+#include "io/sample_writer.h"
+
+#include <string>
+#include <vector>
+
+namespace shapespline::io {
+namespace {
+
+class CsvWriter final : public SampleWriter {
+ public:
+  explicit CsvWriter(AtomicFile& out) : out_(out) {}
+
+  void begin(const SampleLayout& layout) override {
+    layout_ = layout;
+    dim_ = layout.surface ? 3 : layout.dimension;
+    std::string h = layout.surface ? "patch_i,patch_j,u,v,U,V" : "span,t,u";
+    for (int f = 0; f < kFieldCount; ++f) {
+      const Field field = static_cast<Field>(f);
+      if (!(layout.fields & fieldBit(field))) continue;
+      fields_.push_back(field);
+      const char* axes[3] = {"_x", "_y", "_z"};
+      for (int a = 0; a < dim_; ++a) h += "," + std::string(field == Field::Point ? "" : fieldName(field)) +
+                                           (field == Field::Point ? std::string(1, "xyz"[a]) : std::string(axes[a]));
+    }
+    h += "\n";
+    out_.write(h);
+  }
+
+  void consume(const GridChunk& chunk) override {
+    const size_t ppi = chunk.pointsPerItem;
+    const int sv = layout_.samplesV, su = layout_.samplesU;
+    for (size_t it = 0; it < chunk.itemCount; ++it) {
+      const size_t item = chunk.firstItem + it;
+      const auto [iu, iv] = layout_.itemIndex(item);
+      for (size_t q = 0; q < ppi; ++q) {
+        const size_t p = it * ppi + q;
+        const int a = static_cast<int>(q) / sv, b = static_cast<int>(q) % sv;
+        char* s = out_.space(64 + fields_.size() * 3 * 26);
+        char* e = s;
+        const auto [gu, gv] = layout_.parameter(item, a, b);
+        const double lu = su > 1 ? static_cast<double>(a) / (su - 1) : 0.0;
+        e = writeInteger(e, static_cast<long long>(iu));
+        *e++ = ',';
+        if (layout_.surface) {
+          const double lv = sv > 1 ? static_cast<double>(b) / (sv - 1) : 0.0;
+          e = writeInteger(e, static_cast<long long>(iv));
+          *e++ = ',';
+          e = writeNumber(e, lu);
+          *e++ = ',';
+          e = writeNumber(e, lv);
+          *e++ = ',';
+          e = writeNumber(e, gu);
+          *e++ = ',';
+          e = writeNumber(e, gv);
+        } else {
+          e = writeNumber(e, lu);
+          *e++ = ',';
+          e = writeNumber(e, gu);
+        }
+        for (Field f : fields_) {
+          for (int ax = 0; ax < dim_; ++ax) {
+            *e++ = ',';
+            e = layout_.precision == Precision::Double ? writeNumber(e, chunk.coord(f, p, ax))
+                                                     : writeNumber(e, static_cast<float>(chunk.coord(f, p, ax)));
+          }
+        }
+        *e++ = '\n';
+        out_.advance(static_cast<size_t>(e - s));
+      }
+    }
+  }
+
+  void finish() override {}
+
+ private:
+  AtomicFile& out_;
+  SampleLayout layout_;
+  int dim_ = 3;
+  std::vector<Field> fields_;
+};
+
+}  // namespace
+
+std::unique_ptr<SampleWriter> makeCsvWriter(AtomicFile& out) { return std::make_unique<CsvWriter>(out); }
+
+}  // namespace shapespline::io

@@ -1,0 +1,139 @@
+// Wavefront OBJ. Surfaces: per patch its Su x Sv vertices (v, vt, vn) followed by two triangles per
+// grid cell (v/vt/vn share one index); curves: the vertices of a span followed by one `l` polyline.
+// Unsharded files use absolute (1-based) indices for the widest reader support; a shard uses
+// relative (negative) indices, which the OBJ specification allows, so that shard files are valid
+// on their own and `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh.
+#include "io/number_text.h"
+#include "io/sample_writer.h"
+
+#include <cstring>
+#include <string>
+
+namespace shapespline::io {
+namespace {
+
+class ObjWriter final : public SampleWriter {
+ public:
+  explicit ObjWriter(AtomicFile& out) : out_(out) {}
+
+  void begin(const SampleLayout& layout) override {
+    layout_ = layout;
+    relative_ = layout.sharded();
+    std::string h = "# shapespline sample of " + layout.source + "\n# " +
+                    std::string(layout.surface ? "patches " : "spans ") + std::to_string(layout.firstItem) + ".." +
+                    std::to_string(layout.firstItem + layout.itemCount) + " of " + std::to_string(layout.totalItems) +
+                    ", grid " + std::to_string(layout.samplesU) +
+                    (layout.surface ? "x" + std::to_string(layout.samplesV) : std::string()) +
+                    (relative_ ? ", shard " + std::to_string(layout.shardIndex) + "/" +
+                                     std::to_string(layout.shardCount) + " (relative indices: concatenate shards)"
+                               : std::string()) +
+                    "\n";
+    out_.write(h);
+  }
+
+  void consume(const GridChunk& chunk) override {
+    const size_t ppi = chunk.pointsPerItem;
+    for (size_t it = 0; it < chunk.itemCount; ++it) {
+      const size_t item = chunk.firstItem + it;
+      for (size_t q = 0; q < ppi; ++q) {
+        const size_t p = it * ppi + q;
+        char* s = out_.space(256);
+        char* e = s;
+        *e++ = 'v';
+        for (int ax = 0; ax < 3; ++ax) {
+          *e++ = ' ';
+          e = writeNumber(e, chunk.coord(Field::Point, p, ax));
+        }
+        *e++ = '\n';
+        if (layout_.surface) {
+          const int a = static_cast<int>(q) / layout_.samplesV, b = static_cast<int>(q) % layout_.samplesV;
+          const auto [tu, tv] = layout_.texCoord(item, a, b);
+          *e++ = 'v';
+          *e++ = 't';
+          *e++ = ' ';
+          e = writeNumber(e, tu);
+          *e++ = ' ';
+          e = writeNumber(e, tv);
+          *e++ = '\n';
+          *e++ = 'v';
+          *e++ = 'n';
+          for (int ax = 0; ax < 3; ++ax) {
+            *e++ = ' ';
+            e = writeNumber(e, chunk.coord(Field::Normal, p, ax));
+          }
+          *e++ = '\n';
+        }
+        out_.advance(static_cast<size_t>(e - s));
+      }
+      if (layout_.surface) writeFaces(); else writePolyline();
+      vertices_ += ppi;
+    }
+  }
+
+  void finish() override {}
+
+ private:
+  // Index of vertex `local` of the item just written.
+  long long index(size_t local) const {
+    const long long ppi = static_cast<long long>(layout_.pointsPerItem());
+    return relative_ ? static_cast<long long>(local) - ppi : static_cast<long long>(vertices_ + local + 1);
+  }
+  char* ref(char* e, size_t local, bool triple) {
+    const long long i = index(local);
+    char* start = e;
+    e = writeInteger(e, i);
+    if (triple) {
+      const size_t n = static_cast<size_t>(e - start);
+      *e++ = '/';
+      std::memcpy(e, start, n);
+      e += n;
+      *e++ = '/';
+      std::memcpy(e, start, n);
+      e += n;
+    }
+    return e;
+  }
+  void writeFaces() {
+    const int su = layout_.samplesU, sv = layout_.samplesV;
+    for (int a = 0; a + 1 < su; ++a) {
+      for (int b = 0; b + 1 < sv; ++b) {
+        const size_t p00 = static_cast<size_t>(a) * sv + b, p10 = p00 + sv, p11 = p10 + 1, p01 = p00 + 1;
+        // (p00, p10, p11) and (p00, p11, p01): counter-clockwise seen from du x dv.
+        const size_t tri[2][3] = {{p00, p10, p11}, {p00, p11, p01}};
+        for (const auto& t : tri) {
+          char* s = out_.space(256);
+          char* e = s;
+          *e++ = 'f';
+          for (size_t k : t) {
+            *e++ = ' ';
+            e = ref(e, k, true);
+          }
+          *e++ = '\n';
+          out_.advance(static_cast<size_t>(e - s));
+        }
+      }
+    }
+  }
+  void writePolyline() {
+    out_.write("l", 1);
+    for (size_t k = 0; k < layout_.pointsPerItem(); ++k) {
+      char* s = out_.space(64);
+      char* e = s;
+      *e++ = ' ';
+      e = ref(e, k, false);
+      out_.advance(static_cast<size_t>(e - s));
+    }
+    out_.write("\n", 1);
+  }
+
+  AtomicFile& out_;
+  SampleLayout layout_;
+  bool relative_ = false;
+  size_t vertices_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<SampleWriter> makeObjWriter(AtomicFile& out) { return std::make_unique<ObjWriter>(out); }
+
+}  // namespace shapespline::io

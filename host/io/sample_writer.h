@@ -1,0 +1,83 @@
+#pragma once
+// Streaming writers of sampled grids (core/sample_grid.h): each consumes GridChunks in item order
+// and never holds more than one chunk plus a fixed-size buffer, so 10^9 points stream through
+// in bounded memory. Formats: OBJ (surfaces: two triangles per grid cell with normals and uv;
+// curves: one polyline per span), PLY (binary little endian), CSV, raw f32/f64 with a JSON sidecar,
+// and SVG (curves only, 2-D projection; buffers its points, so the caller caps the count).
+#include "core/sample_grid.h"
+#include "io/atomic_file.h"
+
+#include <glm/vec3.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace shapespline::io {
+
+enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Svg };
+
+// Format from the file extension (case-insensitive); throws OutputPathError(option, ...) otherwise.
+OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option = "-o");
+std::string_view outputFormatName(OutputFormat format);
+
+// "point", "d1", "du", ..., "normal" (the golden / eval field names).
+std::string_view fieldName(Field field);
+
+// Everything a writer needs to know about the job before the first chunk arrives.
+struct SampleLayout {
+  bool surface = false;
+  int dimension = 3;                  // coordinates per vector in text formats (2-D curves: 2)
+  int samplesU = 2, samplesV = 1;     // per item (span / patch)
+  size_t firstItem = 0;               // this job's items: [firstItem, firstItem + itemCount)
+  size_t itemCount = 0;
+  size_t totalItems = 0;              // items of the whole model
+  size_t itemsV = 1;                  // items along v: item k is patch row k / itemsV, column k % itemsV
+  // Model span/patch index of each item row (u) and column (v); curves: spanV = {0}.
+  std::vector<int> spanU, spanV;
+  // Global parameter interval [start, end] of each item row (u) and column (v); curves: paramV = {{0,0}}.
+  std::vector<std::pair<double, double>> paramU, paramV;
+  FieldMask fields = 0;               // fields present in every chunk
+  Precision precision = Precision::Double;  // of the chunk data; PLY stores this precision
+  int shardIndex = 1, shardCount = 1; // 1-based K of N (1/1 when not sharded)
+  std::string source;                 // model file, for headers and the sidecar
+  // SVG only: the control polygon (closed = drawn as a loop) and marked data points.
+  std::vector<glm::dvec3> controlPoints;
+  bool closed = false;
+  std::vector<glm::dvec3> dataPoints;
+
+  size_t pointsPerItem() const { return static_cast<size_t>(samplesU) * static_cast<size_t>(samplesV); }
+  size_t pointCount() const { return itemCount * pointsPerItem(); }
+  bool sharded() const { return shardCount > 1; }
+  // Model span/patch indices and global parameter of sample (a, b) of item k.
+  std::pair<int, int> itemIndex(size_t item) const;
+  std::pair<double, double> parameter(size_t item, int a, int b) const;
+  // Parameters normalised to [0,1] over the whole model (OBJ/PLY texture coordinates).
+  std::pair<double, double> texCoord(size_t item, int a, int b) const;
+};
+
+class SampleWriter {
+ public:
+  virtual ~SampleWriter() = default;
+  virtual void begin(const SampleLayout& layout) = 0;
+  virtual void consume(const GridChunk& chunk) = 0;
+  // Writes trailing data (PLY faces, SVG body, sidecar); the caller then commits the files.
+  virtual void finish() = 0;
+};
+
+// `out` must outlive the writer. `sidecar` (raw formats only) receives the JSON layout description.
+std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar = nullptr);
+
+// Fields every writer of `format` needs for the given kind (e.g. OBJ/PLY surfaces need normals).
+FieldMask requiredFields(OutputFormat format, bool surface);
+
+std::unique_ptr<SampleWriter> makeObjWriter(AtomicFile& out);
+std::unique_ptr<SampleWriter> makePlyWriter(AtomicFile& out);
+std::unique_ptr<SampleWriter> makeCsvWriter(AtomicFile& out);
+std::unique_ptr<SampleWriter> makeRawWriter(AtomicFile& out, AtomicFile& sidecar, Precision filePrecision);
+std::unique_ptr<SampleWriter> makeSvgWriter(AtomicFile& out);
+
+}  // namespace shapespline::io

@@ -1,0 +1,172 @@
+#include "io/svg_writer.h"
+
+#include "io/number_text.h"
+#include "io/sample_writer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace shapespline::io {
+
+const char* paletteColor(int index) {
+  static const char* kPalette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                   "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  return kPalette[static_cast<unsigned>(index) % 10];
+}
+
+namespace {
+
+std::string num(double v) {
+  char buf[kMaxNumberChars];
+  // Pixel coordinates: 2 decimals are plenty and keep files small.
+  const double r = std::round(v * 100.0) / 100.0;
+  return std::string(buf, writeNumber(buf, r == 0.0 ? 0.0 : r));
+}
+
+std::string escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else o += c;
+  }
+  return o;
+}
+
+}  // namespace
+
+std::string SvgPlot::render(int widthPx, int heightPx) const {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  auto grow = [&](const glm::dvec2& p) {
+    x0 = std::min(x0, p.x);
+    x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y);
+    y1 = std::max(y1, p.y);
+  };
+  for (const auto& l : lines_) for (const auto& p : l.points) grow(p);
+  for (const auto& m : markers_) for (const auto& p : m.points) grow(p);
+  if (!(x0 <= x1)) x0 = y0 = 0.0, x1 = y1 = 1.0;
+  if (x1 - x0 < 1e-12) x0 -= 0.5, x1 += 0.5;
+  if (y1 - y0 < 1e-12) y0 -= 0.5, y1 += 0.5;
+
+  const double margin = 40.0, top = title_.empty() ? margin : margin + 20.0;
+  const double legend = axes_ ? 110.0 : 0.0;
+  const double w = widthPx - 2 * margin - legend, h = heightPx - margin - top;
+  double sx = w / (x1 - x0), sy = h / (y1 - y0);
+  if (equal_) sx = sy = std::min(sx, sy);
+  const double ox = margin + (w - sx * (x1 - x0)) / 2, oy = top + (h - sy * (y1 - y0)) / 2;
+  auto X = [&](double x) { return ox + (x - x0) * sx; };
+  auto Y = [&](double y) { return oy + (y1 - y) * sy; };
+
+  std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
+                  std::to_string(widthPx) + "\" height=\"" + std::to_string(heightPx) + "\" viewBox=\"0 0 " +
+                  std::to_string(widthPx) + " " + std::to_string(heightPx) + "\">\n" +
+                  "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  if (!title_.empty()) {
+    s += "<text x=\"" + num(widthPx / 2.0) + "\" y=\"24\" text-anchor=\"middle\" font-family=\"sans-serif\" "
+         "font-size=\"16\">" + escape(title_) + "</text>\n";
+  }
+  if (axes_) {
+    const double ax = (x0 <= 0 && 0 <= x1) ? 0.0 : x0, ay = (y0 <= 0 && 0 <= y1) ? 0.0 : y0;
+    s += "<g stroke=\"#888\" stroke-width=\"1\"><line x1=\"" + num(X(x0)) + "\" y1=\"" + num(Y(ay)) + "\" x2=\"" +
+         num(X(x1)) + "\" y2=\"" + num(Y(ay)) + "\"/><line x1=\"" + num(X(ax)) + "\" y1=\"" + num(Y(y0)) +
+         "\" x2=\"" + num(X(ax)) + "\" y2=\"" + num(Y(y1)) + "\"/></g>\n";
+    auto label = [&](double x, double y, const std::string& text, const char* anchor) {
+      s += "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\" text-anchor=\"" + anchor +
+           "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#444\">" + escape(text) + "</text>\n";
+    };
+    char b[kMaxNumberChars];
+    auto txt = [&](double v) { return std::string(b, std::to_chars(b, b + sizeof b, v, std::chars_format::general, 4).ptr); };
+    label(X(x0), Y(ay) + 14, txt(x0), "start");
+    label(X(x1), Y(ay) + 14, txt(x1), "end");
+    label(X(ax) - 4, Y(y1) + 4, txt(y1), "end");
+    label(X(ax) - 4, Y(y0) + 4, txt(y0), "end");
+  }
+  for (const auto& l : lines_) {
+    if (l.points.empty()) continue;
+    s += std::string(l.closed ? "<polygon" : "<polyline") + " fill=\"none\" stroke=\"" + l.color +
+         "\" stroke-width=\"" + num(l.width) + "\" stroke-linejoin=\"round\"" +
+         (l.dashed ? " stroke-dasharray=\"6 4\"" : "") + " points=\"";
+    for (const auto& p : l.points) s += num(X(p.x)) + "," + num(Y(p.y)) + " ";
+    s += "\"/>\n";
+  }
+  for (const auto& m : markers_) {
+    for (const auto& p : m.points) {
+      s += "<circle cx=\"" + num(X(p.x)) + "\" cy=\"" + num(Y(p.y)) + "\" r=\"" + num(m.radius) + "\" " +
+           (m.filled ? "fill=\"" + m.color + "\"" : "fill=\"white\" stroke=\"" + m.color + "\" stroke-width=\"1.5\"") +
+           "/>\n";
+    }
+  }
+  if (axes_) {
+    double ly = top + 10;
+    for (const auto& l : lines_) {
+      if (l.label.empty()) continue;
+      const double lx = widthPx - legend - margin + 60;
+      s += "<line x1=\"" + num(lx) + "\" y1=\"" + num(ly) + "\" x2=\"" + num(lx + 24) + "\" y2=\"" + num(ly) +
+           "\" stroke=\"" + l.color + "\" stroke-width=\"" + num(l.width) + "\"" +
+           (l.dashed ? " stroke-dasharray=\"6 4\"" : "") + "/><text x=\"" + num(lx + 30) + "\" y=\"" +
+           num(ly + 4) + "\" font-family=\"sans-serif\" font-size=\"12\">" + escape(l.label) + "</text>\n";
+      ly += 18;
+    }
+  }
+  s += "</svg>\n";
+  return s;
+}
+
+namespace {
+
+// The `sample` SVG: every span a polyline (x, y projection), the control polygon dashed, the data
+// points as red dots. Buffers the projected points (the CLI caps SVG jobs).
+class SvgSampleWriter final : public SampleWriter {
+ public:
+  explicit SvgSampleWriter(AtomicFile& out) : out_(out) {}
+  void begin(const SampleLayout& layout) override {
+    layout_ = layout;
+    if (layout.surface) throw std::invalid_argument("SVG output is for curves only (2-D projection)");
+  }
+  void consume(const GridChunk& chunk) override {
+    const size_t ppi = chunk.pointsPerItem;
+    for (size_t it = 0; it < chunk.itemCount; ++it) {
+      SvgPolyline line;
+      for (size_t q = 0; q < ppi; ++q) {
+        const size_t p = it * ppi + q;
+        line.points.emplace_back(chunk.coord(Field::Point, p, 0), chunk.coord(Field::Point, p, 1));
+      }
+      spans_.push_back(std::move(line));
+    }
+  }
+  void finish() override {
+    SvgPlot plot(true, layout_.source);
+    SvgPolyline poly;
+    for (const auto& p : layout_.controlPoints) poly.points.emplace_back(p.x, p.y);
+    poly.color = "#888888";
+    poly.width = 1.0;
+    poly.dashed = true;
+    poly.closed = layout_.closed;
+    plot.add(poly);
+    SvgMarkers ctrl;
+    ctrl.points = poly.points;
+    ctrl.color = "#555555";
+    ctrl.radius = 3.0;
+    ctrl.filled = false;
+    plot.add(ctrl);
+    for (auto& l : spans_) plot.add(std::move(l));
+    SvgMarkers data;
+    for (const auto& p : layout_.dataPoints) data.points.emplace_back(p.x, p.y);
+    plot.add(data);
+    plot.write(out_);
+  }
+
+ private:
+  AtomicFile& out_;
+  SampleLayout layout_;
+  std::vector<SvgPolyline> spans_;
+};
+
+}  // namespace
+
+std::unique_ptr<SampleWriter> makeSvgWriter(AtomicFile& out) { return std::make_unique<SvgSampleWriter>(out); }
+
+}  // namespace shapespline::io

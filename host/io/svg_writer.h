@@ -1,0 +1,51 @@
+#pragma once
+// Small SVG plots: curves in 2-D projection (x, y; equal aspect, y up) with their control polygon
+// and data points, and function plots (basis functions and derivatives, free aspect, axes, legend).
+#include "io/atomic_file.h"
+
+#include <glm/vec2.hpp>
+
+#include <string>
+#include <vector>
+
+namespace shapespline::io {
+
+struct SvgPolyline {
+  std::vector<glm::dvec2> points;
+  std::string color = "#1f5fbf";
+  double width = 2.0;      // in pixels
+  bool closed = false;
+  bool dashed = false;
+  std::string label;       // legend entry (function plots); empty: none
+};
+
+struct SvgMarkers {
+  std::vector<glm::dvec2> points;
+  std::string color = "#d62728";
+  double radius = 4.0;     // in pixels
+  bool filled = true;
+  std::string label;
+};
+
+class SvgPlot {
+ public:
+  // equalAspect: one unit is the same length in x and y (geometry); otherwise fill the frame.
+  explicit SvgPlot(bool equalAspect, std::string title = {}) : equal_(equalAspect), title_(std::move(title)) {}
+  void add(SvgPolyline line) { lines_.push_back(std::move(line)); }
+  void add(SvgMarkers markers) { markers_.push_back(std::move(markers)); }
+  // Draw x/y axes with the data range printed at the ends (function plots).
+  void setAxes(bool axes) { axes_ = axes; }
+  std::string render(int widthPx = 800, int heightPx = 600) const;
+  void write(AtomicFile& out) const { out.write(render()); }
+
+ private:
+  bool equal_ = true, axes_ = false;
+  std::string title_;
+  std::vector<SvgPolyline> lines_;
+  std::vector<SvgMarkers> markers_;
+};
+
+// A colour of a fixed qualitative palette (basis function r gets colour r).
+const char* paletteColor(int index);
+
+}  // namespace shapespline::io
