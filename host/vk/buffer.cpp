@@ -1,6 +1,7 @@
 #include "vk/buffer.h"
 
 #include "vk/error.h"
+#include "vk/fault.h"
 #include "vk/submit.h"
 
 #include <algorithm>
@@ -69,6 +70,8 @@ Buffer Buffer::create(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage
   if (bytes == 0) throw std::invalid_argument("Buffer::create: size must be > 0");
   const VkDevice device = ctx.device();
   const std::string what = describeAllocation(bytes, use, label);
+  if (allocationFaultDue())
+    throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "vkAllocateMemory (" + what + ")" + kInjectedNote);
   const VkDeviceSize maxAllocation = ctx.limits().maxMemoryAllocationSize;
   // Checked up front: the driver's behaviour for oversized requests ranges from an error to a
   // validation message to a crash, and the caller needs a clear VK_ERROR_OUT_OF_DEVICE_MEMORY.

@@ -1,6 +1,7 @@
 #include "vk/context.h"
 
 #include "vk/error.h"
+#include "vk/fault.h"
 #include "vk/pipeline_cache.h"
 
 #include <algorithm>
@@ -282,6 +283,8 @@ Context::~Context() {
 }
 
 std::shared_ptr<Context> Context::create(const ContextOptions& options) {
+  if (noDeviceFaultDue())
+    throw NoDeviceError(VK_ERROR_INITIALIZATION_FAILED, std::string("no Vulkan device") + kInjectedNote);
   std::shared_ptr<Context> ctx(new Context());
   const bool fromEnv = envFlag("SHAPESPLINE_VALIDATION");
   const bool validation = options.validation || fromEnv;
@@ -415,6 +418,7 @@ void Context::initOwnedObjects(const ContextOptions& options) {
 }
 
 std::vector<DeviceInfo> Context::listDevices() {
+  if (noDeviceFaultDue()) return {};
   VkInstance instance = VK_NULL_HANDLE;
   try {
     instance = createInstance("shapespline", nullptr);

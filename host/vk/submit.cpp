@@ -1,6 +1,7 @@
 #include "vk/submit.h"
 
 #include "vk/error.h"
+#include "vk/fault.h"
 #include "vk/pipeline.h"
 
 #include <algorithm>
@@ -48,6 +49,10 @@ OneShot::~OneShot() {
 
 void OneShot::submitAndWait(std::chrono::nanoseconds timeout) {
   if (submitted_) throw std::logic_error("OneShot::submitAndWait called twice");
+  if (deviceLostFaultDue()) {
+    ctx_.markDeviceLost();
+    throw VulkanError(VK_ERROR_DEVICE_LOST, std::string("vkQueueSubmit") + kInjectedNote);
+  }
   VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
