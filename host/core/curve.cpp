@@ -140,12 +140,16 @@ Curve Curve::create(CurveModel model) {
   if (kind == Construction::ExtendedBSpline || kind == Construction::GB) c.spanKnots_ = m.knots;
 
   if (c.alphaEB_) {
-    // node_j = C_j(0) over P_{j-1..j+2}, i.e. extended entries j..j+3; V_j once per model (§14).
+    // node_j = C_j(0) and V_j, once per model (§14).
     c.nodes_.resize(n);
     c.v_.resize(n);
+    // At t = 0 only b_0..b_2 are nonzero (b_3(0) = 0, §2.3), so node_j reads P_{j-1..j+1}: with four
+    // points the last node of an open curve would read one entry past the extended polygon.
+    SpanBasis nodeBasis = c.basis_;
+    nodeBasis.count = 3;
     for (int j = 0; j < n; ++j) {
       CurvePoint node;
-      evalLocalSpan(c.basis_, &c.spanPoints_[j], 0.0, 1.0, node);
+      evalLocalSpan(nodeBasis, &c.spanPoints_[j], 0.0, 1.0, node);
       c.nodes_[j] = node.point;
       c.v_[j] = alphaEBVertex(m.points[j], node.point, m.alpha[j]);
     }

@@ -121,12 +121,18 @@ SpanBasis gbSpanBasis(double lambda) {
   basis.count = 4;
   basis.degree = 3;
   basis.centre = 1;
-  const double rows[4][4] = {{2, -6, 6, -2},
-                             {8 + lambda, 0, -3 * (4 + lambda), 2 * (3 + lambda)},
-                             {2, 6, 3 * (2 + lambda), -2 * (3 + lambda)},
-                             {0, 0, 0, 2}};
+  // factor * x * s; for λ near DBL_MAX factor * x overflows, so s is applied first there (the same
+  // bits as before wherever the product is finite).
+  const auto scaled = [s](double factor, double x) {
+    const double p = factor * x;
+    return std::isfinite(p) ? p * s : factor * (x * s);
+  };
+  const double rows[4][4] = {{2 * s, -6 * s, 6 * s, -2 * s},
+                             {(8 + lambda) * s, 0, scaled(-3, 4 + lambda), scaled(2, 3 + lambda)},
+                             {2 * s, 6 * s, scaled(3, 2 + lambda), scaled(-2, 3 + lambda)},
+                             {0, 0, 0, 2 * s}};
   for (int r = 0; r < 4; ++r)
-    for (int d = 0; d < 4; ++d) basis.coef[r][d] = rows[r][d] * s;
+    for (int d = 0; d < 4; ++d) basis.coef[r][d] = rows[r][d];
   return basis;
 }
 

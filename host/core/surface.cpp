@@ -114,6 +114,36 @@ bool degenerateCross(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&
   return !(n >= kNormalDegeneracy * glm::length(a) * glm::length(b)) || !std::isfinite(n) || n == 0.0;
 }
 
+glm::dvec3 unitScaled(const glm::dvec3& a) {
+  const double m = std::max(std::abs(a.x), std::max(std::abs(a.y), std::abs(a.z)));
+  if (!(m > 0.0) || !std::isfinite(m)) return a;
+  const int e = std::ilogb(m);
+  return {std::ldexp(a.x, -e), std::ldexp(a.y, -e), std::ldexp(a.z, -e)};
+}
+
+namespace {
+double maxAbs(const glm::dvec3& a) { return std::max(std::abs(a.x), std::max(std::abs(a.y), std::abs(a.z))); }
+}  // namespace
+
+bool unitNormal(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& n) {
+  // Fast path: with every component magnitude in [2^-240, 2^240] the cross product, the lengths and
+  // their products neither overflow nor underflow, so the exact power-of-two scaling below would
+  // not change a bit (and ilogb/ldexp cost more than the rest of a grid sample).
+  constexpr double kLo = 0x1p-240, kHi = 0x1p240;
+  const double ma = maxAbs(a), mb = maxAbs(b);
+  if (ma > kLo && ma < kHi && mb > kLo && mb < kHi) {
+    const glm::dvec3 x = glm::cross(a, b);
+    if (degenerateCross(a, b, x)) return false;
+    n = x / glm::length(x);
+    return true;
+  }
+  const glm::dvec3 sa = unitScaled(a), sb = unitScaled(b);
+  const glm::dvec3 x = glm::cross(sa, sb);
+  if (degenerateCross(sa, sb, x)) return false;
+  n = x / glm::length(x);
+  return true;
+}
+
 // ---- Surface ------------------------------------------------------------------------------------
 
 Surface Surface::create(SurfaceModel model) {
@@ -175,11 +205,15 @@ Surface Surface::create(SurfaceModel model) {
     const size_t count = static_cast<size_t>(m.rows) * m.cols;
     s.nodes_.resize(count);
     s.v_.resize(count);
+    // At (0,0) only b_0..b_2 are nonzero in each direction (b_3(0) = 0, §2.3), so node_ij reads the
+    // 3 x 3 block around P_ij: a 4 x 4 block would read past the extended net for the last row of an
+    // open direction (and into the next row for the last column).
+    SpanBasis nodeU = s.basisU_, nodeV = s.basisV_;
+    nodeU.count = nodeV.count = 3;
     for (int i = 0; i < m.rows; ++i) {
       for (int j = 0; j < m.cols; ++j) {
         PatchDerivs c;
-        evalTensorPatch(s.basisU_, s.basisV_, &s.net_[static_cast<size_t>(i) * s.netCols_ + j], s.netCols_, 0.0,
-                        0.0, c);
+        evalTensorPatch(nodeU, nodeV, &s.net_[static_cast<size_t>(i) * s.netCols_ + j], s.netCols_, 0.0, 0.0, c);
         const size_t k = static_cast<size_t>(i) * m.cols + j;
         s.nodes_[k] = c.p;
         s.v_[k] = alphaEBVertex(m.at(i, j), c.p, m.alpha[k]);
@@ -246,9 +280,11 @@ bool Surface::cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const {
   const glm::dvec3& P = model_.at(p, q);
   const glm::dvec3 c = alphaEBCornerNormal(P, nodes_[kv], v_[ku], model_.alpha[ku], v_[kw], model_.alpha[kw],
                                            cu == 0 ? 1.0 : -1.0, cv == 0 ? 1.0 : -1.0);
-  const double len = glm::length(c);
+  // Scaled before the length so that |c|^2 neither overflows nor underflows for extreme nets.
+  const glm::dvec3 s = unitScaled(c);
+  const double len = glm::length(s);
   if (!(len > 0.0) || !std::isfinite(len)) return false;
-  n = c / len;
+  n = s / len;
   return true;
 }
 
@@ -273,9 +309,7 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
     }
   }
   // 2. Regular point.
-  glm::dvec3 x = glm::cross(q.u, q.v);
-  if (!degenerateCross(q.u, q.v, x)) {
-    out.normal = x / glm::length(x);
+  if (unitNormal(q.u, q.v, out.normal)) {
     out.normalRule = NormalRule::Regular;
     return out;
   }
@@ -283,16 +317,12 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
   auto towardCentre = [](double t) { return t < 0.5 ? t + kNormalShift : t > 0.5 ? t - kNormalShift : t; };
   PatchDerivs qs, cs;
   evalPatch(i, j, towardCentre(u), towardCentre(v), qs, cs);
-  x = glm::cross(qs.u, qs.v);
-  if (!degenerateCross(qs.u, qs.v, x)) {
-    out.normal = x / glm::length(x);
+  if (unitNormal(qs.u, qs.v, out.normal)) {
     out.normalRule = NormalRule::Shifted;
     return out;
   }
   // 4. Base surface at the original point.
-  x = glm::cross(c.u, c.v);
-  if (!degenerateCross(c.u, c.v, x)) {
-    out.normal = x / glm::length(x);
+  if (unitNormal(c.u, c.v, out.normal)) {
     out.normalRule = NormalRule::Base;
     return out;
   }

@@ -69,6 +69,16 @@ glm::dvec3 alphaEBCornerNormal(const glm::dvec3& p, const glm::dvec3& node, cons
 // True when the cross product of a and b cannot give a direction (§5.3 thresholds).
 bool degenerateCross(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& cross);
 
+// a scaled by the power of two that brings its largest |component| into [1, 2); zero stays zero.
+// Exact, so it changes no digit of a direction; it keeps a x b and |a x b|^2 inside fp64 for any
+// finite partials (nets near 1e100 or 1e-100 overflow/underflow them otherwise).
+glm::dvec3 unitScaled(const glm::dvec3& a);
+
+// The §5.3 regular-point step on unitScaled(a) x unitScaled(b): false when degenerateCross, else
+// n = the unit normal. Bit-identical to normalising a x b wherever that neither overflows nor
+// underflows.
+bool unitNormal(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& n);
+
 inline constexpr double kNormalShift = 1.0 / 4096.0;        // δ = 2^-12 (§5.3)
 inline constexpr double kNormalDegeneracy = 1e-12;          // |a x b| < 1e-12 |a||b| (§5.3)
 

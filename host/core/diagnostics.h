@@ -1,0 +1,49 @@
+#pragma once
+// Precision warnings for valid models whose values are extreme enough that fp64 evaluation loses
+// digits, or may overflow (issue 7). Validation (core/validate.h) decides what is allowed; this
+// says what is allowed but numerically risky, so that a tool can print a warning next to its output.
+//
+// Rules (thresholds are named constants below):
+//  * α below kAlphaWarn: V_j = P_j + ((1-α)/α)(P_j - node_j) amplifies rounding errors by 1/α
+//    (MATH.md §14), so about -log10(α) digits are lost.
+//  * a coordinate of magnitude above kHugeCoordinate: products of two coordinates (cross products,
+//    squared lengths) overflow, derivatives may overflow; normals and lengths lose precision.
+//  * a control net whose extent is nonzero and below kTinyExtent: squares of its differences
+//    underflow (subnormal or 0), so normals and lengths lose precision.
+//  * a control net whose extent is below kRelativeExtent times its largest coordinate: the shape
+//    is resolved with only a few digits (cancellation against the offset from the origin).
+//  * span knots / knot-vector intervals whose smallest nonzero width is below kKnotRatio times the
+//    parameter range or below kTinyKnot: derivatives are scaled by 1/h^r and lose precision (or
+//    overflow).
+//  * GB λ above kGBLambdaWarn: the basis is within rounding of its λ → ∞ limit (MATH.md §7.1).
+// A model with no warning evaluates (CPU sampler, every field) to finite values: the fuzzer
+// (tests/fuzz) checks exactly that.
+#include "core/model.h"
+
+#include <string>
+#include <vector>
+
+namespace shapespline {
+
+struct Warning {
+  std::string field;    // JSON path as in ModelError: "alpha[3]", "points[2][1]", "knots[4]", "lambda"
+  std::string message;  // one human-readable sentence naming the value and the consequence
+};
+
+inline constexpr double kAlphaWarn = 1e-6;
+inline constexpr double kHugeCoordinate = 1e150;
+inline constexpr double kTinyExtent = 1e-150;
+inline constexpr double kRelativeExtent = 1e-12;
+inline constexpr double kKnotRatio = 1e-12;
+inline constexpr double kTinyKnot = 1e-50;
+inline constexpr double kGBLambdaWarn = 1e12;
+
+// Warnings for a model that passed validateCurve / validateSurface, in field order; empty when
+// fp64 evaluation is expected to be accurate to the usual tolerances.
+std::vector<Warning> precisionWarnings(const CurveModel& model);
+std::vector<Warning> precisionWarnings(const SurfaceModel& model);
+
+// "warning: <field>: <message>"
+std::string formatWarning(const Warning& warning);
+
+}  // namespace shapespline
