@@ -18,6 +18,12 @@
 //  TABLE   (REAL)   basis table (basis_table.comp): entry of sample a of a direction at
 //                   tableOffset + a*3*m + d*m + r = B_r^(d)(t_a), d = 0,1,2.
 //  SAMPLES (ListSample) list mode: (span/patch i, patch j, local u, local v) per sample.
+//                   Knot-vector B-splines (bspline_*_eval.comp): (span u, span v, interval u,
+//                   interval v, knot parameter u, knot parameter v, local u, local v).
+//  Knot-vector B-splines keep in PARAMS (from kParamHeader on): the knots of each direction and
+//  one interval record per non-empty knot interval (kIntervalStride REALs: span index j, span
+//  used at local t = 1 and the knot parameter there, both as core/bspline.h findKnotSpan picks
+//  them for t_j + 1*(t_{j+1}-t_j)); NET is the plain control net (rows x cols, row-major).
 //  OUTPUT  (REAL4)  one plane per Field (core/sample_grid.h), bound at kBindingOutput + field:
 //                   tightly packed xyz, point k at REAL offsets 3k..3k+2 of the plane; the plane is
 //                   addressed as REAL4 so that one invocation stores 4 consecutive points as three
@@ -54,6 +60,7 @@ SS_CONST(uint32_t, kSpecOutputMask, 5u);    // fieldBit(Field) bits (core/sample
 SS_CONST(uint32_t, kSpecAlphaEB, 6u);       // 1: α-EB construction, 0: plain local family
 SS_CONST(uint32_t, kSpecListMode, 7u);      // 1: SAMPLES list, 0: per-item grid from TABLE
 SS_CONST(uint32_t, kSpecSurface, 8u);       // alpha_eb_vertices: 1 surface net, 0 curve polygon
+SS_CONST(uint32_t, kSpecRunLength, 9u);     // surface_grid: samples of one row per invocation
 
 // Field indices (must equal core/sample_grid.h Field).
 SS_CONST(uint32_t, kFieldPoint, 0u);
@@ -73,6 +80,8 @@ SS_CONST(uint32_t, kParamCoefU, 0u);
 SS_CONST(uint32_t, kParamCoefV, 110u);       // kMaxBasis * kCoefStride
 SS_CONST(uint32_t, kParamHeader, 220u);      // first free entry (α, 1/h)
 SS_CONST(uint32_t, kNoOffset, 0xffffffffu);
+
+SS_CONST(uint32_t, kIntervalStride, 4u);     // knot-vector interval record (see the header)
 
 SS_CONST(uint32_t, kPointsPerInvocation, 4u);
 SS_CONST(uint32_t, kDefaultWorkgroupSize, 64u);
@@ -102,6 +111,23 @@ struct EvalPush {
   SS_UINT invHOffset;    // PARAMS index of 1/h of the first span, or kNoOffset
   SS_UINT tableOffsetV;  // TABLE index of the v table (u table at 0)
   SS_UINT pad0;
+};
+
+// Push constants of bspline_curve_eval / bspline_surface_eval (knot-vector B-splines, MATH.md
+// §10.1). The first five fields sit where EvalPush has them.
+struct KnotEvalPush {
+  SS_UINT firstItem;        // grid: first item (non-empty interval / interval pair); list: first sample
+  SS_UINT itemCount;        // grid: items in this chunk; list: samples in this chunk
+  SS_UINT itemsV;           // non-empty v intervals (surfaces; curves 1)
+  SS_UINT samplesU;
+  SS_UINT samplesV;
+  SS_UINT netCols;          // control points per row (surfaces; curves 1)
+  SS_UINT knotOffsetU;      // PARAMS index of t_0 of the u (curve) knot vector
+  SS_UINT knotOffsetV;
+  SS_UINT intervalOffsetU;  // PARAMS index of the first interval record of u
+  SS_UINT intervalOffsetV;
+  SS_UINT listMode;         // 1: SAMPLES list (a push constant here, so grid and list share a pipeline)
+  SS_UINT pad0, pad1, pad2, pad3, pad4;
 };
 
 // Push constants of alpha_eb_vertices.
@@ -142,6 +168,8 @@ struct ListSampleD {
   double u, v, pad2, pad3;
 };
 static_assert(sizeof(EvalPush) == 64 && offsetof(EvalPush, tableOffsetV) == 56);
+static_assert(sizeof(KnotEvalPush) == 64 && offsetof(KnotEvalPush, samplesV) == offsetof(EvalPush, samplesV) &&
+              offsetof(KnotEvalPush, itemsV) == offsetof(EvalPush, itemsV));
 static_assert(sizeof(VertexPush) == 16 && sizeof(TablePush) == 16);
 static_assert(sizeof(ListSampleF) == 32 && offsetof(ListSampleF, u) == 16);
 static_assert(sizeof(ListSampleD) == 48 && offsetof(ListSampleD, u) == 16 && offsetof(ListSampleD, v) == 24);

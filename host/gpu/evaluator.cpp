@@ -1,15 +1,21 @@
 #include "gpu/evaluator.h"
+#include "vk/fault.h"
 
+#include "core/bspline.h"
 #include "gpu/kernels.h"
 #include "layout.h"
 #include "vk/buffer.h"
+#include "vk/error.h"
 #include "vk/pipeline.h"
 #include "vk/submit.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 namespace shapespline::gpu {
 namespace {
@@ -66,15 +72,115 @@ void recordTable(KernelSet& k, const GpuModel& m, const SpanBasis& b, uint32_t c
   k.dispatch(cmd, samples);
 }
 
+// Two output slots (planes, descriptor set, command buffer, fence each) so that the GPU computes
+// chunk k+1 while the consumer reads chunk k. A slot is re-recorded only after its previous chunk
+// was handed to the consumer and the consumer returned, so it is never overwritten while read;
+// device and host memory stay at 2 x (planes of one chunk) whatever the job size.
+class ChunkRing {
+ public:
+  static constexpr int kSlots = 2;
+
+  explicit ChunkRing(vk::Context& ctx) : ctx_(ctx) {
+    VkCommandPoolCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT | VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+    info.queueFamilyIndex = ctx.queueFamily();
+    VkCommandPool pool = VK_NULL_HANDLE;
+    vk::check(vkCreateCommandPool(ctx.device(), &info, nullptr, &pool), "vkCreateCommandPool (chunk ring)");
+    pool_ = vk::CommandPoolHandle(ctx.device(), pool);
+    VkCommandBufferAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+    alloc.commandPool = pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = kSlots;
+    vk::check(vkAllocateCommandBuffers(ctx.device(), &alloc, cmd_), "vkAllocateCommandBuffers (chunk ring)");
+    for (int i = 0; i < kSlots; ++i) {
+      VkFenceCreateInfo f{};
+      f.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+      VkFence fence = VK_NULL_HANDLE;
+      vk::check(vkCreateFence(ctx.device(), &f, nullptr, &fence), "vkCreateFence (chunk ring)");
+      fence_[i] = vk::FenceHandle(ctx.device(), fence);
+    }
+  }
+  ChunkRing(const ChunkRing&) = delete;
+  ChunkRing& operator=(const ChunkRing&) = delete;
+  // A consumer that throws leaves a chunk in flight: wait for it before the buffers and the pool go.
+  ~ChunkRing() {
+    for (int i = 0; i < kSlots; ++i)
+      if (pending_[i] && !ctx_.deviceLost()) {
+        VkFence f = fence_[i].get();
+        if (vkWaitForFences(ctx_.device(), 1, &f, VK_TRUE, uint64_t(vk::kDefaultFenceTimeout.count()) * 1000000ull) !=
+            VK_SUCCESS) {
+          fence_[i].release();  // still in use by a hung device: leak rather than destroy
+          pool_.release();
+        }
+      }
+  }
+
+  VkCommandBuffer begin(int slot) {
+    vk::check(vkResetCommandBuffer(cmd_[slot], 0), "vkResetCommandBuffer (chunk ring)");
+    VkCommandBufferBeginInfo b{};
+    b.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+    b.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    vk::check(vkBeginCommandBuffer(cmd_[slot], &b), "vkBeginCommandBuffer (chunk ring)");
+    return cmd_[slot];
+  }
+
+  void submit(int slot) {
+    VkMemoryBarrier toHost{};
+    toHost.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd_[slot], VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost,
+                         0, nullptr, 0, nullptr);
+    vk::check(vkEndCommandBuffer(cmd_[slot]), "vkEndCommandBuffer (chunk ring)");
+    VkFence f = fence_[slot].get();
+    vk::check(vkResetFences(ctx_.device(), 1, &f), "vkResetFences (chunk ring)");
+    VkSubmitInfo submit{};
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd_[slot];
+    std::lock_guard<std::recursive_mutex> lock(ctx_.submitMutex());  // the queue is externally synchronized
+    if (ctx_.deviceLost()) throw vk::VulkanError(VK_ERROR_DEVICE_LOST, "submitting a chunk");
+    if (vk::deviceLostFaultDue()) {  // test-only fault injection, as in vk::OneShot (vk/fault.h)
+      ctx_.markDeviceLost();
+      throw vk::VulkanError(VK_ERROR_DEVICE_LOST, std::string("vkQueueSubmit (chunk ring)") + vk::kInjectedNote);
+    }
+    const VkResult r = vkQueueSubmit(ctx_.queue(), 1, &submit, f);
+    if (r == VK_ERROR_DEVICE_LOST) ctx_.markDeviceLost();
+    vk::check(r, "vkQueueSubmit (chunk ring)");
+    pending_[slot] = true;
+  }
+
+  void wait(int slot) {
+    VkFence f = fence_[slot].get();
+    const VkResult r =
+        vkWaitForFences(ctx_.device(), 1, &f, VK_TRUE, uint64_t(vk::kDefaultFenceTimeout.count()) * 1000000ull);
+    if (r == VK_ERROR_DEVICE_LOST) ctx_.markDeviceLost();
+    vk::check(r, "vkWaitForFences (chunk ring)");
+    pending_[slot] = false;
+  }
+
+ private:
+  vk::Context& ctx_;
+  vk::CommandPoolHandle pool_;
+  VkCommandBuffer cmd_[kSlots] = {};
+  vk::FenceHandle fence_[kSlots];
+  bool pending_[kSlots] = {};
+};
+
+template <class Push>
 struct GridJob {
   Kernel kernel;
   bool surface;
+  bool knotVector;  // no basis table: bspline_*_eval.comp evaluates de Boor-Cox per point
   FieldMask allowed;
-  layout::EvalPush push;  // model part filled in; chunk part set per chunk
+  Push push;  // model part filled in; chunk part set per chunk
   size_t itemTotal;
 };
 
-void runGrid(KernelSet& k, GpuModel& m, const GridJob& job, const GridSpec& grid, FieldMask fields,
+template <class Push>
+void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec& grid, FieldMask fields,
              const ChunkConsumer& consumer, size_t maxPlaneBytes) {
   if (fields == 0 || (fields & ~job.allowed) != 0)
     throw std::invalid_argument("evaluateGrid: fields mask " + std::to_string(fields) + " asks for fields this evaluator does not produce");
@@ -92,67 +198,98 @@ void runGrid(KernelSet& k, GpuModel& m, const GridJob& job, const GridSpec& grid
     throw std::length_error("evaluateGrid: one item's plane (" + std::to_string(itemPlaneBytes) +
                             " bytes) exceeds the chunk limit " + std::to_string(limit));
   const size_t perChunk = std::min(count, std::max<size_t>(1, (limit - 4 * rs) / itemPlaneBytes));
+  const size_t chunkCount = (count + perChunk - 1) / perChunk;
 
   const SpanBasis& bu = m.basisU();
   const SpanBasis& bv = m.basisV();
   const uint32_t su = uint32_t(grid.samplesU), sv = uint32_t(grid.samplesV);
   const uint32_t tableV = su * 3u * uint32_t(bu.count);
-  const vk::Buffer table =
-      realBuffer(k, tableV + (job.surface ? sv * 3u * uint32_t(bv.count) : 0u), vk::MemoryUse::DeviceLocal, "gpu.table");
+  vk::Buffer table;
+  if (!job.knotVector)
+    table = realBuffer(k, tableV + (job.surface ? sv * 3u * uint32_t(bv.count) : 0u), vk::MemoryUse::DeviceLocal,
+                       "gpu.table");
   std::vector<int> active;
-  std::vector<vk::Buffer> planes(kFieldCount);
-  for (int f = 0; f < kFieldCount; ++f) {
-    if (!(fields & fieldBit(Field(f)))) continue;
-    active.push_back(f);
-    planes[f] = realBuffer(k, perChunk * ppi * 3, vk::MemoryUse::Readback, "gpu.plane");
+  for (int f = 0; f < kFieldCount; ++f)
+    if (fields & fieldBit(Field(f))) active.push_back(f);
+  // surface_grid.comp (RUN_LENGTH samples per invocation): rows of up to 256 samples go whole to one
+  // invocation, several consecutive rows of a patch per invocation while that stays within 256
+  // samples (the patch net is then gathered once per several rows); longer rows are split into the
+  // longest run of 64, 32, 16, 8 or 4 samples dividing samplesV.
+  uint32_t run = sv % 64 == 0 ? 64u : sv % 32 == 0 ? 32u : sv % 16 == 0 ? 16u : sv % 8 == 0 ? 8u : 4u;
+  if (sv <= 256) {
+    uint32_t rows = 1;
+    while (rows < 4u && su % (rows * 2) == 0 && sv * rows * 2 <= 256u) rows *= 2;  // kMaxRows in the shader
+    run = sv * rows;
   }
-  const auto& pipe = k.pipeline(job.kernel, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
-                                             uint32_t(bv.degree), fields, m.alphaEB() ? 1u : 0u, 0u,
-                                             job.surface ? 1u : 0u});
-  vk::DescriptorSet set = makeSet(k, pipe);
-  set.bind(layout::kBindingNet, m.netBuffer())
-      .bind(layout::kBindingParams, m.paramBuffer())
-      .bind(layout::kBindingVerts, m.vertexBuffer())
-      .bind(layout::kBindingTable, table);
-  for (int f : active) set.bind(layout::kBindingOutput + f, planes[f]);
+  std::vector<uint32_t> spec = {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
+                                fields,           m.alphaEB() ? 1u : 0u, 0u, job.surface ? 1u : 0u};
+  if (job.kernel == Kernel::SurfaceGrid) spec.push_back(run);
+  const auto& pipe = k.pipeline(job.kernel, spec);
+  std::vector<vk::DescriptorSet> keep;  // vertex pass / tables
+  const int slots = chunkCount > 1 ? ChunkRing::kSlots : 1;
+  std::vector<vk::Buffer> planes[ChunkRing::kSlots];
+  vk::DescriptorSet sets[ChunkRing::kSlots];
+  for (int s = 0; s < slots; ++s) {
+    planes[s].resize(kFieldCount);
+    for (int f : active) planes[s][f] = realBuffer(k, perChunk * ppi * 3, vk::MemoryUse::Readback, "gpu.plane");
+    sets[s] = makeSet(k, pipe);
+    sets[s].bind(layout::kBindingNet, m.netBuffer())
+        .bind(layout::kBindingParams, m.paramBuffer())
+        .bind(layout::kBindingVerts, m.vertexBuffer());
+    if (!job.knotVector) sets[s].bind(layout::kBindingTable, table);
+    for (int f : active) sets[s].bind(layout::kBindingOutput + f, planes[s][f]);
+  }
+  ChunkRing ring(k.context());  // declared last: its destructor waits before anything it uses goes
 
-  for (size_t first = grid.firstItem; first < grid.firstItem + count; first += perChunk) {
+  auto record = [&](size_t chunk) {
+    const int slot = int(chunk % slots);
+    const size_t first = grid.firstItem + chunk * perChunk;
     const size_t n = std::min(perChunk, grid.firstItem + count - first);
-    layout::EvalPush pc = job.push;
+    Push pc = job.push;
     pc.firstItem = uint32_t(first);
     pc.itemCount = uint32_t(n);
     pc.samplesU = su;
     pc.samplesV = sv;
-    pc.tableOffsetV = tableV;
-    std::vector<vk::DescriptorSet> keep;
-    {
-      vk::OneShot shot(k.context());
-      VkCommandBuffer cmd = shot.cmd();
+    if constexpr (std::is_same_v<Push, layout::EvalPush>) pc.tableOffsetV = tableV;
+    VkCommandBuffer cmd = ring.begin(slot);
+    if (chunk == 0) {
+      // Later chunks are later in submission order on the same queue, so this barrier orders the
+      // vertex pass / tables before their dispatches too.
       recordVertexPass(k, m, job.surface, cmd, keep);
-      if (first == grid.firstItem) {
+      if (!job.knotVector) {
         recordTable(k, m, bu, layout::kParamCoefU, su, 0, table, cmd, keep);
         if (job.surface) recordTable(k, m, bv, layout::kParamCoefV, sv, tableV, table, cmd, keep);
-        vk::computeBarrier(cmd);
       }
-      pipe.bind(cmd, set.handle());
-      pipe.push(cmd, pc);
-      k.dispatch(cmd, (uint64_t(n) * ppi + layout::kPointsPerInvocation - 1) / layout::kPointsPerInvocation);
-      shot.submitAndWait();
+      vk::computeBarrier(cmd);
     }
-    if (m.alphaEB() && m.verticesDirty()) m.markVerticesClean();
-    GridChunk chunk;
-    chunk.firstItem = first;
-    chunk.itemCount = n;
-    chunk.pointsPerItem = ppi;
-    chunk.precision = k.precision();
-    for (int f : active) chunk.planes[f] = planes[f].mapped();
-    consumer(chunk);
+    pipe.bind(cmd, sets[slot].handle());
+    pipe.push(cmd, pc);
+    const uint64_t perInvocation = job.kernel == Kernel::SurfaceGrid ? run : layout::kPointsPerInvocation;
+    k.dispatch(cmd, (uint64_t(n) * ppi + perInvocation - 1) / perInvocation);
+    ring.submit(slot);
+  };
+
+  record(0);
+  for (size_t chunk = 0; chunk < chunkCount; ++chunk) {
+    const int slot = int(chunk % slots);
+    // The other slot's consumer call has returned: it may be overwritten while this one is read.
+    if (chunk + 1 < chunkCount) record(chunk + 1);
+    ring.wait(slot);
+    if (chunk == 0 && m.alphaEB() && m.verticesDirty()) m.markVerticesClean();
+    GridChunk out;
+    out.firstItem = grid.firstItem + chunk * perChunk;
+    out.itemCount = std::min(perChunk, grid.firstItem + count - out.firstItem);
+    out.pointsPerItem = ppi;
+    out.precision = k.precision();
+    for (int f : active) out.planes[f] = planes[slot][f].mapped();
+    consumer(out);
   }
 }
 
 // List mode: samples (host ListSample bytes) -> planes of every allowed field, read back as doubles.
+template <class Push>
 std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kernel, bool surface, FieldMask fields,
-                                         layout::EvalPush push, const std::vector<layout::ListSampleD>& samples,
+                                         Push push, const std::vector<layout::ListSampleD>& samples,
                                          size_t maxPlaneBytes) {
   std::vector<std::vector<double>> out(kFieldCount);
   const size_t total = samples.size();
@@ -178,14 +315,18 @@ std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kerne
   } else {
     std::vector<layout::ListSampleF> f(total);
     for (size_t i = 0; i < total; ++i)
-      f[i] = {samples[i].i, samples[i].j, 0, 0, float(samples[i].u), float(samples[i].v), 0.f, 0.f};
+      f[i] = {samples[i].i,         samples[i].j,         samples[i].pad0,         samples[i].pad1,
+              float(samples[i].u), float(samples[i].v), float(samples[i].pad2), float(samples[i].pad3)};
     bytes.resize(total * sizeof(layout::ListSampleF));
     std::memcpy(bytes.data(), f.data(), bytes.size());
   }
   vk::Buffer sampleBuf = vk::Buffer::create(k.context(), bytes.size(), vk::kStorageUsage, vk::MemoryUse::Upload, "gpu.samples");
   sampleBuf.upload(bytes);
+  // Knot-vector kernels read the list flag from the push constants, so grid and list share a pipeline.
+  constexpr bool kKnot = std::is_same_v<Push, layout::KnotEvalPush>;
+  if constexpr (kKnot) push.listMode = 1u;
   const auto& pipe = k.pipeline(kernel, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
-                                         fields, m.alphaEB() ? 1u : 0u, 1u, surface ? 1u : 0u});
+                                         fields, m.alphaEB() ? 1u : 0u, kKnot ? 0u : 1u, surface ? 1u : 0u});
   vk::DescriptorSet set = makeSet(k, pipe);
   set.bind(layout::kBindingNet, m.netBuffer())
       .bind(layout::kBindingParams, m.paramBuffer())
@@ -194,7 +335,7 @@ std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kerne
   for (int f : active) set.bind(layout::kBindingOutput + f, planes[f]);
   for (size_t first = 0; first < total; first += perChunk) {
     const size_t n = std::min(perChunk, total - first);
-    layout::EvalPush pc = push;
+    Push pc = push;
     pc.firstItem = uint32_t(first);
     pc.itemCount = uint32_t(n);
     std::vector<vk::DescriptorSet> keep;
@@ -261,9 +402,44 @@ layout::EvalPush surfacePush(const GpuSurface& s) {
   return p;
 }
 
+layout::KnotEvalPush knotPush(const GpuModel& m, uint32_t itemsV, uint32_t netCols) {
+  layout::KnotEvalPush p{};
+  p.itemsV = itemsV;
+  p.samplesU = 1;
+  p.samplesV = 1;
+  p.netCols = netCols;
+  p.knotOffsetU = m.knotOffsetU();
+  p.knotOffsetV = m.knotOffsetV();
+  p.intervalOffsetU = m.intervalOffsetU();
+  p.intervalOffsetV = m.intervalOffsetV();
+  return p;
+}
+
+// The span core/bspline.h evalBSplineCurve/Surface uses at knot parameter x, and x clamped to the
+// domain, as a (span, parameter) pair for the SAMPLES buffer.
+std::pair<uint32_t, double> knotSpanOf(int order, const std::vector<double>& knots, int count, double x) {
+  const int span = findKnotSpan(order, knots, count, x);
+  return {uint32_t(span), std::clamp(x, knots[order - 1], knots[count])};
+}
+
 void checkPrecision(const KernelSet& k, const GpuModel& m) {
   if (k.precision() != m.precision())
     throw std::invalid_argument("evaluator and model were created with different precisions");
+}
+
+std::vector<CurvePoint> runCurveList(KernelSet& k, GpuCurve& curve, const std::vector<layout::ListSampleD>& s,
+                                     size_t maxPlaneBytes) {
+  const auto planes = curve.knotVector() ? runList(k, curve, Kernel::BSplineCurveEval, false, kCurveFields,
+                                                   knotPush(curve, 1, 1), s, maxPlaneBytes)
+                                         : runList(k, curve, Kernel::CurveEval, false, kCurveFields,
+                                                   curvePush(curve), s, maxPlaneBytes);
+  std::vector<CurvePoint> out(s.size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i].point = at(planes[int(Field::Point)], i);
+    out[i].d1 = at(planes[int(Field::D1)], i);
+    out[i].d2 = at(planes[int(Field::D2)], i);
+  }
+  return out;
 }
 
 }  // namespace
@@ -278,7 +454,13 @@ Precision CurveEvaluator::precision() const { return kernels_->precision(); }
 void CurveEvaluator::evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMask fields,
                                   const ChunkConsumer& consumer) {
   checkPrecision(*kernels_, curve);
-  GridJob job{Kernel::CurveEval, false, kCurveFields, curvePush(curve), curve.spanCount()};
+  if (curve.knotVector()) {
+    GridJob<layout::KnotEvalPush> job{Kernel::BSplineCurveEval, false, true, kCurveFields, knotPush(curve, 1, 1),
+                                      curve.gridItemCount()};
+    runGrid(*kernels_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
+    return;
+  }
+  GridJob<layout::EvalPush> job{Kernel::CurveEval, false, false, kCurveFields, curvePush(curve), curve.spanCount()};
   runGrid(*kernels_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 
@@ -290,17 +472,56 @@ std::vector<CurvePoint> CurveEvaluator::evaluateList(GpuCurve& curve, std::span<
     if (x.span < curve.spans().first || x.span > curve.spans().last || !(x.t >= 0.0 && x.t <= 1.0))
       throw std::out_of_range("evaluateList: sample " + std::to_string(i) + " (span " + std::to_string(x.span) +
                               ", t " + std::to_string(x.t) + ") is outside the curve");
+    if (curve.knotVector()) {
+      // core/curve.cpp Curve::evaluate: the knot parameter a + t (b - a), then findKnotSpan.
+      const auto& kn = curve.model().knots;
+      const double a = kn[x.span], b = kn[x.span + 1];
+      if (!(b > a))
+        throw std::out_of_range("evaluateList: sample " + std::to_string(i) + " lies on the empty knot interval " +
+                                std::to_string(x.span));
+      const auto [span, u] = knotSpanOf(curve.model().family.order, kn, int(curve.model().points.size()),
+                                        a + x.t * (b - a));
+      s[i] = {span, 0u, 0u, 0u, u, 0.0, 0.0, 0.0};
+      continue;
+    }
     s[i] = {uint32_t(x.span), 0u, 0u, 0u, x.t, 0.0, 0.0, 0.0};
   }
-  const auto planes = runList(*kernels_, curve, Kernel::CurveEval, false, kCurveFields, curvePush(curve), s,
-                              options_.maxPlaneBytes);
-  std::vector<CurvePoint> out(samples.size());
-  for (size_t i = 0; i < out.size(); ++i) {
-    out[i].point = at(planes[int(Field::Point)], i);
-    out[i].d1 = at(planes[int(Field::D1)], i);
-    out[i].d2 = at(planes[int(Field::D2)], i);
+  return runCurveList(*kernels_, curve, s, options_.maxPlaneBytes);
+}
+
+std::vector<CurvePoint> CurveEvaluator::evaluateListAt(GpuCurve& curve, std::span<const double> u) {
+  checkPrecision(*kernels_, curve);
+  const auto [lo, hi] = curve.parameterRange();
+  std::vector<layout::ListSampleD> s(u.size());
+  std::vector<CurveSample> local;
+  for (size_t i = 0; i < u.size(); ++i) {
+    const double x = u[i];
+    if (!(x >= lo && x <= hi))
+      throw std::out_of_range("evaluateListAt: u[" + std::to_string(i) + "] = " + std::to_string(x) +
+                              " outside the parameter range");
+    if (curve.knotVector()) {
+      // core/curve.cpp Curve::evaluateAt: evalBSplineCurve at the knot parameter itself.
+      const auto [span, xc] =
+          knotSpanOf(curve.model().family.order, curve.model().knots, int(curve.model().points.size()), x);
+      s[i] = {span, 0u, 0u, 0u, xc, 0.0, 0.0, 0.0};
+      continue;
+    }
+    // core/curve.cpp Curve::spanOfParameter.
+    const SpanRange r = curve.spans();
+    const auto& kn = curve.spanKnots();
+    CurveSample cs;
+    if (!kn.empty()) {
+      int sp = int(std::upper_bound(kn.begin(), kn.end(), x) - kn.begin()) - 1;
+      sp = std::clamp(sp, 0, int(kn.size()) - 2);
+      cs = {r.first + sp, std::clamp((x - kn[sp]) / (kn[sp + 1] - kn[sp]), 0.0, 1.0)};
+    } else {
+      const int j = std::clamp(int(std::floor(x)), r.first, r.last);
+      cs = {j, std::clamp(x - j, 0.0, 1.0)};
+    }
+    local.push_back(cs);
   }
-  return out;
+  if (!curve.knotVector()) return evaluateList(curve, local);
+  return runCurveList(*kernels_, curve, s, options_.maxPlaneBytes);
 }
 
 // ---- SurfaceEvaluator ---------------------------------------------------------------------------
@@ -313,7 +534,19 @@ Precision SurfaceEvaluator::precision() const { return kernels_->precision(); }
 void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, FieldMask fields,
                                     const ChunkConsumer& consumer) {
   checkPrecision(*kernels_, surface);
-  GridJob job{Kernel::SurfaceEval, true, kSurfaceFields, surfacePush(surface), surface.patchCount()};
+  if (surface.knotVector()) {
+    GridJob<layout::KnotEvalPush> job{Kernel::BSplineSurfaceEval, true, true, kSurfaceFields,
+                                      knotPush(surface, uint32_t(surface.gridItemsV()), surface.netCols()),
+                                      surface.gridItemCount()};
+    runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
+    return;
+  }
+  // surface_grid.comp: plain tensor surfaces, 4 samples of one row per invocation sharing the u
+  // contraction (needs samplesV % 4 == 0; normals and α-EB stay on surface_eval.comp).
+  const bool fast = !surface.alphaEB() && !(fields & fieldBit(Field::Normal)) && grid.samplesV % 4 == 0 &&
+                    !options_.generalKernelsOnly;
+  GridJob<layout::EvalPush> job{fast ? Kernel::SurfaceGrid : Kernel::SurfaceEval, true, false, kSurfaceFields,
+                                surfacePush(surface), surface.patchCount()};
   runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 
@@ -327,10 +560,26 @@ std::vector<SurfacePoint> SurfaceEvaluator::evaluateList(GpuSurface& surface, st
         !(x.v >= 0.0 && x.v <= 1.0))
       throw std::out_of_range("evaluateList: sample " + std::to_string(i) + " (patch " + std::to_string(x.i) + "," +
                               std::to_string(x.j) + ") is outside the surface");
+    if (surface.knotVector()) {
+      // core/surface.cpp evalPatch: knot parameters u0 + u (u1 - u0), then evalBSplineSurface.
+      const SurfaceModel& m = surface.model();
+      const int ku = m.family.order, kv = m.orderV > 0 ? m.orderV : m.family.order;
+      const double u0 = m.knotsU[x.i], u1 = m.knotsU[x.i + 1], v0 = m.knotsV[x.j], v1 = m.knotsV[x.j + 1];
+      if (!(u1 > u0) || !(v1 > v0))
+        throw std::out_of_range("evaluateList: sample " + std::to_string(i) + " lies on an empty knot interval");
+      const auto [spanU, xu] = knotSpanOf(ku, m.knotsU, m.rows, u0 + x.u * (u1 - u0));
+      const auto [spanV, xv] = knotSpanOf(kv, m.knotsV, m.cols, v0 + x.v * (v1 - v0));
+      s[i] = {spanU, spanV, uint32_t(x.i), uint32_t(x.j), xu, xv, x.u, x.v};
+      continue;
+    }
     s[i] = {uint32_t(x.i), uint32_t(x.j), 0u, 0u, x.u, x.v, 0.0, 0.0};
   }
-  const auto planes = runList(*kernels_, surface, Kernel::SurfaceEval, true, kSurfaceFields, surfacePush(surface), s,
-                              options_.maxPlaneBytes);
+  const auto planes =
+      surface.knotVector()
+          ? runList(*kernels_, surface, Kernel::BSplineSurfaceEval, true, kSurfaceFields,
+                    knotPush(surface, uint32_t(surface.gridItemsV()), surface.netCols()), s, options_.maxPlaneBytes)
+          : runList(*kernels_, surface, Kernel::SurfaceEval, true, kSurfaceFields, surfacePush(surface), s,
+                    options_.maxPlaneBytes);
   std::vector<SurfacePoint> out(samples.size());
   for (size_t i = 0; i < out.size(); ++i) {
     out[i].point = at(planes[int(Field::Point)], i);
@@ -342,6 +591,34 @@ std::vector<SurfacePoint> SurfaceEvaluator::evaluateList(GpuSurface& surface, st
     out[i].normal = at(planes[int(Field::Normal)], i);
   }
   return out;
+}
+
+std::vector<SurfacePoint> SurfaceEvaluator::evaluateListAt(GpuSurface& surface,
+                                                           std::span<const std::pair<double, double>> uv) {
+  const auto [ulo, uhi] = surface.parameterRangeU();
+  const auto [vlo, vhi] = surface.parameterRangeV();
+  const SurfaceModel& m = surface.model();
+  const PatchRange r = surface.patches();
+  std::vector<SurfaceSample> local(uv.size());
+  for (size_t i = 0; i < uv.size(); ++i) {
+    const auto [U, V] = uv[i];
+    if (!(U >= ulo && U <= uhi) || !(V >= vlo && V <= vhi))
+      throw std::out_of_range("evaluateListAt: sample " + std::to_string(i) + " outside the parameter range");
+    if (surface.knotVector()) {
+      // core/surface.cpp Surface::evaluateAt: knot spans, then local parameters.
+      const int ku = m.family.order, kv = m.orderV > 0 ? m.orderV : m.family.order;
+      const int a = findKnotSpan(ku, m.knotsU, m.rows, U), b = findKnotSpan(kv, m.knotsV, m.cols, V);
+      const double u = (U - m.knotsU[a]) / (m.knotsU[a + 1] - m.knotsU[a]);
+      const double v = (V - m.knotsV[b]) / (m.knotsV[b + 1] - m.knotsV[b]);
+      local[i] = {a, b, std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0)};
+      continue;
+    }
+    // core/surface.cpp Surface::patchOf.
+    const int a = std::clamp(int(std::floor(U)), r.u.first, r.u.last);
+    const int b = std::clamp(int(std::floor(V)), r.v.first, r.v.last);
+    local[i] = {a, b, std::clamp(U - a, 0.0, 1.0), std::clamp(V - b, 0.0, 1.0)};
+  }
+  return evaluateList(surface, local);
 }
 
 // ---- BasisTableEvaluator ------------------------------------------------------------------------

@@ -6,7 +6,9 @@
 // Grid jobs (core/sample_grid.h) run chunk by chunk: a chunk is a whole number of spans/patches
 // whose output planes each fit in EvaluatorOptions::maxPlaneBytes (and maxStorageBufferRange), so
 // device and host memory stay bounded whatever the job size; the consumer sees each chunk once,
-// in order, while the output buffers are mapped.
+// in order, while the output buffers are mapped. Two output slots stream: the GPU computes chunk
+// k+1 while the consumer reads chunk k, so device + host memory stay at 2 chunks of planes
+// (2 x fields x maxPlaneBytes) however many points the job has.
 #include "core/curve.h"
 #include "core/sample_grid.h"
 #include "core/span_basis.h"
@@ -16,6 +18,7 @@
 
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace shapespline::gpu {
@@ -25,6 +28,7 @@ class KernelSet;
 struct EvaluatorOptions {
   uint32_t workgroupSize = 64;                 // spec constant of every kernel
   size_t maxPlaneBytes = size_t(64) << 20;     // per output plane and chunk (default 64 MiB)
+  bool generalKernelsOnly = false;             // never pick a specialised fast kernel (tests, benchmarks)
 };
 
 struct CurveSample {
@@ -46,8 +50,12 @@ class CurveEvaluator {
   // fields ⊆ {Point, D1, D2}: S = grid.samplesU samples per span, t_s = s/(S-1); derivatives with
   // respect to the global u (span knots: 1/h^r).
   void evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer);
-  // Point, d1, d2 at arbitrary (span, t).
+  // Point, d1, d2 at arbitrary (span, t). Knot-vector B-splines: span = knot interval, t local in
+  // it, derivatives w.r.t. the knot parameter; as Curve::evaluate (an interior knot at t = 1 is
+  // evaluated on the next non-empty interval).
   std::vector<CurvePoint> evaluateList(GpuCurve& curve, std::span<const CurveSample> samples);
+  // Point, d1, d2 at global parameters u (GpuCurve::parameterRange(); as Curve::evaluateAt).
+  std::vector<CurvePoint> evaluateListAt(GpuCurve& curve, std::span<const double> u);
 
  private:
   std::unique_ptr<KernelSet> kernels_;
@@ -64,7 +72,10 @@ class SurfaceEvaluator {
   // patches row-major over Surface::patches(); normals by the MATH.md §5.3 convention.
   void evaluateGrid(GpuSurface& surface, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer);
   // Every field at arbitrary (patch, u, v); normalRule is not reported (always Regular).
+  // Knot-vector B-splines: (i, j) = knot interval pair, as Surface::evaluate.
   std::vector<SurfacePoint> evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples);
+  // Every field at global (U, V) (as Surface::evaluateAt).
+  std::vector<SurfacePoint> evaluateListAt(GpuSurface& surface, std::span<const std::pair<double, double>> uv);
 
  private:
   std::unique_ptr<KernelSet> kernels_;

@@ -1,9 +1,11 @@
 #include "gpu/gpu_model.h"
 
+#include "core/bspline.h"
 #include "core/validate.h"
 #include "gpu/kernels.h"
 #include "layout.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -28,6 +30,33 @@ GpuModel::GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision)
 }
 
 uint32_t GpuModel::alphaOffset() const { return layout::kParamHeader; }
+size_t GpuModel::addKnotDirection(int order, const std::vector<double>& knots, int count, uint32_t& knotOffset,
+                                  uint32_t& intervalOffset) {
+  const uint32_t base = static_cast<uint32_t>(layout::kParamHeader + alpha_.size() + invH_.size());
+  knotOffset = base + static_cast<uint32_t>(knotData_.size());
+  knotData_.insert(knotData_.end(), knots.begin(), knots.end());
+  intervalOffset = base + static_cast<uint32_t>(knotData_.size());
+  const double lo = knots[order - 1], hi = knots[count];
+  size_t intervals = 0;
+  for (int j = order - 1; j < count; ++j) {
+    const double a = knots[j], b = knots[j + 1];
+    if (!(a < b)) continue;
+    // t = 1 of interval j as core/curve.cpp and core/surface.cpp form it (a + t (b - a)); the span
+    // findKnotSpan picks there is the next non-empty one at an interior knot.
+    const double t = 1.0;
+    const double x = a + t * (b - a);
+    const int end = findKnotSpan(order, knots, count, x);
+    knotData_.insert(knotData_.end(), {double(j), double(end), std::clamp(x, lo, hi), 0.0});
+    ++intervals;
+  }
+  return intervals;
+}
+
+void GpuModel::requireUniform(const char* what) const {
+  if (knotVector_)
+    throw std::invalid_argument(std::string(what) + ": a knot-vector B-spline has no family parameters or alpha");
+}
+
 uint32_t GpuModel::invHOffset() const {
   return invH_.empty() ? layout::kNoOffset : static_cast<uint32_t>(layout::kParamHeader + alpha_.size());
 }
@@ -39,7 +68,7 @@ void GpuModel::createBuffers(std::span<const glm::dvec3> net, size_t alphaCount,
   net_.upload(bytes);
   stats_.netBytes += bytes.size();
   ++stats_.netWrites;
-  params_ = vk::Buffer::create(*ctx_, (layout::kParamHeader + alphaCount + invHCount) * rs, vk::kStorageUsage,
+  params_ = vk::Buffer::create(*ctx_, (layout::kParamHeader + alphaCount + invHCount + knotData_.size()) * rs, vk::kStorageUsage,
                                vk::MemoryUse::DeviceLocal, "gpu.params");
   const size_t vertBytes = alphaEB_ ? 2 * size_t(rows_) * cols_ * 4 * rs : 256;
   verts_ = vk::Buffer::create(*ctx_, vertBytes, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.verts");
@@ -47,13 +76,14 @@ void GpuModel::createBuffers(std::span<const glm::dvec3> net, size_t alphaCount,
 }
 
 void GpuModel::writeParams() {
-  std::vector<double> p(layout::kParamHeader + alpha_.size() + invH_.size(), 0.0);
+  std::vector<double> p(layout::kParamHeader + alpha_.size() + invH_.size() + knotData_.size(), 0.0);
   for (int r = 0; r < basisU_.count; ++r)
     for (int d = 0; d <= basisU_.degree; ++d) p[layout::kParamCoefU + r * layout::kCoefStride + d] = basisU_.coef[r][d];
   for (int r = 0; r < basisV_.count; ++r)
     for (int d = 0; d <= basisV_.degree; ++d) p[layout::kParamCoefV + r * layout::kCoefStride + d] = basisV_.coef[r][d];
   std::copy(alpha_.begin(), alpha_.end(), p.begin() + layout::kParamHeader);
   std::copy(invH_.begin(), invH_.end(), p.begin() + layout::kParamHeader + alpha_.size());
+  std::copy(knotData_.begin(), knotData_.end(), p.begin() + layout::kParamHeader + alpha_.size() + invH_.size());
   const auto bytes = toReal(p, precision_);
   params_.upload(bytes);
   stats_.paramBytes += bytes.size();
@@ -100,8 +130,25 @@ void GpuModel::setBases(const SpanBasis& u, const SpanBasis& v) {
 // ---- GpuCurve -----------------------------------------------------------------------------------
 
 GpuCurve::GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precision precision)
-    : GpuModel(std::move(ctx), precision), model_(curve.model()), spans_(curve.spans()) {
-  if (curve.usesKnotVector()) throw std::invalid_argument("GpuCurve: knot-vector B-splines are not supported");
+    : GpuModel(std::move(ctx), precision),
+      model_(curve.model()),
+      spans_(curve.spans()),
+      range_(curve.parameterRange()),
+      spanKnots_(curve.spanKnots()) {
+  if (curve.usesKnotVector()) {
+    knotVector_ = true;
+    const int order = model_.family.order, n = static_cast<int>(model_.points.size());
+    basisU_ = SpanBasis{};
+    basisU_.count = order;
+    basisU_.degree = order - 1;
+    basisV_ = basisU_;
+    rows_ = static_cast<uint32_t>(n);
+    intervalsU_ = addKnotDirection(order, model_.knots, n, knotOffsetU_, intervalOffsetU_);
+    knotOffsetV_ = knotOffsetU_;
+    intervalOffsetV_ = intervalOffsetU_;
+    createBuffers(model_.points, 0, 0);
+    return;
+  }
   alphaEB_ = model_.family.construction == Construction::AlphaEB;
   basisU_ = basisV_ = curve.basis();
   ext_ = extendedIndices(static_cast<int>(model_.points.size()), model_.closed, alphaEB_, basisU_.count,
@@ -121,6 +168,7 @@ void GpuCurve::setLambda(double lambda) {
 }
 
 void GpuCurve::setParameters(const FamilySpec& family) {
+  requireUniform("setParameters");
   if (family.construction != model_.family.construction)
     throw std::invalid_argument("setParameters: the construction cannot change");
   validateFamily(family, 0, false);
@@ -151,6 +199,10 @@ void GpuCurve::updateControlPoint(int i, const glm::dvec3& p) {
   if (i < 0 || i >= static_cast<int>(model_.points.size()))
     throw std::out_of_range("updateControlPoint: index " + std::to_string(i));
   model_.points[i] = p;
+  if (knotVector_) {
+    writeNetEntry(static_cast<size_t>(i), p);
+    return;
+  }
   for (size_t e = 0; e < ext_.size(); ++e) {
     const ExtendedIndex& x = ext_[e];
     if (x.i0 != i && !(x.w1 != 0.0 && x.i1 == i)) continue;
@@ -162,9 +214,29 @@ void GpuCurve::updateControlPoint(int i, const glm::dvec3& p) {
 // ---- GpuSurface ---------------------------------------------------------------------------------
 
 GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision)
-    : GpuModel(std::move(ctx), precision), model_(surface.model()), patches_(surface.patches()) {
-  if (surface.usesKnotVector())
-    throw std::invalid_argument("GpuSurface: knot-vector B-spline surfaces are not supported");
+    : GpuModel(std::move(ctx), precision),
+      model_(surface.model()),
+      patches_(surface.patches()),
+      rangeU_(surface.parameterRangeU()),
+      rangeV_(surface.parameterRangeV()) {
+  if (surface.usesKnotVector()) {
+    knotVector_ = true;
+    // Orders as core/surface.cpp Surface::create reads them (order[1] defaults to order[0]).
+    const int orderU = model_.family.order, orderV = model_.orderV > 0 ? model_.orderV : model_.family.order;
+    basisU_ = SpanBasis{};
+    basisU_.count = orderU;
+    basisU_.degree = orderU - 1;
+    basisV_ = SpanBasis{};
+    basisV_.count = orderV;
+    basisV_.degree = orderV - 1;
+    rows_ = static_cast<uint32_t>(model_.rows);
+    cols_ = static_cast<uint32_t>(model_.cols);
+    netCols_ = cols_;
+    intervalsU_ = addKnotDirection(orderU, model_.knotsU, model_.rows, knotOffsetU_, intervalOffsetU_);
+    intervalsV_ = addKnotDirection(orderV, model_.knotsV, model_.cols, knotOffsetV_, intervalOffsetV_);
+    createBuffers(model_.points, 0, 0);
+    return;
+  }
   alphaEB_ = model_.family.construction == Construction::AlphaEB;
   basisU_ = surface.basisU();
   basisV_ = surface.basisV();
@@ -186,6 +258,7 @@ void GpuSurface::setLambda(double lambda) {
 }
 
 void GpuSurface::setParameters(const FamilySpec& family) {
+  requireUniform("setParameters");
   if (family.construction != model_.family.construction)
     throw std::invalid_argument("setParameters: the construction cannot change");
   validateFamily(family, model_.orderV, true);
@@ -219,6 +292,10 @@ void GpuSurface::updateControlPoint(int i, int j, const glm::dvec3& p) {
   if (i < 0 || j < 0 || i >= model_.rows || j >= model_.cols)
     throw std::out_of_range("updateControlPoint: index (" + std::to_string(i) + "," + std::to_string(j) + ")");
   model_.points[size_t(i) * model_.cols + j] = p;
+  if (knotVector_) {
+    writeNetEntry(size_t(i) * model_.cols + j, p);
+    return;
+  }
   const SurfaceModel& m = model_;
   auto uses = [](const ExtendedIndex& x, int k) { return x.i0 == k || (x.w1 != 0.0 && x.i1 == k); };
   for (size_t a = 0; a < extU_.size(); ++a) {

@@ -36,6 +36,13 @@ class GpuModel {
   // α-EB: V (rows*cols REAL4) then nodes (rows*cols REAL4); a 256-byte placeholder otherwise.
   const vk::Buffer& vertexBuffer() const { return verts_; }
   bool verticesDirty() const { return vertsDirty_; }
+  // Knot-vector B-spline (MATH.md §10.1): NET is the plain control net, PARAMS holds the knots and
+  // the interval records of layout.h; basisU()/basisV() carry only count = order, degree = order-1.
+  bool knotVector() const { return knotVector_; }
+  uint32_t knotOffsetU() const { return knotOffsetU_; }
+  uint32_t knotOffsetV() const { return knotOffsetV_; }
+  uint32_t intervalOffsetU() const { return intervalOffsetU_; }
+  uint32_t intervalOffsetV() const { return intervalOffsetV_; }
   const SpanBasis& basisU() const { return basisU_; }
   const SpanBasis& basisV() const { return basisV_; }
   uint32_t alphaOffset() const;
@@ -60,6 +67,11 @@ class GpuModel {
   void writeParams();  // whole PARAMS block (a few hundred bytes)
   void writeNetEntry(size_t index, const glm::dvec3& p);
   void setBases(const SpanBasis& u, const SpanBasis& v);
+  // Appends the knots and interval records of one direction to the PARAMS tail (before
+  // createBuffers); returns the number of non-empty intervals.
+  size_t addKnotDirection(int order, const std::vector<double>& knots, int count, uint32_t& knotOffset,
+                          uint32_t& intervalOffset);
+  void requireUniform(const char* what) const;
 
   std::shared_ptr<vk::Context> ctx_;
   Precision precision_;
@@ -67,20 +79,28 @@ class GpuModel {
   vk::Buffer net_, params_, verts_;
   SpanBasis basisU_, basisV_;
   std::vector<double> alpha_, invH_;
+  std::vector<double> knotData_;  // PARAMS tail of knot-vector B-splines
   uint32_t rows_ = 1, cols_ = 1, netCols_ = 1;
-  bool vertsDirty_ = false;
+  bool vertsDirty_ = false, knotVector_ = false;
+  uint32_t knotOffsetU_ = 0, knotOffsetV_ = 0, intervalOffsetU_ = 0, intervalOffsetV_ = 0;
   UploadStats stats_;
 };
 
 class GpuCurve : public GpuModel {
  public:
-  // Uploads the span point list (core/curve.h) and the parameter block. Knot-vector B-splines are
-  // not handled here (std::invalid_argument). Double needs shaderFloat64.
+  // Uploads the span point list (core/curve.h) and the parameter block; knot-vector B-splines
+  // (Curve::usesKnotVector) upload their control points, knots and interval records instead.
+  // Double needs shaderFloat64.
   GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precision precision);
 
   const CurveModel& model() const { return model_; }
   SpanRange spans() const { return spans_; }
   size_t spanCount() const { return static_cast<size_t>(spans_.last - spans_.first + 1); }
+  // Items of a grid job (core/grid_sampler.h curveGridItems): spans, or the non-empty knot intervals.
+  size_t gridItemCount() const { return knotVector_ ? intervalsU_ : spanCount(); }
+  // Curve::parameterRange() and span knots (empty when uniform), for global-parameter lists.
+  std::pair<double, double> parameterRange() const { return range_; }
+  const std::vector<double>& spanKnots() const { return spanKnots_; }
   uint32_t netOffset() const { return static_cast<uint32_t>(netOffset_); }
 
   // λ of ExtendedBSpline/AlphaEB/GB/UBP (validated like a model file: std::invalid_argument).
@@ -99,12 +119,15 @@ class GpuCurve : public GpuModel {
   SpanRange spans_;
   int netOffset_ = 0;
   std::vector<ExtendedIndex> ext_;
+  size_t intervalsU_ = 0;
+  std::pair<double, double> range_;
+  std::vector<double> spanKnots_;
 };
 
 class GpuSurface : public GpuModel {
  public:
-  // Uploads the patch net (core/surface.h) and the parameter block. Knot-vector B-spline surfaces
-  // are not handled here (std::invalid_argument). Double needs shaderFloat64.
+  // Uploads the patch net (core/surface.h) and the parameter block; knot-vector B-spline surfaces
+  // upload their control net, knots and interval records. Double needs shaderFloat64.
   GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision);
 
   const SurfaceModel& model() const { return model_; }
@@ -112,6 +135,12 @@ class GpuSurface : public GpuModel {
   size_t patchesU() const { return static_cast<size_t>(patches_.u.last - patches_.u.first + 1); }
   size_t patchesV() const { return static_cast<size_t>(patches_.v.last - patches_.v.first + 1); }
   size_t patchCount() const { return patchesU() * patchesV(); }
+  // Grid items (core/grid_sampler.h surfaceGridItems): patches, or the non-empty interval pairs,
+  // row-major with gridItemsV() per row.
+  size_t gridItemsV() const { return knotVector_ ? intervalsV_ : patchesV(); }
+  size_t gridItemCount() const { return knotVector_ ? intervalsU_ * intervalsV_ : patchCount(); }
+  std::pair<double, double> parameterRangeU() const { return rangeU_; }
+  std::pair<double, double> parameterRangeV() const { return rangeV_; }
   uint32_t netOffsetU() const { return static_cast<uint32_t>(offU_); }
   uint32_t netOffsetV() const { return static_cast<uint32_t>(offV_); }
 
@@ -126,6 +155,8 @@ class GpuSurface : public GpuModel {
   PatchRange patches_;
   int offU_ = 0, offV_ = 0;
   std::vector<ExtendedIndex> extU_, extV_;
+  size_t intervalsU_ = 0, intervalsV_ = 0;
+  std::pair<double, double> rangeU_, rangeV_;
 };
 
 }  // namespace shapespline::gpu

@@ -5,10 +5,16 @@
 #include "shaders/alpha_eb_vertices_comp_f64.h"
 #include "shaders/basis_table_comp.h"
 #include "shaders/basis_table_comp_f64.h"
+#include "shaders/bspline_curve_eval_comp.h"
+#include "shaders/bspline_curve_eval_comp_f64.h"
+#include "shaders/bspline_surface_eval_comp.h"
+#include "shaders/bspline_surface_eval_comp_f64.h"
 #include "shaders/curve_eval_comp.h"
 #include "shaders/curve_eval_comp_f64.h"
 #include "shaders/surface_eval_comp.h"
 #include "shaders/surface_eval_comp_f64.h"
+#include "shaders/surface_grid_comp.h"
+#include "shaders/surface_grid_comp_f64.h"
 
 #include <algorithm>
 #include <cstring>
@@ -64,6 +70,22 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<
     case Kernel::SurfaceEval:
       code = d ? std::span<const uint32_t>(surface_eval_comp_f64) : std::span<const uint32_t>(surface_eval_comp);
       label = "surface_eval";
+      break;
+    case Kernel::BSplineCurveEval:
+      code = d ? std::span<const uint32_t>(bspline_curve_eval_comp_f64)
+               : std::span<const uint32_t>(bspline_curve_eval_comp);
+      push = sizeof(layout::KnotEvalPush);
+      label = "bspline_curve_eval";
+      break;
+    case Kernel::BSplineSurfaceEval:
+      code = d ? std::span<const uint32_t>(bspline_surface_eval_comp_f64)
+               : std::span<const uint32_t>(bspline_surface_eval_comp);
+      push = sizeof(layout::KnotEvalPush);
+      label = "bspline_surface_eval";
+      break;
+    case Kernel::SurfaceGrid:
+      code = d ? std::span<const uint32_t>(surface_grid_comp_f64) : std::span<const uint32_t>(surface_grid_comp);
+      label = "surface_grid";
       break;
     case Kernel::AlphaEBVertices:
       code = d ? std::span<const uint32_t>(alpha_eb_vertices_comp_f64)

@@ -18,7 +18,8 @@
 
 namespace shapespline::gpu {
 
-enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable };
+enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
+                    SurfaceGrid };
 
 // Bytes of one REAL.
 inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }

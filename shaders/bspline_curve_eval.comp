@@ -1,0 +1,69 @@
+#version 450
+// Knot-vector B-spline curves (MATH.md §10.1, core/bspline.h evalBSplineCurve): point, d1, d2 with
+// respect to the knot parameter, for a grid of S samples on every non-empty knot interval (items as
+// core/grid_sampler.h curveGridItems) or a list of (span, knot parameter). Order = BASIS_COUNT_U.
+// 4 output points per invocation (layout.h).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#include "common.glsl"
+#include "bspline.glsl"
+
+layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = 5) writeonly buffer OutPoint { REAL4 outPoint[]; };
+layout(std430, binding = 6) writeonly buffer OutD1 { REAL4 outD1[]; };
+layout(std430, binding = 7) writeonly buffer OutD2 { REAL4 outD2[]; };
+
+layout(push_constant) uniform PushBlock { KnotEvalPush pc; };
+
+const bool kWantPoint = (OUTPUT_MASK & (1u << kFieldPoint)) != 0u;
+const bool kWantD1 = (OUTPUT_MASK & (1u << kFieldD1)) != 0u;
+const bool kWantD2 = (OUTPUT_MASK & (1u << kFieldD2)) != 0u;
+
+struct CurvePoint {
+  REAL3 point, d1, d2;
+};
+
+CurvePoint evalSample(uint k) {
+  int span;
+  REAL x;
+  if (pc.listMode != 0u) {
+    ListSample s = samples[pc.firstItem + k];
+    span = int(s.i);
+    x = s.u;
+  } else {
+    uint item = k / pc.samplesU, a = k - item * pc.samplesU;
+    REAL local;
+    gridKnotParameter(pc.knotOffsetU, pc.intervalOffsetU + (pc.firstItem + item) * kIntervalStride, a, pc.samplesU,
+                      span, x, local);
+  }
+  REAL b[kMaxBasis], d1[kMaxBasis], d2[kMaxBasis];
+  bsplineBasisDerivs(pc.knotOffsetU, BASIS_COUNT_U, span, x, b, d1, d2);
+  uint first = uint(span) + 1u - BASIS_COUNT_U;
+  CurvePoint o;
+  o.point = REAL3(0);
+  o.d1 = REAL3(0);
+  o.d2 = REAL3(0);
+  for (uint r = 0; r < BASIS_COUNT_U; ++r) {
+    REAL3 P = net[first + r].xyz;
+    o.point += b[r] * P;
+    o.d1 += d1[r] * P;
+    o.d2 += d2[r] * P;
+  }
+  return o;
+}
+
+// One point at a time in a loop the compiler keeps rolled: de Boor–Cox of order up to 10 is large
+// code, and four inlined copies (the uniform kernels' vec4 path) multiply llvmpipe compile time.
+void main() {
+  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint total = pc.listMode != 0u ? pc.itemCount : pc.itemCount * pc.samplesU;
+  uint k0 = q * kPointsPerInvocation;
+  if (k0 >= total) return;
+  uint n = min(kPointsPerInvocation, total - k0);
+  [[dont_unroll]] for (uint e = 0; e < n; ++e) {
+    CurvePoint s = evalSample(k0 + e);
+    if (kWantPoint) STORE_XYZ_SCALAR(outPoint, k0 + e, s.point)
+    if (kWantD1) STORE_XYZ_SCALAR(outD1, k0 + e, s.d1)
+    if (kWantD2) STORE_XYZ_SCALAR(outD2, k0 + e, s.d2)
+  }
+}

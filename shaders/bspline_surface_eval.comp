@@ -1,0 +1,146 @@
+#version 450
+// Knot-vector B-spline surfaces (MATH.md §10.1, core/bspline.h evalBSplineSurface): point, partials
+// up to order 2 with respect to the knot parameters and the unit normal (core/surface.h convention
+// for plain surfaces: du x dv; degenerate -> moved 2^-12 towards the interval centre; then +z), for
+// an Su x Sv grid on every non-empty interval pair (core/grid_sampler.h surfaceGridItems order) or
+// a list (layout.h SAMPLES). Orders: BASIS_COUNT_U, BASIS_COUNT_V. 4 points per invocation.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#include "common.glsl"
+#include "bspline.glsl"
+
+layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = 5) writeonly buffer OutPoint { REAL4 outPoint[]; };
+layout(std430, binding = 8) writeonly buffer OutDu { REAL4 outDu[]; };
+layout(std430, binding = 9) writeonly buffer OutDv { REAL4 outDv[]; };
+layout(std430, binding = 10) writeonly buffer OutDuu { REAL4 outDuu[]; };
+layout(std430, binding = 11) writeonly buffer OutDuv { REAL4 outDuv[]; };
+layout(std430, binding = 12) writeonly buffer OutDvv { REAL4 outDvv[]; };
+layout(std430, binding = 13) writeonly buffer OutNormal { REAL4 outNormal[]; };
+
+layout(push_constant) uniform PushBlock { KnotEvalPush pc; };
+
+const bool kWantPoint = (OUTPUT_MASK & (1u << kFieldPoint)) != 0u;
+const bool kWantDu = (OUTPUT_MASK & (1u << kFieldDu)) != 0u;
+const bool kWantDv = (OUTPUT_MASK & (1u << kFieldDv)) != 0u;
+const bool kWantDuu = (OUTPUT_MASK & (1u << kFieldDuu)) != 0u;
+const bool kWantDuv = (OUTPUT_MASK & (1u << kFieldDuv)) != 0u;
+const bool kWantDvv = (OUTPUT_MASK & (1u << kFieldDvv)) != 0u;
+const bool kWantNormal = (OUTPUT_MASK & (1u << kFieldNormal)) != 0u;
+
+struct Sample {
+  REAL3 p, u, v, uu, uv, vv, n;
+};
+
+// core/bspline.cpp evalBSplineSurface: contract in v first, then u.
+Sample evalKnotPatch(int spanU, REAL x, int spanV, REAL y) {
+  REAL bu[kMaxBasis], du[kMaxBasis], ddu[kMaxBasis];
+  REAL bv[kMaxBasis], dv[kMaxBasis], ddv[kMaxBasis];
+  bsplineBasisDerivs(pc.knotOffsetU, BASIS_COUNT_U, spanU, x, bu, du, ddu);
+  bsplineBasisDerivs(pc.knotOffsetV, BASIS_COUNT_V, spanV, y, bv, dv, ddv);
+  uint firstU = uint(spanU) + 1u - BASIS_COUNT_U, firstV = uint(spanV) + 1u - BASIS_COUNT_V;
+  Sample o;
+  o.p = REAL3(0); o.u = REAL3(0); o.v = REAL3(0); o.uu = REAL3(0); o.uv = REAL3(0); o.vv = REAL3(0);
+  o.n = REAL3(0, 0, 1);
+  for (uint r = 0; r < BASIS_COUNT_U; ++r) {
+    REAL3 s0 = REAL3(0), s1 = REAL3(0), s2 = REAL3(0);
+    uint row = (firstU + r) * pc.netCols + firstV;
+    for (uint s = 0; s < BASIS_COUNT_V; ++s) {
+      REAL3 P = net[row + s].xyz;
+      s0 += bv[s] * P;
+      s1 += dv[s] * P;
+      s2 += ddv[s] * P;
+    }
+    o.p += bu[r] * s0;
+    o.u += du[r] * s0;
+    o.uu += ddu[r] * s0;
+    o.v += bu[r] * s1;
+    o.uv += du[r] * s1;
+    o.vv += bu[r] * s2;
+  }
+  return o;
+}
+
+// core/surface.cpp degenerateCross (MATH.md §5.3 thresholds).
+bool knotDegenerateCross(REAL3 a, REAL3 b, REAL3 n) {
+  if (all(equal(a, REAL3(0))) || all(equal(b, REAL3(0)))) return true;
+  REAL l = length(n);
+  return !(l >= REAL(1e-12) * length(a) * length(b)) || l == REAL(0);
+}
+
+REAL towardCentre(REAL t) {
+  const REAL delta = REAL(1.0 / 4096.0);
+  return t < REAL(0.5) ? t + delta : (t > REAL(0.5) ? t - delta : t);
+}
+
+Sample evalSample(uint k) {
+  int spanU, spanV, iu, iv;
+  REAL x, y, lu, lv;
+  if (pc.listMode != 0u) {
+    ListSample s = samples[pc.firstItem + k];
+    spanU = int(s.i);
+    spanV = int(s.j);
+    iu = int(s.pad0);
+    iv = int(s.pad1);
+    x = s.u;
+    y = s.v;
+    lu = s.pad2;
+    lv = s.pad3;
+  } else {
+    uint per = pc.samplesU * pc.samplesV;
+    uint item = k / per, rem = k - item * per;
+    uint a = rem / pc.samplesV, b = rem - a * pc.samplesV;
+    uint lin = pc.firstItem + item;
+    uint pu = lin / pc.itemsV, pv = lin - pu * pc.itemsV;
+    uint recU = pc.intervalOffsetU + pu * kIntervalStride, recV = pc.intervalOffsetV + pv * kIntervalStride;
+    gridKnotParameter(pc.knotOffsetU, recU, a, pc.samplesU, spanU, x, lu);
+    gridKnotParameter(pc.knotOffsetV, recV, b, pc.samplesV, spanV, y, lv);
+    iu = int(params[recU]);
+    iv = int(params[recV]);
+  }
+  // Normal of core/surface.cpp evalWithNormal for a plain surface: du x dv; if degenerate, again
+  // at the point moved 2^-12 towards the centre of interval pair (iu, iv) (the base-surface step
+  // repeats the regular one here); then +z. One evalKnotPatch in a rolled loop keeps code small.
+  Sample o;
+  [[dont_unroll]] for (uint pass = 0u; pass < 2u; ++pass) {
+    if (pass == 1u) {
+      REAL u0 = knotAt(pc.knotOffsetU, iu), u1 = knotAt(pc.knotOffsetU, iu + 1);
+      REAL v0 = knotAt(pc.knotOffsetV, iv), v1 = knotAt(pc.knotOffsetV, iv + 1);
+      precise REAL xs = u0 + towardCentre(lu) * (u1 - u0);
+      precise REAL ys = v0 + towardCentre(lv) * (v1 - v0);
+      spanU = iu;
+      spanV = iv;
+      x = xs;
+      y = ys;
+    }
+    Sample s = evalKnotPatch(spanU, x, spanV, y);
+    if (pass == 0u) o = s;
+    if (!kWantNormal) break;
+    REAL3 nn = cross(s.u, s.v);
+    if (!knotDegenerateCross(s.u, s.v, nn)) {
+      o.n = normalize(nn);
+      break;
+    }
+  }
+  return o;
+}
+
+// One point at a time in a loop the compiler keeps rolled: de Boor–Cox of order up to 10 is large
+// code, and four inlined copies (the uniform kernels' vec4 path) multiply llvmpipe compile time.
+void main() {
+  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint total = pc.listMode != 0u ? pc.itemCount : pc.itemCount * pc.samplesU * pc.samplesV;
+  uint k0 = q * kPointsPerInvocation;
+  if (k0 >= total) return;
+  uint n = min(kPointsPerInvocation, total - k0);
+  [[dont_unroll]] for (uint e = 0; e < n; ++e) {
+    Sample s = evalSample(k0 + e);
+    if (kWantPoint) STORE_XYZ_SCALAR(outPoint, k0 + e, s.p)
+    if (kWantDu) STORE_XYZ_SCALAR(outDu, k0 + e, s.u)
+    if (kWantDv) STORE_XYZ_SCALAR(outDv, k0 + e, s.v)
+    if (kWantDuu) STORE_XYZ_SCALAR(outDuu, k0 + e, s.uu)
+    if (kWantDuv) STORE_XYZ_SCALAR(outDuv, k0 + e, s.uv)
+    if (kWantDvv) STORE_XYZ_SCALAR(outDvv, k0 + e, s.vv)
+    if (kWantNormal) STORE_XYZ_SCALAR(outNormal, k0 + e, s.n)
+  }
+}

@@ -1,0 +1,189 @@
+// Streaming of grid jobs (gpu/evaluator.h): a job forced into many chunks delivers exactly the bytes
+// of a single-chunk run; at most two output slots are ever handed out (the ring), each within
+// maxPlaneBytes; a consumer that throws leaves no GPU work behind; and a ~2·10^7-point job with
+// 4 MiB planes keeps the process's peak memory bounded (max RSS grows by far less than the
+// job's output).
+#include <gtest/gtest.h>
+
+#include <sys/resource.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+#include "core/curve.h"
+#include "core/surface.h"
+#include "gpu/evaluator.h"
+#include "support/vk_fixture.h"
+
+namespace shapespline::test {
+namespace {
+
+constexpr FieldMask kAllSurface = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
+                                  fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
+                                  fieldBit(Field::Normal);
+
+Surface alphaEBSurface() {
+  SurfaceModel m;
+  m.family.construction = Construction::AlphaEB;
+  m.family.degree = 5;
+  m.family.lambda = 0.5;
+  m.closedU = true;
+  m.rows = 9;
+  m.cols = 7;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> d(-0.3, 0.3), a(0.3, 1.0);
+  for (int i = 0; i < m.rows; ++i)
+    for (int j = 0; j < m.cols; ++j) m.points.push_back({i + d(rng), j + d(rng), std::cos(i + 0.5 * j) + d(rng)});
+  for (int i = 0; i < m.rows * m.cols; ++i) m.alpha.push_back(a(rng));
+  return Surface::create(std::move(m));
+}
+
+// Every field plane of every chunk concatenated in item order, plus what the ring handed out.
+struct Collected {
+  std::vector<std::byte> bytes[kFieldCount];
+  std::set<const void*> planes;
+  size_t chunks = 0, maxChunkPlaneBytes = 0;
+};
+
+ChunkConsumer collector(Collected& out, size_t realBytes) {
+  return [&out, realBytes](const GridChunk& c) {
+    ++out.chunks;
+    for (int f = 0; f < kFieldCount; ++f) {
+      if (!c.planes[f]) continue;
+      const size_t n = c.pointCount() * 3 * realBytes;
+      const auto* p = static_cast<const std::byte*>(c.planes[f]);
+      out.bytes[f].insert(out.bytes[f].end(), p, p + n);
+      out.planes.insert(c.planes[f]);
+      out.maxChunkPlaneBytes = std::max(out.maxChunkPlaneBytes, n);
+    }
+  };
+}
+
+class GpuStream : public VulkanTest, public ::testing::WithParamInterface<Precision> {};
+
+TEST_P(GpuStream, ManyChunksAreByteIdenticalToOneChunk) {
+  const Precision pr = GetParam();
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  const size_t rs = pr == Precision::Double ? 8 : 4;
+  const Surface cpu = alphaEBSurface();
+  gpu::GpuSurface state(ctx_, cpu, pr);
+  GridSpec grid;
+  grid.samplesU = 13;
+  grid.samplesV = 6;
+  Collected one, many;
+  gpu::SurfaceEvaluator single(ctx_, pr);
+  single.evaluateGrid(state, grid, kAllSurface, collector(one, rs));
+  gpu::EvaluatorOptions small;
+  small.maxPlaneBytes = 3 * grid.pointsPerItem() * 3 * rs + 100;  // 3 patches per chunk
+  gpu::SurfaceEvaluator chunked(ctx_, pr, small);
+  chunked.evaluateGrid(state, grid, kAllSurface, collector(many, rs));
+  EXPECT_EQ(one.chunks, 1u);
+  EXPECT_GT(many.chunks, 10u);
+  EXPECT_LE(many.maxChunkPlaneBytes, small.maxPlaneBytes);
+  EXPECT_LE(many.planes.size(), 2u * 7u) << "more than two slots of planes were handed out";
+  for (int f = 0; f < kFieldCount; ++f) {
+    ASSERT_EQ(one.bytes[f].size(), many.bytes[f].size()) << "field " << f;
+    EXPECT_TRUE(one.bytes[f].empty() || std::memcmp(one.bytes[f].data(), many.bytes[f].data(), one.bytes[f].size()) == 0)
+        << "field " << f << " differs between the single-chunk and the chunked run";
+  }
+  // A sub-range of items (firstItem/itemCount) streams the same bytes as the slice of the whole.
+  GridSpec part = grid;
+  part.firstItem = 5;
+  part.itemCount = 17;
+  Collected slice;
+  chunked.evaluateGrid(state, part, fieldBit(Field::Point), collector(slice, rs));
+  const size_t itemBytes = grid.pointsPerItem() * 3 * rs;
+  ASSERT_EQ(slice.bytes[0].size(), 17 * itemBytes);
+  EXPECT_EQ(std::memcmp(slice.bytes[0].data(), one.bytes[0].data() + 5 * itemBytes, slice.bytes[0].size()), 0);
+}
+
+TEST_P(GpuStream, ThrowingConsumerLeavesNothingInFlight) {
+  const Precision pr = GetParam();
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  const Surface cpu = alphaEBSurface();
+  gpu::GpuSurface state(ctx_, cpu, pr);
+  gpu::EvaluatorOptions small;
+  small.maxPlaneBytes = 4096;
+  gpu::SurfaceEvaluator ev(ctx_, pr, small);
+  GridSpec grid;
+  grid.samplesU = grid.samplesV = 8;
+  int calls = 0;
+  EXPECT_THROW(ev.evaluateGrid(state, grid, kAllSurface,
+                               [&](const GridChunk&) {
+                                 if (++calls == 2) throw std::runtime_error("consumer stops");
+                               }),
+               std::runtime_error);
+  EXPECT_EQ(calls, 2);
+  // The evaluator and model stay usable.
+  Collected again;
+  ev.evaluateGrid(state, grid, fieldBit(Field::Point), collector(again, pr == Precision::Double ? 8 : 4));
+  EXPECT_GT(again.chunks, 2u);
+}
+
+long maxRssKiB() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss;
+}
+
+// ~2·10^7 points (240 MB of fp32 xyz) through 4 MiB planes: the ring bounds memory by design
+// (2 slots x 1 field x 4 MiB); peak RSS must grow by far less than the job's output.
+class GpuStreamLarge : public VulkanTest {};
+
+TEST_F(GpuStreamLarge, JobStreamsInBoundedMemory) {
+  CurveModel m;
+  m.family.construction = Construction::ExtendedBSpline;
+  m.family.degree = 4;
+  m.family.lambda = 0.0;
+  m.dimension = 3;
+  for (int i = 0; i < 1003; ++i) m.points.push_back({double(i), std::sin(0.1 * i), std::cos(0.07 * i)});
+  const Curve cpu = Curve::create(m);
+  gpu::GpuCurve state(ctx_, cpu, Precision::Float);
+  gpu::EvaluatorOptions opt;
+  opt.maxPlaneBytes = size_t(4) << 20;
+  opt.workgroupSize = 128;
+  gpu::CurveEvaluator ev(ctx_, Precision::Float, opt);
+  GridSpec grid;
+  grid.samplesU = 20000;
+  const size_t items = state.gridItemCount();
+  const size_t points = items * grid.samplesU;
+  ASSERT_GE(points, size_t(2e7));
+  // Warm-up (pipeline compile, driver pools) before the peak is measured.
+  GridSpec warm = grid;
+  warm.itemCount = 4;
+  ev.evaluateGrid(state, warm, fieldBit(Field::Point), [](const GridChunk&) {});
+  const long before = maxRssKiB();
+  size_t seen = 0, chunks = 0;
+  std::set<const void*> planes;
+  double maxErr = 0.0;
+  ev.evaluateGrid(state, grid, fieldBit(Field::Point), [&](const GridChunk& c) {
+    ASSERT_LE(c.pointCount() * 3 * sizeof(float), opt.maxPlaneBytes);
+    planes.insert(c.planes[0]);
+    // Spot-check the first and last point of the chunk against the CPU core.
+    for (size_t p : {size_t(0), c.pointCount() - 1}) {
+      const size_t item = c.firstItem + p / grid.samplesU;
+      const double t = double(p % grid.samplesU) / (grid.samplesU - 1);
+      const CurvePoint e = cpu.evaluate(cpu.spans().first + int(item), t);
+      for (int k = 0; k < 3; ++k) maxErr = std::max(maxErr, std::abs(e.point[k] - c.coord(Field::Point, p, k)));
+    }
+    seen += c.pointCount();
+    ++chunks;
+  });
+  const long grownMiB = (maxRssKiB() - before) / 1024;
+  EXPECT_EQ(seen, points);
+  EXPECT_GT(chunks, 50u);
+  EXPECT_LE(planes.size(), 2u);
+  EXPECT_LT(maxErr, 1e-3);
+  EXPECT_LT(grownMiB, 48) << "peak RSS grew by " << grownMiB << " MiB for a " << points * 12 / (1 << 20)
+                          << " MiB job";
+  std::printf("  streamed %zu points in %zu chunks; peak RSS grew by %ld MiB\n", points, chunks, grownMiB);
+}
+
+INSTANTIATE_TEST_SUITE_P(Precisions, GpuStream, ::testing::Values(Precision::Float, Precision::Double),
+                         [](const auto& i) { return std::string(i.param == Precision::Double ? "fp64" : "fp32"); });
+
+}  // namespace
+}  // namespace shapespline::test
