@@ -1,0 +1,242 @@
+// `shapespline render`: draws a model headlessly with the Vulkan graphics pipeline (host/render) and
+// writes a PNG. Surfaces are tessellated on the GPU (gpu/tessellator.h) and shaded with normal-based
+// lighting; curves are drawn as lines with their control polygon and data points. --sweep writes a
+// contact sheet of the same model at several λ or α values, with one camera for every tile.
+#include "cli/common.h"
+#include "core/curve.h"
+#include "core/surface.h"
+#include "gpu/gpu_model.h"
+#include "gpu/tess_topology.h"
+#include "gpu/tessellator.h"
+#include "io/png_writer.h"
+#include "render/renderer.h"
+#include "vk/context.h"
+#include "vk/error.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+
+namespace shapespline::cli {
+namespace {
+
+struct RenderArgs {
+  std::string model, output, size = "800x600", view, sweep;
+  std::optional<double> lambda;
+  bool wireframe = false, controlNet = false, quiet = false;
+  int rate = 16;
+};
+
+struct Sweep {
+  bool alpha = false;              // else λ
+  std::vector<double> values;      // empty: one frame at the model's parameters
+};
+
+std::pair<int, int> parseSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 16 || h < 16 ||
+      w > 8192 || h > 8192)
+    throw InputError("--size", text, "expected WxH with 16 <= W, H <= 8192");
+  return {w, h};
+}
+
+Sweep parseSweep(const std::string& text) {
+  Sweep s;
+  if (text.empty()) return s;
+  const auto eq = text.find('=');
+  const std::string key = text.substr(0, eq);
+  if (eq == std::string::npos || (key != "lambda" && key != "alpha"))
+    throw InputError("--sweep", text, "expected lambda=v1,v2,... or alpha=v1,v2,...");
+  s.alpha = key == "alpha";
+  s.values = parseNumbers(text.substr(eq + 1), "--sweep");
+  if (s.values.empty() || s.values.size() > 64) throw InputError("--sweep", text, "expected 1 to 64 values");
+  return s;
+}
+
+void grow(glm::dvec3& lo, glm::dvec3& hi, const glm::dvec3& p) {
+  lo = glm::min(lo, p);
+  hi = glm::max(hi, p);
+}
+
+// Model with the sweep value applied (validated when the Surface/Curve is created).
+template <typename Model>
+Model withValue(Model m, const Sweep& s, size_t k) {
+  if (s.values.empty()) return m;
+  if (s.alpha) {
+    if (m.family.construction != Construction::AlphaEB)
+      throw InputError("--sweep", "alpha", "alpha sweeps need an alpha_eb model");
+    std::fill(m.alpha.begin(), m.alpha.end(), s.values[k]);
+  } else {
+    m.family.lambda = s.values[k];
+  }
+  return m;
+}
+
+const glm::vec4 kNetColour{0.45f, 0.45f, 0.5f, 1.0f};
+const glm::vec4 kDataColour{0.85f, 0.1f, 0.1f, 1.0f};
+const glm::vec4 kCurveColour{0.1f, 0.25f, 0.75f, 1.0f};
+
+// One tile per sweep value, composed left to right, top to bottom.
+struct Sheet {
+  int cols = 1, rows = 1, w = 0, h = 0;
+  std::vector<uint8_t> rgba;
+  void place(const render::Image& img, size_t k) {
+    const int cx = int(k) % cols, cy = int(k) / cols;
+    for (int y = 0; y < h; ++y)
+      std::copy_n(img.rgba.data() + size_t(y) * w * 4, size_t(w) * 4,
+                  rgba.data() + ((size_t(cy) * h + y) * size_t(cols) * w + size_t(cx) * w) * 4);
+  }
+};
+
+void runRender(const RenderArgs& a) {
+  const auto [w, h] = parseSize(a.size);
+  const Sweep sweep = parseSweep(a.sweep);
+  if (a.rate < 1 || a.rate > 256) throw InputError("--rate", std::to_string(a.rate), "expected 1..256 segments per patch edge");
+  io::Model model = loadModel(a.model);
+  if (a.lambda) std::visit([&](auto& m) { m.family.lambda = *a.lambda; }, model);
+  const bool isSurface = std::holds_alternative<SurfaceModel>(model);
+  double az = isSurface ? 35.0 : -90.0, el = isSurface ? 30.0 : 90.0;
+  if (!isSurface && std::get<CurveModel>(model).dimension == 3) az = 35.0, el = 30.0;
+  if (!a.view.empty()) {
+    const auto v = parseNumbers(a.view, "--view");
+    if (v.size() != 2 || v[1] < -90.0 || v[1] > 90.0)
+      throw InputError("--view", a.view, "expected az,el in degrees with -90 <= el <= 90");
+    az = v[0];
+    el = v[1];
+  }
+  if (!io::pngSupported()) throw std::runtime_error("this build has no libpng; render cannot write PNG files");
+
+  std::shared_ptr<vk::Context> ctx;
+  try {
+    ctx = vk::Context::create();
+  } catch (const vk::NoDeviceError& e) {
+    throw std::runtime_error("render needs a Vulkan device with a graphics queue: " + e.reason());
+  }
+  const size_t tiles = std::max<size_t>(1, sweep.values.size());
+  Sheet sheet;
+  sheet.cols = tiles <= 4 ? int(tiles) : int(std::ceil(std::sqrt(double(tiles))));
+  sheet.rows = int((tiles + sheet.cols - 1) / sheet.cols);
+  sheet.w = w;
+  sheet.h = h;
+  sheet.rgba.assign(size_t(sheet.cols) * w * size_t(sheet.rows) * h * 4, 255);
+  render::OffscreenRenderer renderer(ctx, w, h);
+
+  // One camera for every tile: the box of the nets and of the (coarsely CPU-evaluated) shapes.
+  glm::dvec3 lo(1e300), hi(-1e300);
+  if (isSurface) {
+    const SurfaceModel& base = std::get<SurfaceModel>(model);
+    for (const auto& p : base.points) grow(lo, hi, p);
+    for (size_t k = 0; k < tiles; ++k) {
+      const Surface s = Surface::create(withValue(base, sweep, k));
+      const PatchRange r = s.patches();
+      for (int i = r.u.first; i <= r.u.last; ++i)
+        for (int j = r.v.first; j <= r.v.last; ++j)
+          for (double u : {0.0, 0.5, 1.0})
+            for (double v : {0.0, 0.5, 1.0}) grow(lo, hi, s.evaluate(i, j, u, v).point);
+    }
+    const Surface first = Surface::create(withValue(base, sweep, 0));
+    if (first.usesKnotVector())
+      throw InputError("MODEL", a.model, "knot-vector B-spline surfaces are not tessellated on the GPU yet");
+    gpu::GpuSurface gs(ctx, first, Precision::Float);
+    gpu::SurfaceTessellator tess(ctx, gs, gpu::SurfaceTessellator::uniformRates(gs, a.rate));
+    vk::Buffer wire;
+    std::vector<uint32_t> edges;
+    if (a.wireframe) {
+      edges = gpu::triangleEdges(tess.topology().indices);
+      wire = vk::Buffer::create(*ctx, edges.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                vk::MemoryUse::DeviceLocal, "render.wire");
+      wire.uploadSpan(std::span<const uint32_t>(edges));
+    }
+    const render::Camera cam = render::Camera::frame(lo, hi, az, el, double(w) / h);
+    for (size_t k = 0; k < tiles; ++k) {
+      if (!sweep.values.empty()) {
+        if (sweep.alpha) {
+          gs.setAlphas(std::vector<double>(base.alpha.size(), sweep.values[k]));
+        } else {
+          gs.setLambda(sweep.values[k]);
+        }
+      }
+      render::Scene scene;
+      scene.prepare = [&](VkCommandBuffer cmd) { tess.record(cmd); };
+      render::MeshDraw mesh;
+      mesh.vertexBuffer = tess.vertexBuffer().handle();
+      mesh.indexBuffer = tess.indexBuffer().handle();
+      mesh.indexCount = tess.indexCount();
+      if (a.wireframe) {
+        mesh.wireIndexBuffer = wire.handle();
+        mesh.wireIndexCount = uint32_t(edges.size());
+      }
+      scene.meshes.push_back(mesh);
+      if (a.controlNet) {
+        for (int i = 0; i < base.rows; ++i) {
+          std::vector<glm::dvec3> row;
+          for (int j = 0; j < base.cols; ++j) row.push_back(base.at(i, j));
+          if (base.closedV) row.push_back(base.at(i, 0));
+          render::addPolyline(scene.lines, row, kNetColour);
+        }
+        for (int j = 0; j < base.cols; ++j) {
+          std::vector<glm::dvec3> col;
+          for (int i = 0; i < base.rows; ++i) col.push_back(base.at(i, j));
+          if (base.closedU) col.push_back(base.at(0, j));
+          render::addPolyline(scene.lines, col, kNetColour);
+        }
+        for (const auto& p : base.points) render::addMarker(scene.markers, p, 5.0f, kDataColour);
+      }
+      sheet.place(renderer.render(scene, cam), k);
+      if (!a.quiet && !sweep.values.empty())
+        std::fprintf(stderr, "shapespline: tile %zu: %s = %g\n", k + 1, sweep.alpha ? "alpha" : "lambda", sweep.values[k]);
+    }
+  } else {
+    const CurveModel& base = std::get<CurveModel>(model);
+    std::vector<std::vector<glm::dvec3>> polylines(tiles);
+    for (const auto& p : base.points) grow(lo, hi, p);
+    for (size_t k = 0; k < tiles; ++k) {
+      const Curve c = Curve::create(withValue(base, sweep, k));
+      const SpanRange r = c.spans();
+      for (int s = r.first; s <= r.last; ++s)
+        for (int q = (s == r.first ? 0 : 1); q <= 64; ++q) polylines[k].push_back(c.evaluate(s, q / 64.0).point);
+      for (const auto& p : polylines[k]) grow(lo, hi, p);
+    }
+    const render::Camera cam = render::Camera::frame(lo, hi, az, el, double(w) / h);
+    for (size_t k = 0; k < tiles; ++k) {
+      render::Scene scene;
+      std::vector<glm::dvec3> poly = base.points;
+      if (base.closed && !poly.empty()) poly.push_back(poly.front());
+      render::addPolyline(scene.lines, poly, kNetColour);
+      render::addPolyline(scene.lines, polylines[k], kCurveColour);
+      for (const auto& p : base.points) render::addMarker(scene.markers, p, 6.0f, kDataColour);
+      sheet.place(renderer.render(scene, cam), k);
+    }
+  }
+  // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).
+  io::writePng(a.output, sheet.cols * w, sheet.rows * h, sheet.rgba, false);
+  if (!a.quiet) std::fprintf(stderr, "shapespline: wrote %s (%d x %d)\n", a.output.c_str(), sheet.cols * w, sheet.rows * h);
+}
+
+}  // namespace
+
+void registerRender(CLI::App& app) {
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "render", "Render a model headlessly (Vulkan graphics pipeline) to a PNG: shaded surfaces, curves as lines.");
+  sub->add_option("MODEL", args->model, "model file (FORMAT.md)")->required();
+  sub->add_option("-o,--output", args->output, "PNG file to write")->required();
+  sub->add_option("--size", args->size, "image (tile) size WxH")->capture_default_str();
+  sub->add_option("--lambda", args->lambda, "override the model's lambda");
+  sub->add_option("--rate", args->rate, "tessellation: segments per patch edge")->capture_default_str();
+  sub->add_flag("--wireframe", args->wireframe, "draw the tessellation's edges over the surface");
+  sub->add_flag("--control-net", args->controlNet, "draw the control net and its points");
+  sub->add_option("--view", args->view, "camera azimuth,elevation in degrees (surfaces 35,30; 2-D curves -90,90)");
+  sub->add_option("--sweep", args->sweep, "contact sheet: lambda=v1,v2,... or alpha=v1,v2,... (one tile per value)");
+  sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
+  sub->footer(kExitCodeHelp);
+  sub->callback([args] { runRender(*args); });
+}
+
+}  // namespace shapespline::cli

@@ -1,0 +1,116 @@
+#pragma once
+// SurfaceTessellator: turns a GpuSurface (any uniform construction: α-EB, extended B-spline, GB,
+// UBP, GUBP, knot-free B-spline) into a triangle mesh on the GPU, recorded into the caller's
+// command buffer and written into the caller's vertex and index buffers, ready for vkCmdDrawIndexed.
+//
+// Per rate configuration (constructor / setRates, host side, once): the topology of
+// gpu/tess_topology.h (every unique vertex evaluated once: watertight, bitwise identical shared
+// edges; per-patch and per-edge rates; transition rings, no T-junctions), its sample list and its
+// uint32 triangle index buffer are built and uploaded.
+// Per record(): (1) the α-EB vertex pass (alpha_eb_vertices.comp) from the current PARAMS, (2)
+// surface_eval.comp in list mode over the sample list (point + MATH.md §5.3 normal), (3)
+// tessellate_pack.comp: interleaved vertices (shaders/tess_layout.h) into the target vertex buffer,
+// (4) the index copy into a target index buffer that has not received this configuration yet,
+// (5) a barrier: shader/transfer writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ at VERTEX_INPUT.
+// A λ / α / control-point change on the GpuSurface (setLambda, setAlpha(s), updateControlPoint)
+// therefore shows at the next record() without re-uploading the net.
+//
+// Shared vertices: position from one canonical patch (the lower patch index); normal = normalised
+// mean of the per-patch MATH.md §5.3 normals of every patch containing the vertex. At regular points
+// these agree (C² surface); at an α = 1 vertex it is the mean of the patches' diagonal limits.
+//
+// Synchronisation: record() starts with a barrier against earlier vertex-input reads and compute
+// work in the same queue. The GpuSurface parameter setters write host-visible memory directly: call
+// them only when no submitted command buffer that uses this surface is still executing.
+// Limits: sample list and vertex buffer must fit in maxStorageBufferRange (lavapipe: 128 MiB, about
+// 4 M vertices); target vertexOffset must be a multiple of minStorageBufferOffsetAlignment.
+#include "gpu/gpu_model.h"
+#include "gpu/tess_topology.h"
+#include "vk/buffer.h"
+#include "vk/context.h"
+
+#include <vulkan/vulkan_core.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <utility>
+
+namespace shapespline::gpu {
+
+class KernelSet;
+
+// Usage the caller's buffers need.
+inline constexpr VkBufferUsageFlags kTessVertexBufferUsage =
+    VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+inline constexpr VkBufferUsageFlags kTessIndexBufferUsage =
+    VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+// Where record() writes: vertexCount() * 32 bytes at vertexOffset, indexCount() uint32 at indexOffset.
+struct TessTargets {
+  VkBuffer vertexBuffer = VK_NULL_HANDLE;
+  VkDeviceSize vertexOffset = 0;
+  VkBuffer indexBuffer = VK_NULL_HANDLE;
+  VkDeviceSize indexOffset = 0;
+};
+
+struct TessellatorOptions {
+  uint32_t workgroupSize = 64;
+};
+
+class SurfaceTessellator {
+ public:
+  // The surface must outlive the tessellator and share its context and precision (fp32 or fp64
+  // evaluation; vertices are fp32 either way).
+  SurfaceTessellator(std::shared_ptr<vk::Context> ctx, GpuSurface& surface, const TessRates& rates,
+                     TessellatorOptions options = {});
+  ~SurfaceTessellator();
+  SurfaceTessellator(const SurfaceTessellator&) = delete;
+  SurfaceTessellator& operator=(const SurfaceTessellator&) = delete;
+
+  // The patch grid of `surface` with every patch and edge at `rate` segments.
+  static TessRates uniformRates(const GpuSurface& surface, int rate);
+
+  // New rate configuration: rebuilds topology, sample list and index buffer (host work + upload).
+  // Waits for the device to be idle on this context's queue before freeing the old buffers.
+  void setRates(const TessRates& rates);
+
+  const TessTopology& topology() const { return topo_; }
+  uint32_t vertexCount() const { return topo_.vertexCount; }
+  uint32_t indexCount() const { return uint32_t(topo_.indices.size()); }
+  VkDeviceSize vertexBytes() const;
+  VkDeviceSize indexBytes() const { return VkDeviceSize(indexCount()) * 4; }
+  // Increments with every setRates (index buffers are rebuilt only then).
+  uint64_t configuration() const { return generation_; }
+
+  // Records the tessellation into cmd (see the header comment). Throws std::invalid_argument for a
+  // null vertex buffer or a misaligned vertex offset; indexBuffer may be null (indices not copied).
+  void record(VkCommandBuffer cmd, const TessTargets& targets);
+  // The same into the tessellator's own buffers (vertexBuffer(), indexBuffer()).
+  void record(VkCommandBuffer cmd);
+  const vk::Buffer& vertexBuffer() const { return ownVertices_; }
+  const vk::Buffer& indexBuffer() const { return indices_; }
+
+  // Vertex input description of the vertex layout (shaders/tess_layout.h): position, normal, uv at
+  // locations firstLocation .. firstLocation + 2.
+  static VkVertexInputBindingDescription vertexBinding(uint32_t binding = 0);
+  static std::array<VkVertexInputAttributeDescription, 3> vertexAttributes(uint32_t binding = 0,
+                                                                           uint32_t firstLocation = 0);
+
+ private:
+  struct PackSet;
+  PackSet& packSet(VkBuffer vertices, VkDeviceSize offset);
+
+  std::shared_ptr<vk::Context> ctx_;
+  GpuSurface& surface_;
+  std::unique_ptr<KernelSet> kernels_;
+  TessTopology topo_;
+  uint64_t generation_ = 0;
+  vk::Buffer samples_, extra_, points_, normals_, indices_, ownVertices_;
+  VkDescriptorSetLayout packLayoutHandle_ = VK_NULL_HANDLE;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace shapespline::gpu
