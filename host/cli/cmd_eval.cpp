@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -17,7 +18,7 @@ namespace {
 
 struct EvalArgs {
   std::string model, at, device = "vulkan", precision = "double";
-  bool quiet = false;
+  bool quiet = false, requireDevice = false;
 };
 
 using nlohmann::json;
@@ -40,6 +41,12 @@ int integerAt(const json& v, const std::string& path) {
 
 double rounded(double v, Precision p) { return p == Precision::Float ? static_cast<double>(static_cast<float>(v)) : v; }
 glm::dvec3 rounded(const glm::dvec3& v, Precision p) { return {rounded(v.x, p), rounded(v.y, p), rounded(v.z, p)}; }
+
+// 2^-e with the vector's largest |component| in [2^e, 2^(e+1)); 1 for a zero vector.
+double unitScale(const glm::dvec3& v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  return m > 0.0 && std::isfinite(m) ? std::ldexp(1.0, -std::ilogb(m)) : 1.0;
+}
 
 struct CurveQuery {
   bool global = false;  // {"u": u}
@@ -94,12 +101,14 @@ std::string evalCurve(const Curve& curve, const json& samples, Precision p, bool
     }
   }
   std::string out = "{\"samples\": [";
+  if (nanFaultInjected() && !points.empty()) points[0].point.x = std::nan("");
   for (size_t i = 0; i < queries.size(); ++i) {
     const auto& q = queries[i];
     const CurvePoint& cp = points[i];
-    requireFinite(cp.point, "point");
-    requireFinite(cp.d1, "d1");
-    requireFinite(cp.d2, "d2");
+    // Checked after rounding: an fp64 value beyond 3.4e38 becomes inf in fp32.
+    requireFinite(rounded(cp.point, p), "point");
+    requireFinite(rounded(cp.d1, p), "d1");
+    requireFinite(rounded(cp.d2, p), "d2");
     const std::string head = q.global ? "\"u\": " + number17(q.u)
                                       : "\"span\": " + std::to_string(q.span) + ", \"t\": " + number17(q.t) +
                                             ", \"u\": " + number17(curve.parameterOf(q.span, q.t));
@@ -166,10 +175,16 @@ std::string evalSurface(const Surface& surface, const json& samples, Precision p
   for (size_t i = 0; i < queries.size(); ++i) {
     const int pi = static_cast<int>(queries[i][0]), pj = static_cast<int>(queries[i][1]);
     const double u = queries[i][2], v = queries[i][3];
+    if (nanFaultInjected() && i == 0) points[0].point.x = std::nan("");
     const SurfacePoint& sp = points[i];
-    for (const auto* x : {&sp.point, &sp.du, &sp.dv, &sp.duu, &sp.duv, &sp.dvv, &sp.normal}) requireFinite(*x, "value");
-    const glm::dvec3 cross = glm::cross(sp.du, sp.dv);
-    const double denom = glm::length(sp.du) * glm::length(sp.dv);
+    for (const auto* x : {&sp.point, &sp.du, &sp.dv, &sp.duu, &sp.duv, &sp.dvv, &sp.normal}) {
+      requireFinite(rounded(*x, p), "value");
+    }
+    // du and dv scaled by powers of two (exact) first, so that cross and lengths neither overflow
+    // for huge nets nor underflow for tiny ones; the normal and the sine test are scale-free.
+    const glm::dvec3 du = sp.du * unitScale(sp.du), dv = sp.dv * unitScale(sp.dv);
+    const glm::dvec3 cross = glm::cross(du, dv);
+    const double denom = glm::length(du) * glm::length(dv);
     const bool defined = denom > 0.0 && glm::length(cross) >= 0.01 * denom;
     const std::string normal = defined ? vector17(rounded(glm::normalize(cross), p), 3) : "null";
     out += std::string(i ? ",\n  " : "\n  ") + "{\"patch\": [" + std::to_string(pi) + ", " + std::to_string(pj) +
@@ -192,15 +207,18 @@ void runEval(const EvalArgs& args) {
     throw InputError("--at", args.at, "expected an object {\"samples\": [...]}");
   }
   if (at["samples"].size() > 100'000'000) throw InputError("--at", args.at, "at most 1e8 samples");
-  const Device device = resolveDevice(requested, precision, args.quiet);
+  std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
+  const Device device = resolveDevice(requested, precision, args.quiet, args.requireDevice);
   std::string text;
   if (std::holds_alternative<CurveModel>(model)) {
     const Curve curve = Curve::create(std::get<CurveModel>(std::move(model)));
-    const bool gpu = device == Device::Vulkan && gpuHandles(&curve, nullptr, args.quiet);
+    const bool gpu = device == Device::Vulkan && gpuHandles(&curve, nullptr, precision, args.quiet, args.requireDevice);
+    printPrecisionWarnings(curve.model(), gpu && precision == Precision::Float, args.quiet);
     text = evalCurve(curve, at["samples"], precision, gpu);
   } else {
     const Surface surface = Surface::create(std::get<SurfaceModel>(std::move(model)));
-    const bool gpu = device == Device::Vulkan && gpuHandles(nullptr, &surface, args.quiet);
+    const bool gpu = device == Device::Vulkan && gpuHandles(nullptr, &surface, precision, args.quiet, args.requireDevice);
+    printPrecisionWarnings(surface.model(), gpu && precision == Precision::Float, args.quiet);
     text = evalSurface(surface, at["samples"], precision, gpu);
   }
   std::fwrite(text.data(), 1, text.size(), stdout);
@@ -219,7 +237,9 @@ void registerEval(CLI::App& app) {
       ->required();
   sub->add_option("--device", args->device, "vulkan (default; falls back to cpu with a notice) or cpu");
   sub->add_option("--precision", args->precision, "float or double (default double)");
-  sub->add_flag("-q,--quiet", args->quiet, "no notices");
+  sub->add_flag("--require-device", args->requireDevice,
+                "with --device vulkan: fail (exit 3) instead of falling back to the CPU");
+  sub->add_flag("-q,--quiet", args->quiet, "no notices and no warnings");
   sub->footer(kExitCodeHelp);
   sub->callback([args] { runEval(*args); });
 }

@@ -45,21 +45,49 @@ std::pair<int, int> parseShard(const std::string& text) {
   return {static_cast<int>(k), static_cast<int>(n)};
 }
 
-void requireFiniteChunk(const GridChunk& c) {
+constexpr long long kMaxChunkPoints = 1LL << 22;
+constexpr int kMaxThreads = 1024;
+
+// Every value must be finite in the precision the file stores (`fileFloat`: fp32 PLY/raw/CSV, where
+// an fp64 value beyond 3.4e38 would become inf).
+void requireFiniteChunk(const GridChunk& c, bool fileFloat) {
   const size_t n = c.pointCount() * 3;
+  const double limit = fileFloat ? static_cast<double>(std::numeric_limits<float>::max())
+                                 : std::numeric_limits<double>::max();
   for (int f = 0; f < kFieldCount; ++f) {
     const void* p = c.planes[static_cast<size_t>(f)];
     if (!p) continue;
     for (size_t i = 0; i < n; ++i) {
       const double v = c.precision == Precision::Double ? static_cast<const double*>(p)[i]
                                                         : static_cast<double>(static_cast<const float*>(p)[i]);
-      if (!std::isfinite(v)) {
-        throw std::runtime_error("internal error: non-finite " + std::string(io::fieldName(static_cast<Field>(f))) +
-                                 " at item " + std::to_string(c.firstItem + i / 3 / c.pointsPerItem) +
-                                 " (output removed)");
+      if (!(std::abs(v) <= limit)) {
+        const std::string field(io::fieldName(static_cast<Field>(f)));
+        const std::string item = std::to_string(c.firstItem + i / 3 / c.pointsPerItem);
+        throw RuntimeError(field, number17(v) + " at item " + item,
+                           std::isfinite(v) ? "exceeds the fp32 range of the output (use --precision double); "
+                                              "nothing was written"
+                                            : "evaluation produced a non-finite value (internal error); nothing "
+                                              "was written");
       }
     }
   }
+}
+
+// SHAPESPLINE_FAULT=nan: the consumer sees a copy of the first chunk with a NaN in its first value.
+GridChunk withInjectedNan(const GridChunk& c, std::vector<double>& d, std::vector<float>& f) {
+  GridChunk out = c;
+  const size_t n = c.pointCount() * 3;
+  const size_t k = static_cast<size_t>(Field::Point);
+  if (c.precision == Precision::Double) {
+    d.assign(static_cast<const double*>(c.planes[k]), static_cast<const double*>(c.planes[k]) + n);
+    d[0] = std::numeric_limits<double>::quiet_NaN();
+    out.planes[k] = d.data();
+  } else {
+    f.assign(static_cast<const float*>(c.planes[k]), static_cast<const float*>(c.planes[k]) + n);
+    f[0] = std::numeric_limits<float>::quiet_NaN();
+    out.planes[k] = f.data();
+  }
+  return out;
 }
 
 }  // namespace
@@ -69,10 +97,18 @@ void runSample(const SampleArgs& args) {
   const Device requested = parseDevice(args.device);
   const Precision precision = parsePrecision(args.precision);
   const auto [shardK, shardN] = parseShard(args.shard);
-  if (args.threads < 0) throw InputError("--threads", std::to_string(args.threads), "must be >= 0");
+  if (args.threads < 0 || args.threads > kMaxThreads) {
+    throw InputError("--threads", std::to_string(args.threads),
+                     "must be in [0, " + std::to_string(kMaxThreads) + "] (0 = all hardware threads)");
+  }
+  if (args.chunkPoints < 0 || args.chunkPoints > kMaxChunkPoints) {
+    throw InputError("--chunk-points", std::to_string(args.chunkPoints),
+                     "must be in [1, " + std::to_string(kMaxChunkPoints) + "] (0 = default)");
+  }
 
   io::Model model = loadModel(args.model);
   const bool isSurface = std::holds_alternative<SurfaceModel>(model);
+  std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
 
   int su = 0, sv = 1;
   if (isSurface) {
@@ -171,10 +207,17 @@ void runSample(const SampleArgs& args) {
   if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64) {
     sidecar.emplace(args.out + ".json", "-o");
   }
-  Device device = resolveDevice(requested, precision, args.quiet);
-  if (device == Device::Vulkan && !gpuHandles(curve ? &*curve : nullptr, surface ? &*surface : nullptr, args.quiet)) {
+  Device device = resolveDevice(requested, precision, args.quiet, args.requireDevice);
+  if (device == Device::Vulkan &&
+      !gpuHandles(curve ? &*curve : nullptr, surface ? &*surface : nullptr, precision, args.quiet, args.requireDevice)) {
     device = Device::Cpu;
   }
+  const bool gpuFloat = device == Device::Vulkan && precision == Precision::Float;
+  if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
+  if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
+  // What the file stores: raw .f32, or PLY/CSV after --precision float.
+  const bool fileFloat = format == io::OutputFormat::RawF32 ||
+                         (precision == Precision::Float && (format == io::OutputFormat::Ply || format == io::OutputFormat::Csv));
 
   auto writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
   writer->begin(layout);
@@ -191,10 +234,16 @@ void runSample(const SampleArgs& args) {
     job.precision = precision;
     job.device = device;
     job.threads = args.threads;
+    job.chunkPoints = static_cast<size_t>(args.chunkPoints);
+    bool injectNan = nanFaultInjected();
+    std::vector<double> nanD;
+    std::vector<float> nanF;
     runGrid(job, [&](const GridChunk& chunk) {
-      requireFiniteChunk(chunk);
-      writer->consume(chunk);
-      progress.add(chunk.pointCount());
+      const GridChunk& c = injectNan ? withInjectedNan(chunk, nanD, nanF) : chunk;
+      injectNan = false;
+      requireFiniteChunk(c, fileFloat);
+      writer->consume(c);
+      progress.add(c.pointCount());
     });
   }
   writer->finish();
@@ -222,7 +271,12 @@ void registerSample(CLI::App& app) {
   sub->add_flag("--normals", args->normals, "also write unit normals (surfaces)");
   sub->add_option("--shard", args->shard,
                   "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches; see README for merging");
-  sub->add_option("--threads", args->threads, "CPU threads (0 = all)");
+  sub->add_option("--threads", args->threads, "CPU sampler threads (0 = all hardware threads; output is identical)");
+  sub->add_option("--chunk-points", args->chunkPoints,
+                  "points per streamed chunk, rounded to whole spans/patches (default 262144 on the CPU, 64 MiB "
+                  "planes on the GPU; output is identical)");
+  sub->add_flag("--require-device", args->requireDevice,
+                "with --device vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
   sub->footer(kExitCodeHelp);
   sub->callback([args] { runSample(*args); });

@@ -7,7 +7,8 @@ namespace shapespline::cli {
 struct SampleArgs {
   std::string model, out, grid, device = "vulkan", precision = "double", shard;
   int samples = 0, threads = 0;
-  bool derivatives = false, normals = false, quiet = false;
+  long long chunkPoints = 0;  // 0 = default (CPU 2^18 points; GPU 64 MiB planes)
+  bool derivatives = false, normals = false, quiet = false, requireDevice = false;
 };
 
 void runSample(const SampleArgs& args);

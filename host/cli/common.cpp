@@ -1,13 +1,18 @@
 #include "cli/common.h"
 
+#include "core/diagnostics.h"
 #include "io/number_text.h"
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
+#include <string_view>
 
 namespace shapespline::cli {
 
@@ -73,9 +78,113 @@ Precision parsePrecision(const std::string& text) {
 
 void requireFinite(const glm::dvec3& v, const char* what) {
   if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
-    throw std::runtime_error(std::string("internal error: evaluation produced a non-finite ") + what);
+    throw RuntimeError(what, "", "evaluation produced a non-finite value (an internal error, or a value beyond the "
+                                 "output precision's range); nothing was written");
   }
 }
+
+namespace {
+
+// fp32 keeps about 7 significant digits: α below this loses more than 2 of them (MATH.md §14:
+// rounding errors grow like 1/α), a net resolved with fewer than 3 digits relative to its offset
+// from the origin is shapeless.
+constexpr double kAlphaWarnFloat = 1e-2;
+constexpr double kRelativeExtentFloat = 1e-4;
+
+std::string num3(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+void floatWarnings(const std::vector<glm::dvec3>& points, int dims, const std::vector<double>& alpha,
+                   const std::function<std::string(size_t)>& name, std::vector<Warning>& out) {
+  if (!alpha.empty()) {
+    const auto it = std::min_element(alpha.begin(), alpha.end());
+    if (*it < kAlphaWarnFloat && *it >= kAlphaWarn) {  // below kAlphaWarn core already warns
+      out.push_back({"alpha" + name(static_cast<size_t>(it - alpha.begin())),
+                     "alpha = " + num3(*it) + " amplifies rounding errors by 1/alpha: the fp32 GPU kernels lose about " +
+                         num3(std::floor(-std::log10(*it))) + " of their 7 digits (use --precision double)"});
+    }
+  }
+  double biggest = 0.0, extent = 0.0;
+  if (points.empty()) return;
+  glm::dvec3 lo = points[0], hi = points[0];
+  for (const auto& p : points) {
+    for (int d = 0; d < dims; ++d) {
+      biggest = std::max(biggest, std::abs(p[d]));
+      lo[d] = std::min(lo[d], p[d]);
+      hi[d] = std::max(hi[d], p[d]);
+    }
+  }
+  for (int d = 0; d < dims; ++d) extent = std::max(extent, hi[d] - lo[d]);
+  if (extent > 0.0 && extent < kRelativeExtentFloat * biggest && extent >= kRelativeExtent * biggest) {
+    out.push_back({"points", "the control net spans only " + num3(extent) + " but lies " + num3(biggest) +
+                                 " from the origin: in fp32 (7 digits) fewer than 3 digits describe its shape "
+                                 "(use --precision double)"});
+  }
+}
+
+}  // namespace
+
+namespace {
+void print(const std::vector<Warning>& warnings) {
+  for (const auto& w : warnings) std::fprintf(stderr, "shapespline: %s\n", formatWarning(w).c_str());
+}
+}  // namespace
+
+void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet) {
+  if (quiet) return;
+  std::vector<Warning> warnings = precisionWarnings(model);
+  if (gpuFloat) {
+    floatWarnings(model.points, model.dimension, model.alpha, [](size_t k) { return "[" + std::to_string(k) + "]"; },
+                  warnings);
+  }
+  print(warnings);
+}
+
+void printPrecisionWarnings(const SurfaceModel& model, bool gpuFloat, bool quiet) {
+  if (quiet) return;
+  std::vector<Warning> warnings = precisionWarnings(model);
+  const size_t cols = static_cast<size_t>(std::max(model.cols, 1));
+  if (gpuFloat) {
+    floatWarnings(model.points, 3, model.alpha,
+                  [cols](size_t k) { return "[" + std::to_string(k / cols) + "][" + std::to_string(k % cols) + "]"; },
+                  warnings);
+  }
+  print(warnings);
+}
+
+void requireFloatRange(const std::vector<glm::dvec3>& points, Precision precision) {
+  if (precision != Precision::Float) return;
+  for (const auto& p : points) {
+    for (int d = 0; d < 3; ++d) {
+      if (std::abs(p[d]) > kMaxFloatNet) {
+        throw InputError("--precision", "float",
+                         "the control net reaches " + num3(std::abs(p[d])) + " but fp32 output holds at most 3.4e38 "
+                         "(coordinates above " + num3(kMaxFloatNet) + " leave no headroom for derivatives): use "
+                         "--precision double");
+      }
+    }
+  }
+}
+
+namespace {
+bool& nanFault() {
+  static bool on = false;
+  return on;
+}
+}  // namespace
+
+void takeCliFault() {
+  const char* env = std::getenv("SHAPESPLINE_FAULT");
+  if (env && std::string_view(env) == "nan") {
+    nanFault() = true;
+    ::unsetenv("SHAPESPLINE_FAULT");
+  }
+}
+
+bool nanFaultInjected() { return nanFault(); }
 
 Progress::Progress(uint64_t total, bool quiet) : total_(total) {
   enabled_ = !quiet && total >= 4'000'000 && ::isatty(STDERR_FILENO);

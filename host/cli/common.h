@@ -25,6 +25,7 @@ void registerExtend(CLI::App& app);
 void registerInfo(CLI::App& app);
 void registerDemo(CLI::App& app);
 void registerMerge(CLI::App& app);
+void registerRender(CLI::App& app);  // cmd_render.cpp
 
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...).
@@ -42,11 +43,31 @@ Device parseDevice(const std::string& text);
 Precision parsePrecision(const std::string& text);
 
 // The GPU path, when the build has one and a device exists; otherwise a notice on stderr and the
-// CPU path. Returns the device that will actually be used.
-Device resolveDevice(Device requested, Precision precision, bool quiet);
+// CPU path, or with `require` (--require-device) a RuntimeError (exit 3). Returns the device that
+// will actually be used.
+Device resolveDevice(Device requested, Precision precision, bool quiet, bool require = false);
 
-// Throws std::runtime_error (exit 3) when a vector is not finite: an evaluation bug, never input.
+// Throws RuntimeError (exit 3) when a vector is not finite: an evaluation bug or a value beyond
+// the output precision's range, never written.
 void requireFinite(const glm::dvec3& v, const char* what);
+
+// Precision warnings (core/diagnostics.h) for the model, plus those of fp32 GPU evaluation, as
+// "shapespline: warning: <field>: <message>" lines on stderr unless quiet. `gpuFloat`: the job runs
+// the fp32 GPU kernels.
+void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet);
+void printPrecisionWarnings(const SurfaceModel& model, bool gpuFloat, bool quiet);
+
+// With --precision float every value is rounded to fp32 (max 3.4e38): a net beyond kMaxFloatNet
+// leaves no headroom for derivatives, so it is refused (InputError on --precision, exit 2).
+inline constexpr double kMaxFloatNet = 1e36;
+void requireFloatRange(const std::vector<glm::dvec3>& points, Precision precision);
+
+// Test-only CLI fault (issue 7): SHAPESPLINE_FAULT=nan makes `sample` and `eval` see a NaN in the
+// first evaluated value, to prove it never reaches a file. main calls takeCliFault() first; it
+// consumes that value (removing it from the environment, so host/vk's own SHAPESPLINE_FAULT
+// parser never sees it) and leaves every other value to host/vk.
+void takeCliFault();
+bool nanFaultInjected();
 
 // Progress bar on stderr, shown only when stderr is a terminal, the job is long and not --quiet.
 class Progress {

@@ -31,4 +31,21 @@ class InputError : public std::invalid_argument {
   std::string field_, value_, rule_;
 };
 
+// A device or runtime failure the user should see named (exit code 3): printed as
+// "shapespline: error: <field>: <rule> (got <value>)", like InputError.
+class RuntimeError : public std::runtime_error {
+ public:
+  RuntimeError(std::string field, std::string value, std::string rule)
+      : std::runtime_error(field + ": " + rule + (value.empty() ? "" : " (got " + value + ")")),
+        field_(std::move(field)),
+        value_(std::move(value)),
+        rule_(std::move(rule)) {}
+  const std::string& field() const { return field_; }
+  const std::string& value() const { return value_; }
+  const std::string& rule() const { return rule_; }
+
+ private:
+  std::string field_, value_, rule_;
+};
+
 }  // namespace shapespline::cli

@@ -1,6 +1,6 @@
 // shapespline: the command line. main catches everything and maps it to the documented exit codes:
 // 0 success, 2 bad input (ModelError, InputError, OutputPathError, argument errors), 3 device or
-// runtime error (VulkanError, I/O failures while writing, internal errors).
+// runtime error (RuntimeError, VulkanError, OutputWriteError, internal errors).
 #include "cli/common.h"
 #include "cli/exit_codes.h"
 #include "core/model.h"
@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -24,6 +25,10 @@ int report(const std::string& field, const std::string& reason, int code) {
 int main(int argc, char** argv) {
   using namespace shapespline;
   using namespace shapespline::cli;
+  // A file size limit (ulimit -f) would otherwise kill the process mid-write and leave the
+  // temporary file behind; ignored, the write fails with EFBIG and is reported (exit 3).
+  std::signal(SIGXFSZ, SIG_IGN);
+  takeCliFault();
   CLI::App app{"shapespline: evaluate and sample shape-parametric spline curves and surfaces "
                "(CPU fp64 or Vulkan compute)."};
   app.footer(std::string(kExitCodeHelp) +
@@ -37,6 +42,7 @@ int main(int argc, char** argv) {
   registerInfo(app);
   registerDemo(app);
   registerMerge(app);
+  registerRender(app);
 
   try {
     app.parse(argc, argv);
@@ -56,6 +62,10 @@ int main(int argc, char** argv) {
     return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitBadInput);
   } catch (const io::OutputPathError& e) {
     return report(e.option(), "'" + e.path() + "': " + e.reason(), kExitBadInput);
+  } catch (const io::OutputWriteError& e) {
+    return report(e.option(), "cannot write '" + e.path() + "': " + e.reason(), kExitRuntime);
+  } catch (const RuntimeError& e) {
+    return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitRuntime);
   } catch (const std::invalid_argument& e) {
     return report("input", e.what(), kExitBadInput);
   } catch (const std::bad_alloc&) {

@@ -27,10 +27,25 @@ class OutputPathError : public std::invalid_argument {
   std::string option_, path_, reason_;
 };
 
+// Writing the output failed after it was opened (disk full, file size limit, I/O error): a runtime
+// error (exit code 3), not bad input. The temporary file is removed; the target is untouched.
+class OutputWriteError : public std::runtime_error {
+ public:
+  OutputWriteError(std::string option, std::string path, std::string reason);
+  const std::string& option() const { return option_; }
+  const std::string& path() const { return path_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string option_, path_, reason_;
+};
+
 class AtomicFile {
  public:
   // Creates the temporary file now (fails early): throws OutputPathError when the folder does not
-  // exist or is not writable, or when `target` is a directory.
+  // exist or is not writable, when `target` is a directory, or when it exists and is not a regular
+  // file (a device such as /dev/full, a FIFO, a socket: the rename would replace it, so it is
+  // refused rather than written through). I/O failures later throw OutputWriteError.
   explicit AtomicFile(std::filesystem::path target, std::string option = "-o");
   ~AtomicFile();
   AtomicFile(AtomicFile&& other) noexcept;
@@ -47,7 +62,7 @@ class AtomicFile {
   }
   void advance(size_t size) { used_ += size; }
 
-  // Flush, fsync, close and rename onto the target. Throws std::runtime_error on an I/O failure
+  // Flush, fsync, close and rename onto the target. Throws OutputWriteError on an I/O failure
   // (the temporary file is then removed by the destructor).
   void commit();
   // Close and remove the temporary file now.
@@ -60,7 +75,10 @@ class AtomicFile {
  private:
   void flush();
 
+  [[noreturn]] void fail(const std::string& what, int err);
+
   std::filesystem::path target_, temp_;
+  std::string option_;
   int fd_ = -1;
   bool committed_ = false;
   std::vector<char> buffer_;

@@ -48,8 +48,24 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
   for (const auto& l : lines_) for (const auto& p : l.points) grow(p);
   for (const auto& m : markers_) for (const auto& p : m.points) grow(p);
   if (!(x0 <= x1)) x0 = y0 = 0.0, x1 = y1 = 1.0;
-  if (x1 - x0 < 1e-12) x0 -= 0.5, x1 += 0.5;
-  if (y1 - y0 < 1e-12) y0 -= 0.5, y1 += 0.5;
+  // Pixel arithmetic on coordinates scaled by a power of two (exact) to magnitude ~1, so that
+  // nets near 1e300 cannot overflow x1 - x0 and nets near 1e-300 cannot underflow it.
+  const double mag = std::max({std::abs(x0), std::abs(x1), std::abs(y0), std::abs(y1)});
+  const double k = mag > 0.0 && std::isfinite(mag) ? std::ldexp(1.0, -std::ilogb(mag)) : 1.0;
+  x0 *= k, x1 *= k, y0 *= k, y1 *= k;
+  // An extent below rounding noise (coincident points, an axis-parallel line) is widened relative
+  // to the other axis or to the magnitude, never by an absolute amount that vanishes next to 1e30.
+  const double noise = 1e-12 * mag * k;
+  double e = std::max(x1 - x0, y1 - y0);
+  if (!(e > noise)) e = 1.0;  // all points coincide: a unit frame (scaled magnitude is in [1, 2))
+  if (!(x1 - x0 > noise)) {
+    const double c = x0 / 2 + x1 / 2;
+    x0 = c - e / 2, x1 = c + e / 2;
+  }
+  if (!(y1 - y0 > noise)) {
+    const double c = y0 / 2 + y1 / 2;
+    y0 = c - e / 2, y1 = c + e / 2;
+  }
 
   const double margin = 40.0, top = title_.empty() ? margin : margin + 20.0;
   const double legend = axes_ ? 110.0 : 0.0;
@@ -57,8 +73,11 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
   double sx = w / (x1 - x0), sy = h / (y1 - y0);
   if (equal_) sx = sy = std::min(sx, sy);
   const double ox = margin + (w - sx * (x1 - x0)) / 2, oy = top + (h - sy * (y1 - y0)) / 2;
-  auto X = [&](double x) { return ox + (x - x0) * sx; };
-  auto Y = [&](double y) { return oy + (y1 - y) * sy; };
+  // XS/YS take scaled coordinates, X/Y model coordinates.
+  auto XS = [&](double x) { return ox + (x - x0) * sx; };
+  auto YS = [&](double y) { return oy + (y1 - y) * sy; };
+  auto X = [&](double x) { return XS(x * k); };
+  auto Y = [&](double y) { return YS(y * k); };
 
   std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
                   std::to_string(widthPx) + "\" height=\"" + std::to_string(heightPx) + "\" viewBox=\"0 0 " +
@@ -70,19 +89,19 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
   }
   if (axes_) {
     const double ax = (x0 <= 0 && 0 <= x1) ? 0.0 : x0, ay = (y0 <= 0 && 0 <= y1) ? 0.0 : y0;
-    s += "<g stroke=\"#888\" stroke-width=\"1\"><line x1=\"" + num(X(x0)) + "\" y1=\"" + num(Y(ay)) + "\" x2=\"" +
-         num(X(x1)) + "\" y2=\"" + num(Y(ay)) + "\"/><line x1=\"" + num(X(ax)) + "\" y1=\"" + num(Y(y0)) +
-         "\" x2=\"" + num(X(ax)) + "\" y2=\"" + num(Y(y1)) + "\"/></g>\n";
+    s += "<g stroke=\"#888\" stroke-width=\"1\"><line x1=\"" + num(XS(x0)) + "\" y1=\"" + num(YS(ay)) + "\" x2=\"" +
+         num(XS(x1)) + "\" y2=\"" + num(YS(ay)) + "\"/><line x1=\"" + num(XS(ax)) + "\" y1=\"" + num(YS(y0)) +
+         "\" x2=\"" + num(XS(ax)) + "\" y2=\"" + num(YS(y1)) + "\"/></g>\n";
     auto label = [&](double x, double y, const std::string& text, const char* anchor) {
       s += "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\" text-anchor=\"" + anchor +
            "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#444\">" + escape(text) + "</text>\n";
     };
     char b[kMaxNumberChars];
     auto txt = [&](double v) { return std::string(b, std::to_chars(b, b + sizeof b, v, std::chars_format::general, 4).ptr); };
-    label(X(x0), Y(ay) + 14, txt(x0), "start");
-    label(X(x1), Y(ay) + 14, txt(x1), "end");
-    label(X(ax) - 4, Y(y1) + 4, txt(y1), "end");
-    label(X(ax) - 4, Y(y0) + 4, txt(y0), "end");
+    label(XS(x0), YS(ay) + 14, txt(x0 / k), "start");
+    label(XS(x1), YS(ay) + 14, txt(x1 / k), "end");
+    label(XS(ax) - 4, YS(y1) + 4, txt(y1 / k), "end");
+    label(XS(ax) - 4, YS(y0) + 4, txt(y0 / k), "end");
   }
   for (const auto& l : lines_) {
     if (l.points.empty()) continue;
