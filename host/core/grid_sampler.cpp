@@ -5,7 +5,9 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <future>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -69,8 +71,54 @@ void put(double* plane, size_t point, const glm::dvec3& v) {
   plane[point * 3 + 2] = v.z;
 }
 
-// Runs compute(buffer, itemBegin, itemEnd, firstPointInBuffer) for every chunk, split over threads,
-// and hands finished chunks to the consumer in order while the next chunk is being computed.
+// The two hot loops of surface sampling are also compiled for AVX2 and picked at run time. No FMA
+// in either clone (the "avx2" target does not enable it), so both give identical bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SHAPESPLINE_HOT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SHAPESPLINE_HOT_CLONES
+#endif
+
+// dst[b] = sum_s rows[s][b] * t[s] over the samples b < n, summed in order s = 0, 1, ... starting
+// from 0.0 (the order fixes the bits; rows[s] is a tabulated basis row). The 4-function families
+// (all Xu-Wang and α-EB bases, cubic B-splines) get an unrolled loop that keeps the sum in registers.
+SHAPESPLINE_HOT_CLONES
+void contractRows4(const double* const* rows, const double* t, int n, double* dst) {
+  const double *r0 = rows[0], *r1 = rows[1], *r2 = rows[2], *r3 = rows[3];
+  const double t0 = t[0], t1 = t[1], t2 = t[2], t3 = t[3];
+  for (int b = 0; b < n; ++b) {
+    double acc = 0.0;
+    acc += r0[b] * t0;
+    acc += r1[b] * t1;
+    acc += r2[b] * t2;
+    acc += r3[b] * t3;
+    dst[b] = acc;
+  }
+}
+
+void contractRows(const double* const* rows, const double* t, int m, int n, double* dst) {
+  if (m == 4) return contractRows4(rows, t, n, dst);
+  for (int b = 0; b < n; ++b) {
+    double acc = 0.0;
+    for (int s = 0; s < m; ++s) acc += rows[s][b] * t[s];
+    dst[b] = acc;
+  }
+}
+
+// dst[3b + c] = (x, y, z)[c][b]: structure-of-arrays rows into an interleaved xyz plane.
+SHAPESPLINE_HOT_CLONES
+void interleaveRows(const double* x, const double* y, const double* z, int n, double* dst) {
+  for (int b = 0; b < n; ++b) {
+    dst[3 * b + 0] = x[b];
+    dst[3 * b + 1] = y[b];
+    dst[3 * b + 2] = z[b];
+  }
+}
+
+// Runs compute(buffer, itemBegin, itemEnd, firstPointInBuffer) for every chunk, each chunk split
+// into one slice per worker, and hands finished chunks to the consumer in order on the calling
+// thread while the workers fill the other buffer. The workers live for the whole job (no thread
+// start per chunk), so chunks can be small enough for their buffers to stay in cache.
 template <class Compute>
 void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldMask fields,
                 const SamplerOptions& options, const ChunkConsumer& consumer, Compute compute) {
@@ -80,31 +128,64 @@ void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldM
   const size_t itemsPerChunk =
       std::clamp<size_t>(options.maxChunkPoints / std::max<size_t>(pointsPerItem, 1), 1, itemCount);
   const size_t chunkCount = (itemCount + itemsPerChunk - 1) / itemsPerChunk;
+  const size_t workers = std::min<size_t>(static_cast<size_t>(threads), itemsPerChunk);
   ChunkBuffer buffers[2];
   for (auto& b : buffers) b.allocate(fields, itemsPerChunk * pointsPerItem);
 
-  auto launch = [&](size_t chunk) {
-    const size_t begin = firstItem + chunk * itemsPerChunk;
-    const size_t end = std::min(begin + itemsPerChunk, firstItem + itemCount);
-    const size_t n = end - begin;
-    const size_t slices = std::min<size_t>(static_cast<size_t>(threads), n);
-    std::vector<std::future<void>> work;
-    ChunkBuffer* buffer = &buffers[chunk % 2];
-    for (size_t s = 0; s < slices; ++s) {
-      const size_t b = begin + n * s / slices, e = begin + n * (s + 1) / slices;
-      work.push_back(std::async(std::launch::async, [=, &compute] { compute(*buffer, b, e, (b - begin) * pointsPerItem); }));
-    }
-    return work;
-  };
-  auto finish = [](std::vector<std::future<void>>& work) {
-    for (auto& w : work) w.wait();
-    for (auto& w : work) w.get();  // rethrows the first failure
-  };
+  // Shared state: slices finished per chunk, chunks consumed, and the first failure.
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<size_t> slicesDone(chunkCount, 0);
+  size_t consumed = 0;
+  bool stop = false;
+  std::exception_ptr failure;
 
-  auto pending = launch(0);
+  auto work = [&](size_t w) {
+    for (size_t chunk = 0; chunk < chunkCount; ++chunk) {
+      {
+        // Buffer chunk % 2 is free once chunk - 2 has been consumed.
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return stop || consumed + 2 > chunk; });
+        if (stop) return;
+      }
+      const size_t begin = firstItem + chunk * itemsPerChunk;
+      const size_t n = std::min(itemsPerChunk, firstItem + itemCount - begin);
+      const size_t b = begin + n * w / workers, e = begin + n * (w + 1) / workers;
+      try {
+        if (b < e) compute(buffers[chunk % 2], b, e, (b - begin) * pointsPerItem);
+      } catch (...) {
+        std::lock_guard lock(mutex);
+        if (!failure) failure = std::current_exception();
+        stop = true;
+        changed.notify_all();
+        return;
+      }
+      std::lock_guard lock(mutex);
+      if (++slicesDone[chunk] == workers) changed.notify_all();
+    }
+  };
+  std::vector<std::thread> pool;
+  auto shutdown = [&] {
+    {
+      std::lock_guard lock(mutex);
+      stop = true;
+    }
+    changed.notify_all();
+    for (auto& t : pool) t.join();
+  };
+  try {
+    for (size_t w = 0; w < workers; ++w) pool.emplace_back(work, w);
+  } catch (...) {
+    shutdown();
+    throw;
+  }
+
   for (size_t chunk = 0; chunk < chunkCount; ++chunk) {
-    finish(pending);
-    if (chunk + 1 < chunkCount) pending = launch(chunk + 1);
+    {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return failure || slicesDone[chunk] == workers; });
+      if (failure) break;
+    }
     GridChunk out;
     out.firstItem = firstItem + chunk * itemsPerChunk;
     out.itemCount = std::min(itemsPerChunk, firstItem + itemCount - out.firstItem);
@@ -114,11 +195,17 @@ void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldM
     try {
       consumer(out);
     } catch (...) {
-      if (chunk + 1 < chunkCount)
-        for (auto& w : pending) w.wait();  // no worker may outlive the buffers
+      shutdown();  // no worker may outlive the buffers
       throw;
     }
+    {
+      std::lock_guard lock(mutex);
+      consumed = chunk + 1;
+    }
+    changed.notify_all();
   }
+  shutdown();
+  if (failure) std::rethrow_exception(failure);
 }
 
 void checkGrid(const GridSpec& grid, size_t items, bool surface, size_t& first, size_t& count) {
@@ -238,6 +325,11 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
   const bool needU = wants(fields, Field::Du) || normal || ((needUU || needUV) && alphaEB);
   const bool needV = wants(fields, Field::Dv) || normal || ((needVV || needUV) && alphaEB);
   const int mu = tu.count, mv = tv.count;
+  // Row k of the v-expansion is the partial of u-order kOrders[k][0] and v-order kOrders[k][1].
+  static constexpr int kOrders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+  static constexpr int kOutputField[6] = {int(Field::Point), int(Field::Du),  int(Field::Dv),
+                                          int(Field::Duu),   int(Field::Duv), int(Field::Dvv)};
+  const bool need[6] = {true, needU, needV, needUU, needUV, needVV};
 
   auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
     double* out[kFieldCount];
@@ -280,38 +372,47 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
             if (needUU) T[2][s] += tu.row(2, r)[a] * p;
           }
         }
-        // v-expansion over the whole row of samples (contiguous, vectorisable axpy loops).
-        std::fill(rows.begin(), rows.end(), 0.0);
-        for (int s = 0; s < mv; ++s) {
-          const double* bv0 = tv.row(0, s);
-          const double* bv1 = tv.row(1, s);
-          const double* bv2 = tv.row(2, s);
+        // v-expansion over the whole row of samples: each needed (field, coordinate) row is one
+        // register-accumulated contraction over the basis rows (contiguous, vectorisable).
+        for (int k = 0; k < 6; ++k) {
+          if (!need[k]) continue;
+          const int du = kOrders[k][0], dv = kOrders[k][1];
+          const double* basisRows[kMaxBasisCount];
+          for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s);
           for (int c = 0; c < 3; ++c) {
-            const double t0 = T[0][s][c], t1 = T[1][s][c], t2 = T[2][s][c];
-            double* C = row(0, c);
-            for (int b = 0; b < Sv; ++b) C[b] += bv0[b] * t0;
-            if (needU) { double* R = row(1, c); for (int b = 0; b < Sv; ++b) R[b] += bv0[b] * t1; }
-            if (needV) { double* R = row(2, c); for (int b = 0; b < Sv; ++b) R[b] += bv1[b] * t0; }
-            if (needUU) { double* R = row(3, c); for (int b = 0; b < Sv; ++b) R[b] += bv0[b] * t2; }
-            if (needUV) { double* R = row(4, c); for (int b = 0; b < Sv; ++b) R[b] += bv1[b] * t1; }
-            if (needVV) { double* R = row(5, c); for (int b = 0; b < Sv; ++b) R[b] += bv2[b] * t0; }
+            double t[kMaxBasisCount];
+            for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
+            contractRows(basisRows, t, mv, Sv, row(k, c));
           }
+        }
+        if (!alphaEB && !normal) {
+          // Plain partials: copy the rows into the interleaved xyz planes.
+          for (int k = 0; k < 6; ++k) {
+            double* plane = out[kOutputField[k]];
+            if (!plane) continue;
+            interleaveRows(row(k, 0), row(k, 1), row(k, 2), Sv, plane + point * 3);
+          }
+          point += static_cast<size_t>(Sv);
+          continue;
         }
         const BlendValue su = tu.blend[a];
         const double uA = gridParameter(a, Su);
         for (int b = 0; b < Sv; ++b, ++point) {
           glm::dvec3 q[6];
-          for (int k = 0; k < 6; ++k) q[k] = glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]);
+          for (int k = 0; k < 6; ++k) q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
           if (alphaEB) {
             // MATH.md §5.3: weight derivative (r,q) = u-factor of order r times v-factor of order q.
             const BlendValue sv = tv.blend[b];
             const double fu[3][2] = {{1 - su.s, su.s}, {-su.d1, su.d1}, {-su.d2, su.d2}};
             const double fv[3][2] = {{1 - sv.s, sv.s}, {-sv.d1, sv.d1}, {-sv.d2, sv.d2}};
-            const int orders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
-            double al[6];
-            glm::dvec3 M[6];
+            double al[6] = {0, 0, 0, 0, 0, 0};
+            glm::dvec3 M[6] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0),
+                               glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+            // Only the orders the requested fields need (need[] already includes the first partials
+            // that α-EB second partials use); the skipped ones feed no output.
             for (int k = 0; k < 6; ++k) {
-              const int r = orders[k][0], o = orders[k][1];
+              if (!need[k]) continue;
+              const int r = kOrders[k][0], o = kOrders[k][1];
               al[k] = 0.0;
               glm::dvec3 L(0.0);
               for (int cu = 0; cu < 2; ++cu)
@@ -324,11 +425,11 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
             }
             const glm::dvec3 C = q[0], Cu = q[1], Cv = q[2], Cuu = q[3], Cuv = q[4], Cvv = q[5];
             q[0] = C + al[0] * M[0];
-            q[1] = Cu + al[0] * M[1] + al[1] * M[0];
-            q[2] = Cv + al[0] * M[2] + al[2] * M[0];
-            q[3] = Cuu + al[0] * M[3] + 2 * al[1] * M[1] + al[3] * M[0];
-            q[4] = Cuv + al[0] * M[4] + al[1] * M[2] + al[2] * M[1] + al[4] * M[0];
-            q[5] = Cvv + al[0] * M[5] + 2 * al[2] * M[2] + al[5] * M[0];
+            if (need[1]) q[1] = Cu + al[0] * M[1] + al[1] * M[0];
+            if (need[2]) q[2] = Cv + al[0] * M[2] + al[2] * M[0];
+            if (need[3]) q[3] = Cuu + al[0] * M[3] + 2 * al[1] * M[1] + al[3] * M[0];
+            if (need[4]) q[4] = Cuv + al[0] * M[4] + al[1] * M[2] + al[2] * M[1] + al[4] * M[0];
+            if (need[5]) q[5] = Cvv + al[0] * M[5] + 2 * al[2] * M[2] + al[5] * M[0];
           }
           put(out[int(Field::Point)], point, q[0]);
           put(out[int(Field::Du)], point, q[1]);
@@ -337,13 +438,13 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           put(out[int(Field::Duv)], point, q[4]);
           put(out[int(Field::Dvv)], point, q[5]);
           if (normal) {
-            const glm::dvec3 n = glm::cross(q[1], q[2]);
             const bool corner = (a == 0 || a == Su - 1) && (b == 0 || b == Sv - 1);
+            glm::dvec3 n;
             // Corners of α-EB patches and degenerate crosses follow the full §5.3 convention.
-            if ((alphaEB && corner) || degenerateCross(q[1], q[2], n))
+            if ((alphaEB && corner) || !unitNormal(q[1], q[2], n))
               put(out[int(Field::Normal)], point, surface.evaluate(i, j, uA, gridParameter(b, Sv)).normal);
             else
-              put(out[int(Field::Normal)], point, n / glm::length(n));
+              put(out[int(Field::Normal)], point, n);
           }
         }
       }

@@ -17,7 +17,9 @@ namespace shapespline {
 
 struct SamplerOptions {
   int threads = 0;                      // 0 = all hardware threads
-  size_t maxChunkPoints = size_t{1} << 20;  // points per delivered chunk (rounded to whole items)
+  // Points per delivered chunk (rounded to whole items). Small enough that both chunk buffers
+  // stay in cache: at 2^20 the sampler becomes bound by memory writes (24 vs 61 Mpts/s measured).
+  size_t maxChunkPoints = size_t{1} << 15;
 };
 
 // The sampled items: span indices of a curve (for knot-vector B-splines only non-empty intervals).
