@@ -193,10 +193,13 @@ void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec
   const size_t rs = realSize(k.precision());
   const size_t ppi = grid.pointsPerItem();
   const size_t itemPlaneBytes = ppi * 3 * rs;
-  const size_t limit = std::min<size_t>(maxPlaneBytes, k.context().limits().maxStorageBufferRange);
+  // maxPlaneBytes is a preference (a chunk always holds at least one whole item); only the device's
+  // maxStorageBufferRange is a hard limit.
+  const size_t limit = std::min<size_t>(std::max(maxPlaneBytes, itemPlaneBytes + 4 * rs),
+                                        k.context().limits().maxStorageBufferRange);
   if (itemPlaneBytes + 4 * rs > limit)
     throw std::length_error("evaluateGrid: one item's plane (" + std::to_string(itemPlaneBytes) +
-                            " bytes) exceeds the chunk limit " + std::to_string(limit));
+                            " bytes) exceeds the device's maxStorageBufferRange " + std::to_string(limit));
   const size_t perChunk = std::min(count, std::max<size_t>(1, (limit - 4 * rs) / itemPlaneBytes));
   const size_t chunkCount = (count + perChunk - 1) / perChunk;
 
@@ -218,7 +221,7 @@ void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec
   uint32_t run = sv % 64 == 0 ? 64u : sv % 32 == 0 ? 32u : sv % 16 == 0 ? 16u : sv % 8 == 0 ? 8u : 4u;
   if (sv <= 256) {
     uint32_t rows = 1;
-    while (rows < 4u && su % (rows * 2) == 0 && sv * rows * 2 <= 256u) rows *= 2;  // kMaxRows in the shader
+    while (rows < 4u && su % (rows * 2) == 0 && sv * rows * 2 <= 256u) rows *= 2;
     run = sv * rows;
   }
   std::vector<uint32_t> spec = {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
@@ -541,8 +544,8 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
     runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
     return;
   }
-  // surface_grid.comp: plain tensor surfaces, 4 samples of one row per invocation sharing the u
-  // contraction (needs samplesV % 4 == 0; normals and α-EB stay on surface_eval.comp).
+  // surface_grid.comp: plain tensor surfaces, RUN_LENGTH samples (whole rows) per invocation sharing
+  // the patch net and the u contraction (needs samplesV % 4 == 0; normals and α-EB stay on surface_eval.comp).
   const bool fast = !surface.alphaEB() && !(fields & fieldBit(Field::Normal)) && grid.samplesV % 4 == 0 &&
                     !options_.generalKernelsOnly;
   GridJob<layout::EvalPush> job{fast ? Kernel::SurfaceGrid : Kernel::SurfaceEval, true, false, kSurfaceFields,
