@@ -14,12 +14,14 @@ inline constexpr const char* kExitCodeHelp =
     "Exit codes: 0 success; 2 bad input (model file, arguments, output path); "
     "3 device or runtime error (Vulkan, I/O while writing, internal).";
 
-// A command-line argument or input file that breaks a rule: exit code 2.
-// Printed as "shapespline: error: <field>: <rule> (got <value>)".
-class InputError : public std::invalid_argument {
+// A user-facing error naming a field, the offending value and the rule, on top of the standard
+// exception `Base` that decides its exit code. Printed as "shapespline: error: <field>: <rule>
+// (got <value>)".
+template <class Base>
+class FieldError : public Base {
  public:
-  InputError(std::string field, std::string value, std::string rule)
-      : std::invalid_argument(field + ": " + rule + (value.empty() ? "" : " (got " + value + ")")),
+  FieldError(std::string field, std::string value, std::string rule)
+      : Base(field + ": " + rule + (value.empty() ? "" : " (got " + value + ")")),
         field_(std::move(field)),
         value_(std::move(value)),
         rule_(std::move(rule)) {}
@@ -31,21 +33,16 @@ class InputError : public std::invalid_argument {
   std::string field_, value_, rule_;
 };
 
-// A device or runtime failure the user should see named (exit code 3): printed as
-// "shapespline: error: <field>: <rule> (got <value>)", like InputError.
-class RuntimeError : public std::runtime_error {
+// A command-line argument or input file that breaks a rule: exit code 2.
+class InputError : public FieldError<std::invalid_argument> {
  public:
-  RuntimeError(std::string field, std::string value, std::string rule)
-      : std::runtime_error(field + ": " + rule + (value.empty() ? "" : " (got " + value + ")")),
-        field_(std::move(field)),
-        value_(std::move(value)),
-        rule_(std::move(rule)) {}
-  const std::string& field() const { return field_; }
-  const std::string& value() const { return value_; }
-  const std::string& rule() const { return rule_; }
+  using FieldError::FieldError;
+};
 
- private:
-  std::string field_, value_, rule_;
+// A device or runtime failure the user should see named: exit code 3.
+class RuntimeError : public FieldError<std::runtime_error> {
+ public:
+  using FieldError::FieldError;
 };
 
 }  // namespace shapespline::cli
