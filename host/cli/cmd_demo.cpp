@@ -68,7 +68,7 @@ void runDemo(const DemoArgs& a) {
     s.device = a.device;
     s.quiet = true;
     s.out = base + ".obj";
-    if (it.surface) s.grid = "24x24"; else s.samples = 48;
+    if (it.surface) s.grid = "24x24"; else s.samples = "48";
     runSample(s);
     written.push_back(s.out);
     if (!it.surface) {

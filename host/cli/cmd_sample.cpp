@@ -116,14 +116,14 @@ void runSample(const SampleArgs& args) {
       const size_t x = args.grid.find_first_of("xX");
       su = parseCount(args.grid.substr(0, x), "--grid");
       sv = x == std::string::npos ? su : parseCount(args.grid.substr(x + 1), "--grid");
-    } else if (args.samples != 0) {
-      su = sv = parseCount(std::to_string(args.samples), "--samples");
+    } else if (!args.samples.empty()) {
+      su = sv = parseCount(args.samples, "--samples");
     } else {
       su = sv = 16;
     }
   } else {
     if (!args.grid.empty()) throw InputError("--grid", args.grid, "curves take --samples N per span");
-    su = args.samples != 0 ? parseCount(std::to_string(args.samples), "--samples") : 32;
+    su = !args.samples.empty() ? parseCount(args.samples, "--samples") : 32;
   }
   const std::string countField = isSurface ? "--grid" : "--samples";
 

@@ -6,8 +6,9 @@ namespace shapespline::cli {
 
 struct SampleArgs {
   std::string model, out, grid, device = "vulkan", precision = "double", shard;
-  int samples = 0, threads = 0;
-  long long chunkPoints = 0;  // 0 = default (CPU 2^18 points; GPU 64 MiB planes)
+  std::string samples;  // --samples as given ("" = not given: the default)
+  int threads = 0;
+  long long chunkPoints = 0;  // 0 = default (CPU sampler and GPU evaluator defaults)
   bool derivatives = false, normals = false, quiet = false, requireDevice = false;
 };
 
