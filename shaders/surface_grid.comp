@@ -1,10 +1,14 @@
 #version 450
-// Fast grid path of surface_eval.comp for plain tensor surfaces (MATH.md §1, §6) when samplesV is a
-// multiple of 4 and no normal is asked: one invocation = RUN_LENGTH consecutive samples of one row a
+// Fast grid path of surface_eval.comp for tensor surfaces (MATH.md §1, §6) and α-EB surfaces
+// (§5.2, §5.3: Q = C + a (L - C) with the bilinear singular-blend weights of the 4 corner α and V,
+// derivatives by the weight rule) when samplesV is a multiple of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one row a
 // of one patch. The u contraction T_d[s] = Σ_r B_r^(d)(u_a) P[r][s] (core/grid_sampler.cpp order:
 // u first, then v) is done once per invocation and shared by the RUN_LENGTH points; every loop bound is a
 // specialization constant (m_u, m_v, degree) so LLVM unrolls them and the local arrays stay in registers.
 // Output layout as surface_eval.comp (layout.h): 4 points = three REAL4 per field.
+// Normals (core/grid_sampler.cpp): regular points get normalize(cross(Q_u, Q_v)); α-EB patch corners
+// and degenerate crosses call surfaceNormal() of surface_patch.glsl (the full §5.3 convention of
+// surface_eval.comp: α = 1 corner limit, δ = 2^-12 shift, base-surface fallback).
 //
 // Tuned for llvmpipe/lavapipe, where every SSBO access of a SIMD vector is a per-lane loop (gather /
 // scatter with a bounds check per lane), so the number of load and store *components* is the cost:
@@ -26,8 +30,12 @@ layout(std430, binding = 9) writeonly buffer OutDv { REAL4 outDv[]; };
 layout(std430, binding = 10) writeonly buffer OutDuu { REAL4 outDuu[]; };
 layout(std430, binding = 11) writeonly buffer OutDuv { REAL4 outDuv[]; };
 layout(std430, binding = 12) writeonly buffer OutDvv { REAL4 outDvv[]; };
+layout(std430, binding = 13) writeonly buffer OutNormal { REAL4 outNormal[]; };
+layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
 
 layout(push_constant) uniform PushBlock { EvalPush pc; };
+
+#include "surface_patch.glsl"
 
 const bool kWantPoint = (OUTPUT_MASK & (1u << kFieldPoint)) != 0u;
 const bool kWantDu = (OUTPUT_MASK & (1u << kFieldDu)) != 0u;
@@ -35,8 +43,14 @@ const bool kWantDv = (OUTPUT_MASK & (1u << kFieldDv)) != 0u;
 const bool kWantDuu = (OUTPUT_MASK & (1u << kFieldDuu)) != 0u;
 const bool kWantDuv = (OUTPUT_MASK & (1u << kFieldDuv)) != 0u;
 const bool kWantDvv = (OUTPUT_MASK & (1u << kFieldDvv)) != 0u;
-const bool kNeedT1 = kWantDu || kWantDuv;
-const bool kNeedD1V = kWantDv || kWantDuv;
+const bool kWantNormal = (OUTPUT_MASK & (1u << kFieldNormal)) != 0u;
+const bool kAEB = ALPHA_EB != 0u;
+// Base partials C_u / C_v: for their own field, the normal, and the α-EB second partials.
+// (Plain integer spec-constant arithmetic: glslang emits invalid SPIR-V for nested && / || of them.)
+const bool kNeedT1 = (OUTPUT_MASK & ((1u << kFieldDu) | (1u << kFieldDuv) | (1u << kFieldNormal) |
+                                     ALPHA_EB * (1u << kFieldDuu))) != 0u;
+const bool kNeedD1V = (OUTPUT_MASK & ((1u << kFieldDv) | (1u << kFieldDuv) | (1u << kFieldNormal) |
+                                      ALPHA_EB * (1u << kFieldDvv))) != 0u;
 // Samples per invocation (a multiple of 4): RUN_LENGTH < samplesV: a run of one row (RUN_LENGTH
 // divides samplesV); RUN_LENGTH >= samplesV: RUN_LENGTH / samplesV whole rows of one patch (dividing
 // samplesU). The u contraction of a row is shared by all of its samples.
@@ -45,6 +59,13 @@ const uint MU = BASIS_COUNT_U;
 const uint MV = BASIS_COUNT_V;
 const uint DU = POLY_DEGREE_U;
 const uint DV = POLY_DEGREE_V;
+
+// One weight derivative of MATH.md §5.3 (evalAlphaEBPatch order): w = u-factor x v-factor per corner.
+void cornerBlend(REAL fu0, REAL fu1, REAL fv0, REAL fv1, in REAL al[4], in REAL3 V[4], out REAL a, out REAL3 L) {
+  REAL w00 = fu0 * fv0, w01 = fu0 * fv1, w10 = fu1 * fv0, w11 = fu1 * fv1;
+  a = w00 * al[0] + w01 * al[1] + w10 * al[2] + w11 * al[3];
+  L = w00 * V[0] + w01 * V[1] + w10 * V[2] + w11 * V[3];
+}
 
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
@@ -72,11 +93,28 @@ void main() {
   [[unroll]] for (uint s = 0; s < MV; ++s)
     [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[kParamCoefV + s * kCoefStride + d];
   REAL denU = REAL(pc.samplesU - 1u), denV = REAL(pc.samplesV - 1u);
+  // α-EB corner data (i,j), (i,j+1), (i+1,j), (i+1,j+1), once per invocation.
+  REAL3 V[4];
+  REAL al[4];
+  if (kAEB) {
+    V[0] = verts[vertexIndex(i, j)].xyz;         al[0] = alphaAt(i, j);
+    V[1] = verts[vertexIndex(i, j + 1)].xyz;     al[1] = alphaAt(i, j + 1);
+    V[2] = verts[vertexIndex(i + 1, j)].xyz;     al[2] = alphaAt(i + 1, j);
+    V[3] = verts[vertexIndex(i + 1, j + 1)].xyz; al[3] = alphaAt(i + 1, j + 1);
+  }
 
+  // Points whose normal needs the full §5.3 convention (α-EB patch corners, degenerate crosses):
+  // the first four (an invocation holds at most the 4 corners of its patch) are remembered, more make
+  // the whole invocation redo its normals.
+  uint fallbackCount = 0u, fallback0 = 0u, fallback1 = 0u, fallback2 = 0u, fallback3 = 0u;
   for (uint k = 0; k < rowsPer; ++k) {
     uint a = a0 + k, row = row0 + k;
     // evalSpanBasis for u_a (basis_table.comp: t = a/(Su-1)).
     REAL tu = pc.samplesU > 1u ? REAL(a) / denU : REAL(0);
+    REAL3 su = kAEB ? singularBlend(tu) : REAL3(0);
+    // u-factor pairs of order 0,1,2: (1-S, S), (-S', S'), (-S'', S'').
+    REAL fu00 = REAL(1) - su.x, fu10 = su.x;
+    bool edgeU = a == 0u || a + 1u == pc.samplesU;
     REAL3 T0[MV], T1[MV], T2[MV];
     [[unroll]] for (uint s = 0; s < MV; ++s) {
       T0[s] = REAL3(0);
@@ -100,7 +138,7 @@ void main() {
 
     for (uint g = 0; g < runLen / 4u; ++g) {
       uint b0 = bRun + 4u * g;
-      REAL3 p[4], u[4], v[4], uu[4], uv[4], vv[4];
+      REAL3 p[4], u[4], v[4], uu[4], uv[4], vv[4], nn[4];
       [[unroll]] for (uint e = 0; e < 4u; ++e) {
         // evalSpanBasis for v_b (basis_table.comp: t = b/(Sv-1)): p, p', p''/2 by Horner.
         REAL t = pc.samplesV > 1u ? REAL(b0 + e) / denV : REAL(0);
@@ -120,6 +158,41 @@ void main() {
           if (kWantDuv) uv[e] += c1 * T1[s];
           if (kWantDvv) vv[e] += c2 * T0[s];
         }
+        if (kAEB) {
+          // MATH.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q.
+          REAL3 sv = singularBlend(t);
+          // Only the orders the requested fields need; straight-line code (no arrays indexed by a
+          // loop counter, which lavapipe would keep in per-lane scratch memory).
+          REAL A00, A10 = REAL(0), A01 = REAL(0), A20 = REAL(0), A11 = REAL(0), A02 = REAL(0);
+          REAL3 L00, L10 = REAL3(0), L01 = REAL3(0), L20 = REAL3(0), L11 = REAL3(0), L02 = REAL3(0);
+          REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;
+          cornerBlend(fu00, fu10, fv0, fv1, al, V, A00, L00);
+          if (kNeedT1) cornerBlend(-su.y, su.y, fv0, fv1, al, V, A10, L10);
+          if (kWantDuu) cornerBlend(-su.z, su.z, fv0, fv1, al, V, A20, L20);
+          if (kNeedD1V) cornerBlend(fu00, fu10, -sv.y, sv.y, al, V, A01, L01);
+          if (kWantDuv) cornerBlend(-su.y, su.y, -sv.y, sv.y, al, V, A11, L11);
+          if (kWantDvv) cornerBlend(fu00, fu10, -sv.z, sv.z, al, V, A02, L02);
+          REAL3 M = L00 - p[e], Mu = L10 - u[e], Mv = L01 - v[e];
+          if (kWantDuu) uu[e] = uu[e] + A00 * (L20 - uu[e]) + REAL(2) * A10 * Mu + A20 * M;
+          if (kWantDuv) uv[e] = uv[e] + A00 * (L11 - uv[e]) + A10 * Mv + A01 * Mu + A11 * M;
+          if (kWantDvv) vv[e] = vv[e] + A00 * (L02 - vv[e]) + REAL(2) * A01 * Mv + A02 * M;
+          if (kNeedT1) u[e] = u[e] + A00 * Mu + A10 * M;
+          if (kNeedD1V) v[e] = v[e] + A00 * Mv + A01 * M;
+          p[e] = p[e] + A00 * M;
+        }
+        if (kWantNormal) {
+          REAL3 n = cross(u[e], v[e]);
+          bool corner = kAEB && edgeU && (b0 + e == 0u || b0 + e + 1u == pc.samplesV);
+          if (corner || degenerateCross(u[e], v[e], n)) {  // redone after the loops
+            uint pt = row * pc.samplesV + b0 + e;
+            if (fallbackCount == 0u) fallback0 = pt;
+            else if (fallbackCount == 1u) fallback1 = pt;
+            else if (fallbackCount == 2u) fallback2 = pt;
+            else fallback3 = pt;
+            ++fallbackCount;
+          }
+          nn[e] = normalize(n);
+        }
       }
       uint o = (row * pc.samplesV + b0) >> 2;
       if (kWantPoint) STORE_XYZ4(outPoint, o, p[0], p[1], p[2], p[3])
@@ -128,6 +201,33 @@ void main() {
       if (kWantDuu) STORE_XYZ4(outDuu, o, uu[0], uu[1], uu[2], uu[3])
       if (kWantDuv) STORE_XYZ4(outDuv, o, uv[0], uv[1], uv[2], uv[3])
       if (kWantDvv) STORE_XYZ4(outDvv, o, vv[0], vv[1], vv[2], vv[3])
+      if (kWantNormal) STORE_XYZ4(outNormal, o, nn[0], nn[1], nn[2], nn[3])
+    }
+  }
+
+  // The fallback normals, as surface_eval.comp computes them (hornerBasis gives the basis_table.comp
+  // values; surfaceNormal is the shared §5.3 code), overwriting the regular ones stored above. A loop
+  // and not an if: lavapipe runs a divergent branch for every SIMD vector, while a loop body runs once
+  // per invocation when no lane needs it, and again only while some lane still has points left.
+  if (kWantNormal) {
+    uint todo = fallbackCount <= 4u ? fallbackCount : rowsPer * runLen;
+    for (uint f = 0; f < todo; ++f) {
+      uint pt;  // output point: row * samplesV + b
+      if (fallbackCount <= 4u) {
+        pt = f == 0u ? fallback0 : f == 1u ? fallback1 : f == 2u ? fallback2 : fallback3;
+      } else {
+        uint kk = f / runLen;
+        pt = (row0 + kk) * pc.samplesV + bRun + (f - kk * runLen);
+      }
+      uint row = pt / pc.samplesV, b = pt - row * pc.samplesV, a = row - item * pc.samplesU;
+      REAL u = pc.samplesU > 1u ? REAL(a) / denU : REAL(0);
+      REAL v = pc.samplesV > 1u ? REAL(b) / denV : REAL(0);
+      Basis2 B;
+      hornerBasis(u, v, B);
+      PatchDerivs c;
+      PatchDerivs q = evalPatch(B, i, j, u, v, c);
+      REAL3 n = surfaceNormal(i, j, u, v, q, c);
+      STORE_XYZ_SCALAR(outNormal, pt, n)
     }
   }
 }

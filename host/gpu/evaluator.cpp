@@ -220,8 +220,12 @@ void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec
   // longest run of 64, 32, 16, 8 or 4 samples dividing samplesV.
   uint32_t run = sv % 64 == 0 ? 64u : sv % 32 == 0 ? 32u : sv % 16 == 0 ? 16u : sv % 8 == 0 ? 8u : 4u;
   if (sv <= 256) {
+    // Normal jobs pay one masked pass of the fallback-normal loop per invocation (surface_grid.comp):
+    // up to 1024 samples (16 rows) per invocation amortise it.
+    const bool normals = (fields & fieldBit(Field::Normal)) != 0;
+    const uint32_t maxRows = normals ? 16u : 4u, maxRun = normals ? 1024u : 256u;
     uint32_t rows = 1;
-    while (rows < 4u && su % (rows * 2) == 0 && sv * rows * 2 <= 256u) rows *= 2;
+    while (rows < maxRows && su % (rows * 2) == 0 && sv * rows * 2 <= maxRun) rows *= 2;
     run = sv * rows;
   }
   std::vector<uint32_t> spec = {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
@@ -544,10 +548,10 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
     runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
     return;
   }
-  // surface_grid.comp: plain tensor surfaces, RUN_LENGTH samples (whole rows) per invocation sharing
-  // the patch net and the u contraction (needs samplesV % 4 == 0; normals and α-EB stay on surface_eval.comp).
-  const bool fast = !surface.alphaEB() && !(fields & fieldBit(Field::Normal)) && grid.samplesV % 4 == 0 &&
-                    !options_.generalKernelsOnly;
+  // surface_grid.comp: tensor and α-EB surfaces, with or without normals, RUN_LENGTH samples (whole
+  // rows) per invocation sharing the patch net, the α-EB corner data and the u contraction (needs
+  // samplesV % 4 == 0; rare normals fall back to the §5.3 code shared with surface_eval.comp).
+  const bool fast = grid.samplesV % 4 == 0 && !options_.generalKernelsOnly;
   GridJob<layout::EvalPush> job{fast ? Kernel::SurfaceGrid : Kernel::SurfaceEval, true, false, kSurfaceFields,
                                 surfacePush(surface), surface.patchCount()};
   runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
