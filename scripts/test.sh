@@ -7,10 +7,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
-ctest --test-dir build --output-on-failure -j "$(nproc)"
+ctest --test-dir build --output-on-failure -j "$(nproc)" | tee build/ctest-summary.log
+total=$(sed -n 's/.*tests failed out of \([0-9]*\).*/\1/p' build/ctest-summary.log | tail -n 1)
 if [[ "${SHAPESPLINE_SKIP_SANITIZERS:-0}" != 1 ]]; then
   bash scripts/sanitize.sh
 fi
 if [[ "${SHAPESPLINE_SKIP_FUZZ:-0}" != 1 ]]; then
   bash scripts/fuzz.sh 60
 fi
+# Reached only when every stage passed: one line for the whole suite (the sanitizer stage's own
+# ctest summary above counts only its fuzz-replay tests).
+echo "suite: ${total:-0} passed, 0 failed"
