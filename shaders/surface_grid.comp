@@ -60,13 +60,6 @@ const uint MV = BASIS_COUNT_V;
 const uint DU = POLY_DEGREE_U;
 const uint DV = POLY_DEGREE_V;
 
-// One weight derivative of MATH.md §5.3 (evalAlphaEBPatch order): w = u-factor x v-factor per corner.
-void cornerBlend(REAL fu0, REAL fu1, REAL fv0, REAL fv1, in REAL al[4], in REAL3 V[4], out REAL a, out REAL3 L) {
-  REAL w00 = fu0 * fv0, w01 = fu0 * fv1, w10 = fu1 * fv0, w11 = fu1 * fv1;
-  a = w00 * al[0] + w01 * al[1] + w10 * al[2] + w11 * al[3];
-  L = w00 * V[0] + w01 * V[1] + w10 * V[2] + w11 * V[3];
-}
-
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   uint rowsPer = max(1u, RUN_LENGTH / pc.samplesV);  // rows of this invocation
@@ -97,10 +90,7 @@ void main() {
   REAL3 V[4];
   REAL al[4];
   if (kAEB) {
-    V[0] = verts[vertexIndex(i, j)].xyz;         al[0] = alphaAt(i, j);
-    V[1] = verts[vertexIndex(i, j + 1)].xyz;     al[1] = alphaAt(i, j + 1);
-    V[2] = verts[vertexIndex(i + 1, j)].xyz;     al[2] = alphaAt(i + 1, j);
-    V[3] = verts[vertexIndex(i + 1, j + 1)].xyz; al[3] = alphaAt(i + 1, j + 1);
+    loadPatchCorners(i, j, V, al);
   }
 
   // Points whose normal needs the full §5.3 convention (α-EB patch corners, degenerate crosses):

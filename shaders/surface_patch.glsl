@@ -40,8 +40,28 @@ PatchDerivs evalTensorPatch(in Basis2 B, uint base) {
   return o;
 }
 
-uint vertexIndex(uint i, uint j) { return (i % pc.rows) * pc.cols + (j % pc.cols); }
+// Index of α-EB vertex (i, j), wrapped for closed directions. i <= rows and j <= cols always (a
+// patch index + 1), so a compare replaces the modulo (an integer division is a per-lane scalar loop
+// on llvmpipe).
+uint vertexIndex(uint i, uint j) {
+  return (i >= pc.rows ? i - pc.rows : i) * pc.cols + (j >= pc.cols ? j - pc.cols : j);
+}
 REAL alphaAt(uint i, uint j) { return params[pc.alphaOffset + vertexIndex(i, j)]; }
+
+// V and α of the corners (i,j), (i,j+1), (i+1,j), (i+1,j+1) of α-EB patch (i, j).
+void loadPatchCorners(uint i, uint j, out REAL3 V[4], out REAL al[4]) {
+  V[0] = verts[vertexIndex(i, j)].xyz;         al[0] = alphaAt(i, j);
+  V[1] = verts[vertexIndex(i, j + 1)].xyz;     al[1] = alphaAt(i, j + 1);
+  V[2] = verts[vertexIndex(i + 1, j)].xyz;     al[2] = alphaAt(i + 1, j);
+  V[3] = verts[vertexIndex(i + 1, j + 1)].xyz; al[3] = alphaAt(i + 1, j + 1);
+}
+
+// One weight derivative of MATH.md §5.3 (evalAlphaEBPatch order): w = u-factor x v-factor per corner.
+void cornerBlend(REAL fu0, REAL fu1, REAL fv0, REAL fv1, in REAL al[4], in REAL3 V[4], out REAL a, out REAL3 L) {
+  REAL w00 = fu0 * fv0, w01 = fu0 * fv1, w10 = fu1 * fv0, w11 = fu1 * fv1;
+  a = w00 * al[0] + w01 * al[1] + w10 * al[2] + w11 * al[3];
+  L = w00 * V[0] + w01 * V[1] + w10 * V[2] + w11 * V[3];
+}
 
 // core/surface.cpp evalAlphaEBPatch (MATH.md §5.2, §5.3): Q = C + a M, M = L - C, with the
 // bilinear weights of the singular blend in u and v. base receives C.
@@ -49,10 +69,7 @@ PatchDerivs evalAlphaEBPatch(in Basis2 B, uint i, uint j, REAL u, REAL v, out Pa
   c = evalTensorPatch(B, netBase(i, j));
   REAL3 V[4];
   REAL al[4];
-  V[0] = verts[vertexIndex(i, j)].xyz;         al[0] = alphaAt(i, j);
-  V[1] = verts[vertexIndex(i, j + 1)].xyz;     al[1] = alphaAt(i, j + 1);
-  V[2] = verts[vertexIndex(i + 1, j)].xyz;     al[2] = alphaAt(i + 1, j);
-  V[3] = verts[vertexIndex(i + 1, j + 1)].xyz; al[3] = alphaAt(i + 1, j + 1);
+  loadPatchCorners(i, j, V, al);
   REAL3 su = singularBlend(u), sv = singularBlend(v);
   // u-factor pairs of order 0,1,2: (1-S, S), (-S', S'), (-S'', S'').
   REAL fu0[3] = REAL[3](REAL(1) - su.x, -su.y, -su.z), fu1[3] = REAL[3](su.x, su.y, su.z);
@@ -101,25 +118,29 @@ REAL3 alphaEBCornerNormal(REAL3 p, REAL3 node, REAL3 vU, REAL aU, REAL3 vV, REAL
   return cross(sU * Au, sV * Av);
 }
 
+// MATH.md §5.3 at corner (di, dj) of α-EB patch (i, j) (di, dj in {0, 1}): when the vertex has
+// α = 1, its diagonal limit normal (unnormalised) in n and true, unless that is degenerate.
+bool alphaEBVertexNormal(uint i, uint j, uint di, uint dj, out REAL3 n) {
+  n = REAL3(0);
+  uint vi = i + di, vj = j + dj;
+  if (alphaAt(vi, vj) != REAL(1)) return false;
+  uint ni = i + 1u - di, nj = j + 1u - dj;  // neighbours along u and v inside the patch
+  REAL3 P = net[netBase(vi + 1u, vj + 1u) - pc.netOffsetU * pc.netCols - pc.netOffsetV].xyz;
+  REAL3 node = verts[pc.rows * pc.cols + vertexIndex(vi, vj)].xyz;
+  REAL3 vU = verts[vertexIndex(ni, vj)].xyz, vV = verts[vertexIndex(vi, nj)].xyz;
+  REAL aU = alphaAt(ni, vj), aV = alphaAt(vi, nj);
+  REAL3 Au = vU - P + (REAL(1) - aU) * (node - P);
+  REAL3 Av = vV - P + (REAL(1) - aV) * (node - P);
+  REAL sU = di == 0u ? REAL(1) : REAL(-1), sV = dj == 0u ? REAL(1) : REAL(-1);
+  n = alphaEBCornerNormal(P, node, vU, aU, vV, aV, sU, sV);
+  return !degenerateCross(sU * Au, sV * Av, n);
+}
+
 // The MATH.md §5.3 rendering convention, in the order of core/surface.h; never NaN.
 REAL3 surfaceNormal(uint i, uint j, REAL u, REAL v, in PatchDerivs q, in PatchDerivs c) {
-  if (ALPHA_EB != 0u) {
-    bool cu = u == REAL(0) || u == REAL(1), cv = v == REAL(0) || v == REAL(1);
-    if (cu && cv) {
-      uint di = u == REAL(1) ? 1u : 0u, dj = v == REAL(1) ? 1u : 0u;
-      uint vi = i + di, vj = j + dj;
-      if (alphaAt(vi, vj) == REAL(1)) {
-        uint ni = i + 1u - di, nj = j + 1u - dj;  // neighbours along u and v inside the patch
-        REAL3 P = net[netBase(vi + 1u, vj + 1u) - pc.netOffsetU * pc.netCols - pc.netOffsetV].xyz;
-        REAL3 node = verts[pc.rows * pc.cols + vertexIndex(vi, vj)].xyz;
-        REAL3 vU = verts[vertexIndex(ni, vj)].xyz, vV = verts[vertexIndex(vi, nj)].xyz;
-        REAL3 Au = vU - P + (REAL(1) - alphaAt(ni, vj)) * (node - P);
-        REAL3 Av = vV - P + (REAL(1) - alphaAt(vi, nj)) * (node - P);
-        REAL sU = di == 0u ? REAL(1) : REAL(-1), sV = dj == 0u ? REAL(1) : REAL(-1);
-        REAL3 n = alphaEBCornerNormal(P, node, vU, alphaAt(ni, vj), vV, alphaAt(vi, nj), sU, sV);
-        if (!degenerateCross(sU * Au, sV * Av, n)) return normalize(n);
-      }
-    }
+  if (ALPHA_EB != 0u && (u == REAL(0) || u == REAL(1)) && (v == REAL(0) || v == REAL(1))) {
+    REAL3 n;
+    if (alphaEBVertexNormal(i, j, u == REAL(1) ? 1u : 0u, v == REAL(1) ? 1u : 0u, n)) return normalize(n);
   }
   REAL3 n = cross(q.u, q.v);
   if (!degenerateCross(q.u, q.v, n)) return normalize(n);

@@ -7,32 +7,60 @@
 //    location 0: position  R32G32B32_SFLOAT at byte 0   (model space)
 //    location 1: normal    R32G32B32_SFLOAT at byte 12  (unit, MATH.md §5.3 + shared-vertex mean)
 //    location 2: uv        R32G32_SFLOAT    at byte 24  (global (U,V) = (i+u, j+v) of the owner patch)
-// ---- Pack pass bindings (descriptor set 0) ------------------------------------------------------
-//  2 POINTS  (REAL)  packed xyz point plane of surface_eval (list mode), one entry per sample
+// ---- Grid pass (tessellate_grid.comp; descriptor set 0 of the evaluation kernels) -------------
+//  One invocation = one row a (0..n) of one patch's (n+1) x (m+1) grid (u = a/n, v = b/m): point
+//  and MATH.md §5.3 normal. Interior samples (0<a<n, 0<b<m) are final vertices and go straight into
+//  VERTICES; perimeter samples go to BOUNDARY for the pack pass (shared vertices).
+//  0 NET, 1 PARAMS, 2 VERTS as layout.h
+//  3 PATCHES  (uvec4) per patch: n, m, first interior vertex, first BOUNDARY slot
+//  4 ROWS     (uvec2) per invocation: patch index (row-major a * patchesV + b), row a; the inner
+//                     rows of every patch first, then rows 0 and n (so SIMD lanes agree on where
+//                     their samples go)
+//  5 VERTICES (vec4)  output, 2 vec4 per vertex (the layout above)
+//  6 BOUNDARY (REAL4) perimeter samples, 2 per slot: (point, 0), (normal, 0); slot = first slot of
+//                     the patch + tessPerimeterSlot(n, m, a, b)
+// ---- Pack pass (tessellate_pack.comp): the corner and edge vertices -----------------------------
+//  Vertex k < boundaryVertexCount takes its position from its canonical source SOURCES[k] and the
+//  normalised mean of the normals of SOURCES[k] and its extra sources (the other patches sharing
+//  the vertex). A source is a BOUNDARY slot, or (bit 31 set) a sample of the list-mode planes
+//  (edge points that are not on their patch's grid: an edge rate differing from the patch rate).
+//  2 POINTS  (REAL)  packed xyz point plane of surface_eval (list mode)
 //  3 NORMALS (REAL)  packed xyz normal plane
-//  4 SAMPLES (ListSample) the sample list: sample k < vertexCount is vertex k's canonical sample
-//  5 EXTRA   (uvec2) per vertex: first and count of its extra normal samples (>= vertexCount)
-//  6 VERTICES (float) output, kTessVertexFloats per vertex
+//  4 UV      (vec2)  per boundary vertex: global (U,V) of its canonical sample
+//  5 EXTRA   (uvec2) per boundary vertex: first and count of its extra sources in SOURCES
+//  6 VERTICES (vec4) output
+//  7 BOUNDARY (REAL4) the grid pass's perimeter samples
+//  8 SOURCES (uint)  canonical source of each boundary vertex, then the extra sources
 #ifndef SHAPESPLINE_SHADERS_TESS_LAYOUT_H
 #define SHAPESPLINE_SHADERS_TESS_LAYOUT_H
 
 #ifdef SHAPESPLINE_GLSL
 #define TS_CONST(type, name, value) const type name = value
 #define TS_UINT uint
+#define TS_FUNC
 #else
 #include <cstddef>
 #include <cstdint>
 namespace shapespline::gpu::tess_layout {
 #define TS_CONST(type, name, value) inline constexpr type name = value
 #define TS_UINT uint32_t
+#define TS_FUNC constexpr
 #endif
+
+TS_CONST(TS_UINT, kTessGridBindingPatches, 3u);
+TS_CONST(TS_UINT, kTessGridBindingRows, 4u);
+TS_CONST(TS_UINT, kTessGridBindingVertices, 5u);
+TS_CONST(TS_UINT, kTessGridBindingBoundary, 6u);
 
 TS_CONST(TS_UINT, kTessBindingPoints, 2u);
 TS_CONST(TS_UINT, kTessBindingNormals, 3u);
-TS_CONST(TS_UINT, kTessBindingSamples, 4u);
+TS_CONST(TS_UINT, kTessBindingUV, 4u);
 TS_CONST(TS_UINT, kTessBindingExtra, 5u);
 TS_CONST(TS_UINT, kTessBindingVertices, 6u);
-TS_CONST(TS_UINT, kTessBindingCount, 7u);
+TS_CONST(TS_UINT, kTessBindingBoundary, 7u);
+TS_CONST(TS_UINT, kTessBindingSources, 8u);
+TS_CONST(TS_UINT, kTessBindingCount, 9u);
+TS_CONST(TS_UINT, kTessListSource, 0x80000000u);  // SOURCES bit: a list-mode sample
 
 TS_CONST(TS_UINT, kTessVertexFloats, 8u);
 TS_CONST(TS_UINT, kTessVertexStride, 32u);
@@ -42,11 +70,46 @@ TS_CONST(TS_UINT, kTessOffsetUV, 24u);
 
 // Push constants of tessellate_pack.comp.
 struct TessPackPush {
-  TS_UINT vertexCount;
+  TS_UINT boundaryVertexCount;
   TS_UINT pad0;
   TS_UINT pad1;
   TS_UINT pad2;
 };
+
+// Push constants of tessellate_grid.comp; the net/α fields are those of layout.h EvalPush, under
+// the same names (surface_patch.glsl reads them).
+struct TessGridPush {
+  TS_UINT invocations;   // of this dispatch
+  TS_UINT patchesV;      // patches per row of the tessellated patch range
+  TS_UINT firstSpanU;    // model index of patch row 0
+  TS_UINT firstSpanV;
+  TS_UINT netCols;
+  TS_UINT netOffsetU;
+  TS_UINT netOffsetV;
+  TS_UINT rows;          // α-EB vertex counts (α and V index wrap)
+  TS_UINT cols;
+  TS_UINT alphaOffset;
+  // Uniform rates (spec constant kSpecUniformRates = 1): every patch has the (rateN+1) x (rateM+1)
+  // grid, patch p's interior starts at interiorFirst + p (n-1)(m-1), its slots at p 2(n+m); two
+  // dispatches: edgeRows = 0, invocation q covers rowsPerInvocation inner rows of one patch
+  // (ceil((n-1)/rowsPerInvocation) invocations a patch); edgeRows = 1, rows 0 and n of patch q.
+  // Then every SIMD lane agrees on where a sample goes.
+  // Otherwise PATCHES and ROWS say it (one dispatch).
+  TS_UINT rateN;
+  TS_UINT rateM;
+  TS_UINT interiorFirst;
+  TS_UINT edgeRows;
+  TS_UINT rowsPerInvocation;  // inner rows per invocation (uniform rates)
+  TS_UINT pad0;
+};
+
+// Slot of perimeter sample (a, b) of an (n+1) x (m+1) patch grid among its 2(n+m) perimeter
+// samples: row 0, row n, then (b = 0, b = m) of each inner row. Shared by host and shader.
+TS_FUNC TS_UINT tessPerimeterSlot(TS_UINT n, TS_UINT m, TS_UINT a, TS_UINT b) {
+  if (a == 0u) return b;
+  if (a == n) return m + 1u + b;
+  return 2u * (m + 1u) + 2u * (a - 1u) + (b == 0u ? 0u : 1u);
+}
 
 // Push constants of render_surface.* and render_overlay.* (host/render/renderer.cpp).
 // mode: 0 shaded surface, 1 flat-coloured surface lines (wireframe), 2 overlay lines/markers.
@@ -64,7 +127,7 @@ struct RenderPush {
   float color[4];
   float params[4];
 };
-static_assert(sizeof(TessPackPush) == 16);
+static_assert(sizeof(TessPackPush) == 16 && sizeof(TessGridPush) == 64);
 static_assert(sizeof(RenderPush) == 112 && offsetof(RenderPush, params) == 96);
 #endif
 
@@ -88,5 +151,6 @@ static_assert(sizeof(TessVertex) == kTessVertexStride && offsetof(TessVertex, no
 #endif
 
 #undef TS_UINT
+#undef TS_FUNC
 #undef TS_CONST
 #endif  // SHAPESPLINE_SHADERS_TESS_LAYOUT_H

@@ -1,45 +1,45 @@
 #version 450
-// Packs the per-sample point/normal planes of surface_eval (list mode) into the interleaved vertex
-// buffer of tess_layout.h: position of the vertex's canonical sample, normal = normalised mean of
-// the normals of every patch that shares the vertex (canonical + extra samples; the per-patch
-// MATH.md §5.3 rule, so an α = 1 corner gets the mean of its patches' diagonal limits), uv = global
-// (U,V) of the canonical sample. Never writes NaN.
+// Pack pass of the tessellator (shaders/tess_layout.h): the corner and edge vertices, shared by up
+// to four patches. Position from the vertex's canonical source (one evaluation, so both sides of
+// a shared edge reference bitwise the same vertex); normal = normalised mean of the normals of
+// every patch that contains the vertex (canonical + extra sources; the per-patch MATH.md §5.3
+// rule, so an α = 1 corner gets the mean of its patches' diagonal limits); uv from the host.
+// Never writes NaN.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "tess_layout.h"
 
 layout(std430, binding = 2) readonly buffer PointPlane { REAL points[]; };
 layout(std430, binding = 3) readonly buffer NormalPlane { REAL normals[]; };
-layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = 4) readonly buffer UVBuf { vec2 uvs[]; };
 layout(std430, binding = 5) readonly buffer ExtraBuf { uvec2 extra[]; };
-layout(std430, binding = 6) writeonly buffer VertexBuf { float outVerts[]; };
+layout(std430, binding = 6) writeonly buffer VertexBuf { vec4 outVerts[]; };
+layout(std430, binding = 7) readonly buffer BoundaryBuf { REAL4 boundary[]; };
+layout(std430, binding = 8) readonly buffer SourceBuf { uint sources[]; };
 layout(push_constant) uniform PushBlock { TessPackPush pc; };
 
-vec3 planeAt(uint which, uint k) {
-  return which == 0u ? vec3(points[3u * k], points[3u * k + 1u], points[3u * k + 2u])
-                     : vec3(normals[3u * k], normals[3u * k + 1u], normals[3u * k + 2u]);
+// field 0: point, 1: normal of a source.
+vec3 sourceValue(uint source, uint field) {
+  if ((source & kTessListSource) != 0u) {
+    uint k = 3u * (source & ~kTessListSource);
+    return field == 0u ? vec3(points[k], points[k + 1u], points[k + 2u])
+                       : vec3(normals[k], normals[k + 1u], normals[k + 2u]);
+  }
+  return vec3(boundary[2u * source + field].xyz);
 }
 
 void main() {
   uint k = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
-  if (k >= pc.vertexCount) return;
-  vec3 p = planeAt(0u, k);
-  vec3 n0 = planeAt(1u, k);
+  if (k >= pc.boundaryVertexCount) return;
+  uint canonical = sources[k];
+  vec3 p = sourceValue(canonical, 0u);
+  vec3 n0 = sourceValue(canonical, 1u);
   vec3 n = n0;
   uvec2 e = extra[k];
-  for (uint s = 0u; s < e.y; ++s) n += planeAt(1u, e.x + s);
+  for (uint s = 0u; s < e.y; ++s) n += sourceValue(sources[e.x + s], 1u);
   float len = length(n);
   // Opposite patch normals (a fold) cancel: keep the canonical one.
   n = len > 1e-6 * float(e.y + 1u) ? n / len : n0;
-  ListSample s = samples[k];
-  vec2 uv = vec2(float(s.i) + float(s.u), float(s.j) + float(s.v));
-  uint o = k * kTessVertexFloats;
-  outVerts[o + 0u] = p.x;
-  outVerts[o + 1u] = p.y;
-  outVerts[o + 2u] = p.z;
-  outVerts[o + 3u] = n.x;
-  outVerts[o + 4u] = n.y;
-  outVerts[o + 5u] = n.z;
-  outVerts[o + 6u] = uv.x;
-  outVerts[o + 7u] = uv.y;
+  outVerts[2u * k] = vec4(p, n.x);
+  outVerts[2u * k + 1u] = vec4(n.yz, uvs[k]);
 }

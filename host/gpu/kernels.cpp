@@ -15,6 +15,9 @@
 #include "shaders/surface_eval_comp_f64.h"
 #include "shaders/surface_grid_comp.h"
 #include "shaders/surface_grid_comp_f64.h"
+#include "shaders/tessellate_grid_comp.h"
+#include "shaders/tessellate_grid_comp_f64.h"
+#include "tess_layout.h"
 
 #include <algorithm>
 #include <cstring>
@@ -86,6 +89,11 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<
     case Kernel::SurfaceGrid:
       code = d ? std::span<const uint32_t>(surface_grid_comp_f64) : std::span<const uint32_t>(surface_grid_comp);
       label = "surface_grid";
+      break;
+    case Kernel::TessellateGrid:
+      code = d ? std::span<const uint32_t>(tessellate_grid_comp_f64) : std::span<const uint32_t>(tessellate_grid_comp);
+      push = sizeof(tess_layout::TessGridPush);
+      label = "tessellate_grid";
       break;
     case Kernel::AlphaEBVertices:
       code = d ? std::span<const uint32_t>(alpha_eb_vertices_comp_f64)

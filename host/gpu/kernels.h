@@ -19,7 +19,7 @@
 namespace shapespline::gpu {
 
 enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
-                    SurfaceGrid };
+                    SurfaceGrid, TessellateGrid };
 
 // Bytes of one REAL.
 inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }

@@ -177,7 +177,8 @@ TessTopology buildTessTopology(const TessRates& in) {
     }
   t.edgeVertexCount = uint32_t(S.size()) - t.cornerCount;
   // Interiors.
-  std::vector<uint32_t> interiorFirst(patches);
+  std::vector<uint32_t>& interiorFirst = t.interiorFirst;
+  interiorFirst.resize(patches);
   for (int a = 0; a < PU; ++a)
     for (int b = 0; b < PV; ++b) {
       const int n = std::max(r.patchRateU(a, b), 2), m = std::max(r.patchRateV(a, b), 2);

@@ -56,6 +56,8 @@ struct TessTopology {
   std::vector<uint32_t> extraFirst;   // per vertex: first extra sample (>= vertexCount()) and count:
   std::vector<uint32_t> extraCount;   //   the other patches that contain the vertex (normal averaging)
   std::vector<uint32_t> indices;      // triangle list, 3 per triangle
+  std::vector<uint32_t> interiorFirst;  // per patch: its first interior vertex; the (n-1) x (m-1)
+                                        //   interior grid follows row-major (i outer), n = max(rateU, 2)
   std::vector<uint32_t> firstIndex;   // per patch
   std::vector<uint32_t> indexCount;   // per patch
   // Per patch and side (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0), the boundary polyline as global

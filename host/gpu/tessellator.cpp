@@ -10,6 +10,7 @@
 #include "vk/submit.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -17,15 +18,14 @@
 namespace shapespline::gpu {
 namespace tl = tess_layout;
 
-struct SurfaceTessellator::PackSet {
-  vk::DescriptorPoolHandle pool;
-  VkDescriptorSet set = VK_NULL_HANDLE;
+struct SurfaceTessellator::TargetSets {
+  vk::DescriptorSet grid, pack;
 };
 
 struct SurfaceTessellator::Impl {
   vk::ComputePipeline pack;
-  vk::DescriptorSet vertexPassSet, evalSet;
-  std::map<std::pair<VkBuffer, VkDeviceSize>, PackSet> packSets;
+  vk::DescriptorSet vertexPassSet, listSet;
+  std::map<std::pair<VkBuffer, VkDeviceSize>, TargetSets> targetSets;
   std::map<std::pair<VkBuffer, VkDeviceSize>, uint64_t> indexGeneration;
 };
 
@@ -37,6 +37,13 @@ vk::Buffer storage(vk::Context& ctx, VkDeviceSize bytes, const char* label,
                             vk::MemoryUse::DeviceLocal, label);
 }
 
+template <typename T>
+vk::Buffer uploaded(vk::Context& ctx, const std::vector<T>& values, const char* label, VkBufferUsageFlags extra = 0) {
+  vk::Buffer b = storage(ctx, values.size() * sizeof(T), label, extra);
+  if (!values.empty()) b.uploadSpan(std::span<const T>(values));
+  return b;
+}
+
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags srcAccess, VkPipelineStageFlags dst,
                    VkAccessFlags dstAccess) {
   VkMemoryBarrier b{};
@@ -45,6 +52,67 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags 
   b.dstAccessMask = dstAccess;
   vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
 }
+
+// Inner rows per grid-pass invocation (uniform rates): the patch net and corner data are per-lane
+// gathers on llvmpipe, paid once per invocation.
+constexpr uint32_t kGridRowsPerInvocation = 8;
+
+// Host side of the grid pass: per patch (n, m, first interior vertex, first perimeter slot), per
+// invocation (patch, row).
+struct GridPlan {
+  std::vector<uint32_t> patches;  // 4 per patch
+  std::vector<uint32_t> rows;     // 2 per row
+  uint32_t perimeterSlots = 0;
+  bool uniform = false;  // every patch has the same rates: the kernel derives all of the above
+};
+
+GridPlan planGrid(const TessTopology& t) {
+  GridPlan g;
+  const TessRates& r = t.rates;
+  for (int a = 0; a < r.patchesU; ++a)
+    for (int b = 0; b < r.patchesV; ++b) {
+      const uint32_t n = uint32_t(std::max(r.patchRateU(a, b), 2)), m = uint32_t(std::max(r.patchRateV(a, b), 2));
+      const uint32_t p = uint32_t(a * r.patchesV + b);
+      g.patches.insert(g.patches.end(), {n, m, t.interiorFirst[p], g.perimeterSlots});
+      g.perimeterSlots += 2 * (n + m);
+      for (uint32_t row = 1; row < n; ++row) g.rows.insert(g.rows.end(), {p, row});
+    }
+  // Rows 0 and n after all inner rows (tess_layout.h ROWS).
+  for (uint32_t p = 0; p < uint32_t(r.patchesU * r.patchesV); ++p) g.rows.insert(g.rows.end(), {p, 0u, p, g.patches[4 * p]});
+  g.uniform = true;
+  for (size_t p = 0; p < g.patches.size(); p += 4)
+    g.uniform = g.uniform && g.patches[p] == g.patches[0] && g.patches[p + 1] == g.patches[1] &&
+                g.patches[p + 2] == g.patches[2] + (p / 4) * (g.patches[0] - 1) * (g.patches[1] - 1);
+  return g;
+}
+
+// Where the pack pass finds a (perimeter) sample: the grid pass's slot when the sample lies on its
+// patch's grid, else a new list-mode sample (an edge whose rate differs from the patch's).
+class SourceMap {
+ public:
+  SourceMap(const TessTopology& t, const GridPlan& g) : topo_(t), plan_(g) {}
+
+  uint32_t operator()(const TessSample& s) {
+    const size_t p = size_t(s.a) * topo_.rates.patchesV + s.b;
+    const uint32_t n = plan_.patches[4 * p], m = plan_.patches[4 * p + 1];
+    // Grid points are i/n; any other edge point k/e is at least 1/e >= 1/4096 of a step away.
+    const double fa = s.u * n, fb = s.v * m, ia = std::round(fa), ib = std::round(fb);
+    if (std::abs(fa - ia) < 1e-6 && std::abs(fb - ib) < 1e-6) {
+      const uint32_t a = uint32_t(ia), b = uint32_t(ib);
+      if (a != 0 && a != n && b != 0 && b != m)
+        throw std::logic_error("SurfaceTessellator: a shared vertex lies inside its patch");
+      return plan_.patches[4 * p + 3] + tess_layout::tessPerimeterSlot(n, m, a, b);
+    }
+    list.push_back(s);
+    return uint32_t(list.size() - 1) | tl::kTessListSource;
+  }
+
+  std::vector<TessSample> list;
+
+ private:
+  const TessTopology& topo_;
+  const GridPlan& plan_;
+};
 
 }  // namespace
 
@@ -62,7 +130,6 @@ SurfaceTessellator::SurfaceTessellator(std::shared_ptr<vk::Context> ctx, GpuSurf
   desc.storageBufferCount = tl::kTessBindingCount;
   desc.label = d ? "tessellate_pack_f64" : "tessellate_pack_f32";
   impl_->pack = vk::ComputePipeline::create(*ctx_, desc);
-  packLayoutHandle_ = impl_->pack.setLayout();
   setRates(rates);
 }
 
@@ -83,93 +150,126 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
                                 std::to_string(surface_.patchesU()) + " x " + std::to_string(surface_.patchesV()));
   TessTopology topo = buildTessTopology(rates);
   vk::Context& ctx = *ctx_;
-  const Precision pr = surface_.precision();
-  const size_t rs = realSize(pr);
-  const size_t total = topo.samples.size();
   const VkDeviceSize maxRange = ctx.limits().maxStorageBufferRange;
-  const size_t sampleBytes = total * (pr == Precision::Double ? sizeof(layout::ListSampleD) : sizeof(layout::ListSampleF));
-  if (sampleBytes > maxRange || VkDeviceSize(topo.vertexCount) * tl::kTessVertexStride > maxRange)
-    throw std::length_error("SurfaceTessellator: " + std::to_string(topo.vertexCount) + " vertices (" +
-                            std::to_string(total) + " samples) exceed maxStorageBufferRange " + std::to_string(maxRange) +
-                            " bytes; lower the rates");
-  if (generation_ > 0) ctx.waitIdle();  // the old buffers may still be in use by submitted work
+  if (VkDeviceSize(topo.vertexCount) * tl::kTessVertexStride > maxRange)
+    throw std::length_error("SurfaceTessellator: " + std::to_string(topo.vertexCount) + " vertices exceed maxStorageBufferRange " +
+                            std::to_string(maxRange) + " bytes; lower the rates");
+  const GridPlan plan = planGrid(topo);
+  const uint32_t shared = topo.cornerCount + topo.edgeVertexCount;
+  for (uint32_t k = shared; k < topo.vertexCount; ++k)
+    if (topo.extraCount[k] != 0) throw std::logic_error("SurfaceTessellator: an interior vertex has extra samples");
 
-  // Sample list in REAL precision, model patch indices.
-  const uint32_t fu = uint32_t(surface_.patches().u.first), fv = uint32_t(surface_.patches().v.first);
-  std::vector<std::byte> bytes(sampleBytes);
-  for (size_t k = 0; k < total; ++k) {
+  // Pack pass inputs: sources (canonical ones first, then the extras), extra ranges, uv.
+  SourceMap sourceOf(topo, plan);
+  std::vector<uint32_t> sources(shared), extra(2 * size_t(shared));
+  std::vector<float> uvs(2 * size_t(shared));
+  const int fu = surface_.patches().u.first, fv = surface_.patches().v.first;
+  for (uint32_t k = 0; k < shared; ++k) {
     const TessSample& s = topo.samples[k];
+    sources[k] = sourceOf(s);
+    uvs[2 * k] = float(s.a + fu) + float(s.u);
+    uvs[2 * k + 1] = float(s.b + fv) + float(s.v);
+  }
+  for (uint32_t k = 0; k < shared; ++k) {
+    extra[2 * k] = uint32_t(sources.size());
+    extra[2 * k + 1] = topo.extraCount[k];
+    for (uint32_t e = 0; e < topo.extraCount[k]; ++e) sources.push_back(sourceOf(topo.samples[topo.extraFirst[k] + e]));
+  }
+
+  // List-mode samples in REAL precision, model patch indices.
+  const Precision pr = surface_.precision();
+  const size_t listCount = sourceOf.list.size();
+  const size_t sampleBytes = pr == Precision::Double ? sizeof(layout::ListSampleD) : sizeof(layout::ListSampleF);
+  std::vector<std::byte> listBytes(listCount * sampleBytes);
+  for (size_t k = 0; k < listCount; ++k) {
+    const TessSample& s = sourceOf.list[k];
     if (pr == Precision::Double) {
-      const layout::ListSampleD x{uint32_t(s.a) + fu, uint32_t(s.b) + fv, 0, 0, s.u, s.v, 0.0, 0.0};
-      std::memcpy(bytes.data() + k * sizeof(x), &x, sizeof(x));
+      const layout::ListSampleD x{uint32_t(s.a + fu), uint32_t(s.b + fv), 0, 0, s.u, s.v, 0.0, 0.0};
+      std::memcpy(listBytes.data() + k * sizeof(x), &x, sizeof(x));
     } else {
-      const layout::ListSampleF x{uint32_t(s.a) + fu, uint32_t(s.b) + fv, 0, 0, float(s.u), float(s.v), 0.f, 0.f};
-      std::memcpy(bytes.data() + k * sizeof(x), &x, sizeof(x));
+      const layout::ListSampleF x{uint32_t(s.a + fu), uint32_t(s.b + fv), 0, 0, float(s.u), float(s.v), 0.f, 0.f};
+      std::memcpy(listBytes.data() + k * sizeof(x), &x, sizeof(x));
     }
   }
-  samples_ = storage(ctx, sampleBytes, "tess.samples");
-  samples_.upload(bytes);
-  std::vector<uint32_t> extra(size_t(topo.vertexCount) * 2);
-  for (uint32_t k = 0; k < topo.vertexCount; ++k) {
-    extra[2 * k] = topo.extraFirst[k];
-    extra[2 * k + 1] = topo.extraCount[k];
-  }
-  extra_ = storage(ctx, extra.size() * 4, "tess.extra");
-  extra_.uploadSpan(std::span<const uint32_t>(extra));
-  const VkDeviceSize planeBytes = VkDeviceSize((total * 3 + 3) / 4) * 4 * rs;
+  if (generation_ > 0) ctx.waitIdle();  // the old buffers may still be in use by submitted work
+
+  const size_t rs = realSize(pr);
+  patchRecords_ = uploaded(ctx, plan.patches, "tess.patches");
+  rowItems_ = uploaded(ctx, plan.rows, "tess.rows");
+  boundary_ = storage(ctx, VkDeviceSize(plan.perimeterSlots) * 2 * 4 * rs, "tess.boundary");
+  sources_ = uploaded(ctx, sources, "tess.sources");
+  extra_ = uploaded(ctx, extra, "tess.extra");
+  uvs_ = uploaded(ctx, uvs, "tess.uv");
+  listSamples_ = uploaded(ctx, listBytes, "tess.list");
+  const VkDeviceSize planeBytes = VkDeviceSize((listCount * 3 + 3) / 4) * 4 * rs;
   points_ = storage(ctx, planeBytes, "tess.points");
   normals_ = storage(ctx, planeBytes, "tess.normals");
-  indices_ = storage(ctx, topo.indices.size() * 4, "tess.indices", VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-  indices_.uploadSpan(std::span<const uint32_t>(topo.indices));
+  indices_ = uploaded(ctx, topo.indices, "tess.indices", VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   ownVertices_ = vk::Buffer::create(ctx, std::max<VkDeviceSize>(VkDeviceSize(topo.vertexCount) * tl::kTessVertexStride, 64),
                                     kTessVertexBufferUsage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                     vk::MemoryUse::DeviceLocal, "tess.vertices");
+  boundaryVertexCount_ = shared;
+  gridUniform_ = plan.uniform;
+  gridPush_ = {};
+  gridPush_.invocations = uint32_t(plan.rows.size() / 2);
+  gridPush_.rowsPerInvocation = kGridRowsPerInvocation;
+  gridPush_.patchesV = uint32_t(surface_.patchesV());
+  gridPush_.firstSpanU = uint32_t(surface_.patches().u.first);
+  gridPush_.firstSpanV = uint32_t(surface_.patches().v.first);
+  gridPush_.netCols = surface_.netCols();
+  gridPush_.netOffsetU = surface_.netOffsetU();
+  gridPush_.netOffsetV = surface_.netOffsetV();
+  gridPush_.rows = surface_.vertexRows();
+  gridPush_.cols = surface_.vertexCols();
+  gridPush_.alphaOffset = surface_.alphaOffset();
+  gridPush_.rateN = plan.patches[0];
+  gridPush_.rateM = plan.patches[1];
+  gridPush_.interiorFirst = plan.patches[2];
+  gridPatchCount_ = uint32_t(plan.patches.size() / 4);
+  listSampleCount_ = uint32_t(listCount);
   topo_ = std::move(topo);
   ++generation_;
-  impl_->packSets.clear();
+  impl_->targetSets.clear();
   impl_->indexGeneration.clear();
-  impl_->evalSet = vk::DescriptorSet();
+  impl_->listSet = vk::DescriptorSet();
   impl_->vertexPassSet = vk::DescriptorSet();
 }
 
-SurfaceTessellator::PackSet& SurfaceTessellator::packSet(VkBuffer vertices, VkDeviceSize offset) {
-  auto key = std::make_pair(vertices, offset);
-  auto it = impl_->packSets.find(key);
-  if (it != impl_->packSets.end()) return it->second;
-  VkDevice dev = ctx_->device();
-  PackSet ps;
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tl::kTessBindingCount};
-  VkDescriptorPoolCreateInfo pi{};
-  pi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-  pi.maxSets = 1;
-  pi.poolSizeCount = 1;
-  pi.pPoolSizes = &size;
-  VkDescriptorPool pool;
-  vk::check(vkCreateDescriptorPool(dev, &pi, nullptr, &pool), "vkCreateDescriptorPool (tessellate_pack)");
-  ps.pool = vk::DescriptorPoolHandle(dev, pool);
-  VkDescriptorSetAllocateInfo ai{};
-  ai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  ai.descriptorPool = pool;
-  ai.descriptorSetCount = 1;
-  ai.pSetLayouts = &packLayoutHandle_;
-  vk::check(vkAllocateDescriptorSets(dev, &ai, &ps.set), "vkAllocateDescriptorSets (tessellate_pack)");
-  const VkBuffer bufs[tl::kTessBindingCount] = {kernels_->dummy().handle(), kernels_->dummy().handle(), points_.handle(),
-                                                normals_.handle(), samples_.handle(), extra_.handle(), vertices};
-  VkDescriptorBufferInfo infos[tl::kTessBindingCount];
-  VkWriteDescriptorSet writes[tl::kTessBindingCount];
-  for (uint32_t b = 0; b < tl::kTessBindingCount; ++b) {
-    infos[b] = {bufs[b], b == tl::kTessBindingVertices ? offset : 0,
-                b == tl::kTessBindingVertices ? vertexBytes() : VK_WHOLE_SIZE};
-    writes[b] = {};
-    writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-    writes[b].dstSet = ps.set;
-    writes[b].dstBinding = b;
-    writes[b].descriptorCount = 1;
-    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[b].pBufferInfo = &infos[b];
-  }
-  vkUpdateDescriptorSets(dev, tl::kTessBindingCount, writes, 0, nullptr);
-  return impl_->packSets.emplace(key, std::move(ps)).first->second;
+// The grid and pack passes write the target vertex buffer, so each target gets its own sets.
+SurfaceTessellator::TargetSets& SurfaceTessellator::targetSets(VkBuffer vertices, VkDeviceSize offset) {
+  const auto key = std::make_pair(vertices, offset);
+  auto it = impl_->targetSets.find(key);
+  if (it != impl_->targetSets.end()) return it->second;
+  KernelSet& k = *kernels_;
+  TargetSets sets;
+  sets.grid = vk::DescriptorSet::create(*ctx_, gridPipeline());
+  for (uint32_t b = 0; b < kBindingCount; ++b) sets.grid.bind(b, k.dummy());
+  sets.grid.bind(layout::kBindingNet, surface_.netBuffer())
+      .bind(layout::kBindingParams, surface_.paramBuffer())
+      .bind(layout::kBindingVerts, surface_.vertexBuffer())
+      .bind(tl::kTessGridBindingPatches, patchRecords_)
+      .bind(tl::kTessGridBindingRows, rowItems_)
+      .bind(tl::kTessGridBindingBoundary, boundary_);
+  sets.grid.bindExternal(tl::kTessGridBindingVertices, vertices, offset, vertexBytes());
+  sets.pack = vk::DescriptorSet::create(*ctx_, impl_->pack);
+  sets.pack.bind(0, k.dummy())
+      .bind(1, k.dummy())
+      .bind(tl::kTessBindingPoints, points_)
+      .bind(tl::kTessBindingNormals, normals_)
+      .bind(tl::kTessBindingUV, uvs_)
+      .bind(tl::kTessBindingExtra, extra_)
+      .bind(tl::kTessBindingBoundary, boundary_)
+      .bind(tl::kTessBindingSources, sources_);
+  sets.pack.bindExternal(tl::kTessBindingVertices, vertices, offset, vertexBytes());
+  return impl_->targetSets.emplace(key, std::move(sets)).first->second;
+}
+
+const vk::ComputePipeline& SurfaceTessellator::gridPipeline() {
+  const SpanBasis& bu = surface_.basisU();
+  const SpanBasis& bv = surface_.basisV();
+  return kernels_->pipeline(Kernel::TessellateGrid, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
+                                                     uint32_t(bv.degree), 0u, surface_.alphaEB() ? 1u : 0u, 0u, 0u,
+                                                     gridUniform_ ? 1u : 0u});
 }
 
 void SurfaceTessellator::record(VkCommandBuffer cmd) {
@@ -186,7 +286,6 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   const SpanBasis& bu = surface_.basisU();
   const SpanBasis& bv = surface_.basisV();
   const bool aeb = surface_.alphaEB();
-  const uint32_t total = uint32_t(topo_.samples.size());
 
   // Earlier draws read the vertex/index buffers, earlier tessellations wrote our planes: WAR/WAW.
   memoryBarrier(cmd,
@@ -215,48 +314,68 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
     vk::computeBarrier(cmd);
   }
 
-  // (2) Points and normals of every sample.
-  const FieldMask mask = fieldBit(Field::Point) | fieldBit(Field::Normal);
-  const auto& eval = k.pipeline(Kernel::SurfaceEval, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
-                                                      uint32_t(bv.degree), mask, aeb ? 1u : 0u, 1u, 1u});
-  if (!impl_->evalSet.handle()) {
-    impl_->evalSet = vk::DescriptorSet::create(*ctx_, eval);
-    for (uint32_t b = 0; b < kBindingCount; ++b) impl_->evalSet.bind(b, k.dummy());
-    impl_->evalSet.bind(layout::kBindingNet, surface_.netBuffer())
-        .bind(layout::kBindingParams, surface_.paramBuffer())
-        .bind(layout::kBindingVerts, surface_.vertexBuffer())
-        .bind(layout::kBindingSamples, samples_)
-        .bind(layout::kBindingOutput + uint32_t(Field::Point), points_)
-        .bind(layout::kBindingOutput + uint32_t(Field::Normal), normals_);
+  // (2) Edge points that are not on their patch's grid (mixed edge rates): list mode.
+  if (listSampleCount_ > 0) {
+    const FieldMask mask = fieldBit(Field::Point) | fieldBit(Field::Normal);
+    const auto& eval = k.pipeline(Kernel::SurfaceEval, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
+                                                        uint32_t(bv.degree), mask, aeb ? 1u : 0u, 1u, 1u});
+    if (!impl_->listSet.handle()) {
+      impl_->listSet = vk::DescriptorSet::create(*ctx_, eval);
+      for (uint32_t b = 0; b < kBindingCount; ++b) impl_->listSet.bind(b, k.dummy());
+      impl_->listSet.bind(layout::kBindingNet, surface_.netBuffer())
+          .bind(layout::kBindingParams, surface_.paramBuffer())
+          .bind(layout::kBindingVerts, surface_.vertexBuffer())
+          .bind(layout::kBindingSamples, listSamples_)
+          .bind(layout::kBindingOutput + uint32_t(Field::Point), points_)
+          .bind(layout::kBindingOutput + uint32_t(Field::Normal), normals_);
+    }
+    layout::EvalPush ep{};
+    ep.firstItem = 0;
+    ep.itemCount = listSampleCount_;
+    ep.itemsV = uint32_t(surface_.patchesV());
+    ep.samplesU = 1;
+    ep.samplesV = 1;
+    ep.firstSpanU = uint32_t(surface_.patches().u.first);
+    ep.firstSpanV = uint32_t(surface_.patches().v.first);
+    ep.netCols = surface_.netCols();
+    ep.netOffsetU = surface_.netOffsetU();
+    ep.netOffsetV = surface_.netOffsetV();
+    ep.rows = surface_.vertexRows();
+    ep.cols = surface_.vertexCols();
+    ep.alphaOffset = surface_.alphaOffset();
+    ep.invHOffset = layout::kNoOffset;
+    eval.bind(cmd, impl_->listSet.handle());
+    eval.push(cmd, ep);
+    k.dispatch(cmd, (uint64_t(listSampleCount_) + layout::kPointsPerInvocation - 1) / layout::kPointsPerInvocation);
   }
-  layout::EvalPush ep{};
-  ep.firstItem = 0;
-  ep.itemCount = total;
-  ep.itemsV = uint32_t(surface_.patchesV());
-  ep.samplesU = 1;
-  ep.samplesV = 1;
-  ep.firstSpanU = uint32_t(surface_.patches().u.first);
-  ep.firstSpanV = uint32_t(surface_.patches().v.first);
-  ep.netCols = surface_.netCols();
-  ep.netOffsetU = surface_.netOffsetU();
-  ep.netOffsetV = surface_.netOffsetV();
-  ep.rows = surface_.vertexRows();
-  ep.cols = surface_.vertexCols();
-  ep.alphaOffset = surface_.alphaOffset();
-  ep.invHOffset = layout::kNoOffset;
-  eval.bind(cmd, impl_->evalSet.handle());
-  eval.push(cmd, ep);
-  k.dispatch(cmd, (uint64_t(total) + layout::kPointsPerInvocation - 1) / layout::kPointsPerInvocation);
+
+  // (3) Every patch's grid: interior vertices into the target, perimeter samples into boundary_.
+  TargetSets& sets = targetSets(targets.vertexBuffer, targets.vertexOffset);
+  const auto& grid = gridPipeline();
+  grid.bind(cmd, sets.grid.handle());
+  if (gridUniform_) {  // inner rows, then rows 0 and n (tess_layout.h TessGridPush)
+    tl::TessGridPush inner = gridPush_, edges = gridPush_;
+    inner.invocations = gridPatchCount_ * ((gridPush_.rateN - 2) / kGridRowsPerInvocation + 1);
+    inner.edgeRows = 0;
+    edges.invocations = gridPatchCount_;
+    edges.edgeRows = 1;
+    grid.push(cmd, inner);
+    k.dispatch(cmd, inner.invocations);
+    grid.push(cmd, edges);
+    k.dispatch(cmd, edges.invocations);
+  } else {
+    grid.push(cmd, gridPush_);
+    k.dispatch(cmd, gridPush_.invocations);
+  }
   vk::computeBarrier(cmd);
 
-  // (3) Interleave into the target vertex buffer.
-  PackSet& ps = packSet(targets.vertexBuffer, targets.vertexOffset);
-  const tl::TessPackPush pp{topo_.vertexCount, 0, 0, 0};
-  impl_->pack.bind(cmd, ps.set);
+  // (4) The shared corner and edge vertices.
+  const tl::TessPackPush pp{boundaryVertexCount_, 0, 0, 0};
+  impl_->pack.bind(cmd, sets.pack.handle());
   impl_->pack.push(cmd, pp);
-  k.dispatch(cmd, topo_.vertexCount);
+  k.dispatch(cmd, boundaryVertexCount_);
 
-  // (4) Indices, once per configuration and target.
+  // (5) Indices, once per configuration and target.
   VkAccessFlags dstAccess = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT;
   VkAccessFlags srcAccess = VK_ACCESS_SHADER_WRITE_BIT;
   VkPipelineStageFlags srcStage = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
@@ -271,7 +390,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
     }
     dstAccess |= VK_ACCESS_INDEX_READ_BIT;
   }
-  // (5) Make the results visible to vertex input (and to compute/transfer/host consumers).
+  // (6) Make the results visible to vertex input (and to compute/transfer/host consumers).
   memoryBarrier(cmd, srcStage, srcAccess,
                 VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 dstAccess | VK_ACCESS_INDEX_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);

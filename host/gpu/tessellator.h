@@ -5,13 +5,16 @@
 //
 // Per rate configuration (constructor / setRates, host side, once): the topology of
 // gpu/tess_topology.h (every unique vertex evaluated once: watertight, bitwise identical shared
-// edges; per-patch and per-edge rates; transition rings, no T-junctions), its sample list and its
-// uint32 triangle index buffer are built and uploaded.
-// Per record(): (1) the α-EB vertex pass (alpha_eb_vertices.comp) from the current PARAMS, (2)
-// surface_eval.comp in list mode over the sample list (point + MATH.md §5.3 normal), (3)
-// tessellate_pack.comp: interleaved vertices (shaders/tess_layout.h) into the target vertex buffer,
-// (4) the index copy into a target index buffer that has not received this configuration yet,
-// (5) a barrier: shader/transfer writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ at VERTEX_INPUT.
+// edges; per-patch and per-edge rates; transition rings, no T-junctions), the grid pass's patch and
+// row records, the sources of the shared vertices and the uint32 triangle index buffer are built
+// and uploaded.
+// Per record(): (1) the α-EB vertex pass (alpha_eb_vertices.comp) from the current PARAMS,
+// (2) only when some edge rate differs from its patch's rate: surface_eval.comp in list mode over
+// the edge points that are not on their patch's grid, (3) tessellate_grid.comp: every patch's
+// (n+1) x (m+1) grid, interior vertices straight into the target vertex buffer, perimeter samples
+// into a scratch buffer, (4) tessellate_pack.comp: the corner and edge vertices from those,
+// (5) the index copy into a target index buffer that has not received this configuration yet,
+// (6) a barrier: shader/transfer writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ at VERTEX_INPUT.
 // A λ / α / control-point change on the GpuSurface (setLambda, setAlpha(s), updateControlPoint)
 // therefore shows at the next record() without re-uploading the net.
 //
@@ -22,12 +25,14 @@
 // Synchronisation: record() starts with a barrier against earlier vertex-input reads and compute
 // work in the same queue. The GpuSurface parameter setters write host-visible memory directly: call
 // them only when no submitted command buffer that uses this surface is still executing.
-// Limits: sample list and vertex buffer must fit in maxStorageBufferRange (lavapipe: 128 MiB, about
-// 4 M vertices); target vertexOffset must be a multiple of minStorageBufferOffsetAlignment.
+// Limits: the vertex buffer must fit in maxStorageBufferRange (lavapipe: 128 MiB, about 4 M
+// vertices); target vertexOffset must be a multiple of minStorageBufferOffsetAlignment.
 #include "gpu/gpu_model.h"
 #include "gpu/tess_topology.h"
 #include "vk/buffer.h"
 #include "vk/context.h"
+#include "vk/pipeline.h"
+#include "tess_layout.h"
 
 #include <vulkan/vulkan_core.h>
 
@@ -99,16 +104,23 @@ class SurfaceTessellator {
                                                                            uint32_t firstLocation = 0);
 
  private:
-  struct PackSet;
-  PackSet& packSet(VkBuffer vertices, VkDeviceSize offset);
+  struct TargetSets;
+  TargetSets& targetSets(VkBuffer vertices, VkDeviceSize offset);
+  const vk::ComputePipeline& gridPipeline();
 
   std::shared_ptr<vk::Context> ctx_;
   GpuSurface& surface_;
   std::unique_ptr<KernelSet> kernels_;
   TessTopology topo_;
   uint64_t generation_ = 0;
-  vk::Buffer samples_, extra_, points_, normals_, indices_, ownVertices_;
-  VkDescriptorSetLayout packLayoutHandle_ = VK_NULL_HANDLE;
+  uint32_t boundaryVertexCount_ = 0, listSampleCount_ = 0;
+  tess_layout::TessGridPush gridPush_{};
+  bool gridUniform_ = false;
+  uint32_t gridPatchCount_ = 0;
+  // Grid pass: patch and row records, perimeter scratch. Pack pass: sources, extra ranges, uv.
+  // List pass (edge points off their patch's grid): samples and point/normal planes.
+  vk::Buffer patchRecords_, rowItems_, boundary_, sources_, extra_, uvs_, listSamples_, points_, normals_;
+  vk::Buffer indices_, ownVertices_;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -166,4 +166,31 @@ DescriptorSet& DescriptorSet::bind(std::initializer_list<BufferBinding> list) {
   return *this;
 }
 
+DescriptorSet& DescriptorSet::bindExternal(uint32_t binding, VkBuffer buffer, VkDeviceSize offset,
+                                           VkDeviceSize range) {
+  const Limits& limits = ctx_->limits();
+  const std::string where = "binding " + std::to_string(binding);
+  if (binding >= bindingCount_)
+    throw std::invalid_argument(where + " is out of range: the pipeline has " + std::to_string(bindingCount_) +
+                                " storage buffers");
+  if (buffer == VK_NULL_HANDLE) throw std::invalid_argument(where + ": null buffer");
+  if (offset % limits.minStorageBufferOffsetAlignment != 0)
+    throw std::invalid_argument(where + ": offset " + std::to_string(offset) +
+                                " must be a multiple of minStorageBufferOffsetAlignment " +
+                                std::to_string(limits.minStorageBufferOffsetAlignment));
+  if (range == 0 || range == VK_WHOLE_SIZE || range > limits.maxStorageBufferRange)
+    throw std::invalid_argument(where + ": range " + std::to_string(range) +
+                                " must be explicit, non-zero and <= maxStorageBufferRange " +
+                                std::to_string(limits.maxStorageBufferRange));
+  const VkDescriptorBufferInfo info{buffer, offset, range};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = set_;
+  write.dstBinding = binding;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  write.pBufferInfo = &info;
+  vkUpdateDescriptorSets(ctx_->device(), 1, &write, 0, nullptr);
+  return *this;
+}
+
 }  // namespace shapespline::vk

@@ -99,6 +99,8 @@ class DescriptorSet {
   DescriptorSet& bind(uint32_t binding, const Buffer& buffer, VkDeviceSize offset = 0,
                       VkDeviceSize range = VK_WHOLE_SIZE);
   DescriptorSet& bind(std::initializer_list<BufferBinding> bindings);
+  // A buffer the caller owns (its size unknown here): the range must be explicit and non-zero.
+  DescriptorSet& bindExternal(uint32_t binding, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize range);
 
  private:
   const Context* ctx_ = nullptr;
