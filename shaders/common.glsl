@@ -47,14 +47,16 @@ void evalSpanBasis(uint coefOffset, uint count, uint degree, REAL t,
   }
 }
 
-// core/singular_blend.cpp singularBlend: S, S', S'' (MATH.md §3).
+// core/singular_blend.cpp singularBlend: S, S', S'' (MATH.md §3). The three pieces are all
+// evaluated and one selected (same arithmetic as the C++): llvmpipe runs every side of a
+// per-lane branch anyway, and a select saves the mask bookkeeping.
 REAL3 singularBlend(REAL t) {
-  if (t <= REAL(1.0 / 3.0)) return REAL3(REAL(4.5) * t * t * t, REAL(13.5) * t * t, REAL(27) * t);
-  if (t <= REAL(2.0 / 3.0))
-    return REAL3(REAL(0.5) + t * (REAL(-4.5) + t * (REAL(13.5) - REAL(9) * t)),
-                 REAL(-4.5) + t * (REAL(27) - REAL(27) * t), REAL(27) - REAL(54) * t);
+  REAL3 lo = REAL3(REAL(4.5) * t * t * t, REAL(13.5) * t * t, REAL(27) * t);
+  REAL3 mid = REAL3(REAL(0.5) + t * (REAL(-4.5) + t * (REAL(13.5) - REAL(9) * t)),
+                    REAL(-4.5) + t * (REAL(27) - REAL(27) * t), REAL(27) - REAL(54) * t);
   REAL u = REAL(1) - t;
-  return REAL3(REAL(1) - REAL(4.5) * u * u * u, REAL(13.5) * u * u, REAL(-27) * u);
+  REAL3 hi = REAL3(REAL(1) - REAL(4.5) * u * u * u, REAL(13.5) * u * u, REAL(-27) * u);
+  return mix(mix(hi, mid, bvec3(t <= REAL(2.0 / 3.0))), lo, bvec3(t <= REAL(1.0 / 3.0)));
 }
 
 // Stores value (xyz of point k) into a packed xyz plane viewed as REAL4[].

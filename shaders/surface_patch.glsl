@@ -105,11 +105,15 @@ void hornerBasis(REAL u, REAL v, out Basis2 B) {
   evalSpanBasis(kParamCoefV, BASIS_COUNT_V, POLY_DEGREE_V, v, B.bv, B.dv, B.ddv);
 }
 
-// core/surface.cpp degenerateCross (MATH.md §5.3 thresholds).
-bool degenerateCross(REAL3 a, REAL3 b, REAL3 n) {
-  if (all(equal(a, REAL3(0))) || all(equal(b, REAL3(0)))) return true;
-  return length(n) < REAL(1e-12) * length(a) * length(b);
+// core/surface.cpp degenerateCross (MATH.md §5.3 thresholds) of a x b = n, |n| = len. No
+// short-circuit: a branch-free expression (llvmpipe would run each side of a per-lane branch with masks).
+bool degenerateCrossLength(REAL3 a, REAL3 b, REAL len) {
+  bool zeroA = all(equal(a, REAL3(0))), zeroB = all(equal(b, REAL3(0)));
+  // !(>=) so that NaN counts as degenerate, as in the C++.
+  bool small = !(len >= REAL(1e-12) * length(a) * length(b)) || len == REAL(0) || isinf(len);
+  return any(bvec3(zeroA, zeroB, small));
 }
+bool degenerateCross(REAL3 a, REAL3 b, REAL3 n) { return degenerateCrossLength(a, b, length(n)); }
 
 // core/surface.cpp alphaEBCornerNormal: diagonal limit at an α = 1 vertex (MATH.md §5.3).
 REAL3 alphaEBCornerNormal(REAL3 p, REAL3 node, REAL3 vU, REAL aU, REAL3 vV, REAL aV, REAL sU, REAL sV) {

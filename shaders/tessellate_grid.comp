@@ -39,18 +39,19 @@ bool interiorSample(uint b) { return innerRow() && b > 0u && b < gM; }
 uint interiorVertex(uint b) { return gInteriorFirst + (gA - 1u) * (gM - 1u) + (b - 1u); }
 uint perimeterSlot(uint b) { return gBoundaryFirst + tessPerimeterSlot(gN, gM, gA, b); }
 
-void writeSample(uint b, REAL3 p, REAL3 n, REAL tu, REAL tv) {
-  if (interiorSample(b)) {
-    uint k = interiorVertex(b);
-    outVerts[2u * k] = vec4(vec3(p), float(n.x));
-    outVerts[2u * k + 1u] = vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv)));
-  } else {
-    uint s = perimeterSlot(b);
-    boundary[2u * s] = REAL4(p, 0);
-    boundary[2u * s + 1u] = REAL4(n, 0);
-  }
+void writeInterior(uint b, REAL3 p, REAL3 n, REAL tu, REAL tv) {
+  uint k = interiorVertex(b);
+  outVerts[2u * k] = vec4(vec3(p), float(n.x));
+  outVerts[2u * k + 1u] = vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv)));
 }
 
+void writePerimeter(uint b, REAL3 p, REAL3 n) {
+  uint s = perimeterSlot(b);
+  boundary[2u * s] = REAL4(p, 0);
+  boundary[2u * s + 1u] = REAL4(n, 0);
+}
+
+// Only in the (rare) fallback loop, so the branch costs nothing in the sample loops.
 void writeNormal(uint b, REAL3 n) {
   if (interiorSample(b)) {
     uint k = interiorVertex(b);
@@ -59,6 +60,69 @@ void writeNormal(uint b, REAL3 n) {
   } else {
     boundary[2u * perimeterSlot(b) + 1u] = REAL4(n, 0);
   }
+}
+
+// Point, Q_u, Q_v at v = t of the current row (surface_grid.comp's arithmetic), branch-free. The row
+// data: its u contraction T0 = Σ_r B_r(u) P[r][.], T1 = Σ_r B_r'(u) P[r][.], S(u) and its
+// derivatives su, and the patch's corner V and α. (Globals: a struct of arrays sized by
+// specialization constants miscompiles.)
+REAL3 gT0[MV], gT1[MV], gSu, gV[4], gCornerU[4];
+REAL gAl[4], gAlphaU[4];
+REAL cv[MV][DV + 1u];  // v basis coefficients (PARAMS)
+
+void evalSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
+  p = REAL3(0);
+  du = REAL3(0);
+  dv = REAL3(0);
+  [[unroll]] for (uint s = 0; s < MV; ++s) {
+    REAL c0 = cv[s][DV], dp = REAL(0);
+    [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
+      dp = dp * t + c0;
+      c0 = c0 * t + cv[s][d];
+    }
+    p += c0 * gT0[s];
+    du += c0 * gT1[s];
+    dv += dp * gT0[s];
+  }
+  if (kAEB) {
+    // MATH.md §5.3 (evalAlphaEBPatch): Q = C + A M, Q_u = C_u + A M_u + A_u M, Q_v likewise, with
+    // the corner weights factored: the u factors are blended into gCornerU once per row.
+    REAL3 sv = singularBlend(t);
+    REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;
+    REAL A00 = fv0 * gAlphaU[0] + fv1 * gAlphaU[1];
+    REAL A10 = fv0 * gAlphaU[2] + fv1 * gAlphaU[3];
+    REAL A01 = sv.y * (gAlphaU[1] - gAlphaU[0]);
+    REAL3 L00 = fv0 * gCornerU[0] + fv1 * gCornerU[1];
+    REAL3 L10 = fv0 * gCornerU[2] + fv1 * gCornerU[3];
+    REAL3 L01 = sv.y * (gCornerU[1] - gCornerU[0]);
+    REAL3 M = L00 - p, Mu = L10 - du, Mv = L01 - dv;
+    du = du + A00 * Mu + A10 * M;
+    dv = dv + A00 * Mv + A01 * M;
+    p = p + A00 * M;
+  }
+}
+
+// The u halves of the α-EB corner weights of the current row: for the v = 0 and v = 1 sides, V
+// and α blended with (1 - S(u), S(u)) (entries 0, 1) and with (-S'(u), S'(u)) (entries 2, 3).
+void blendCornersU() {
+  REAL fu0 = REAL(1) - gSu.x, fu1 = gSu.x;
+  gCornerU[0] = fu0 * gV[0] + fu1 * gV[2];
+  gCornerU[1] = fu0 * gV[1] + fu1 * gV[3];
+  gCornerU[2] = gSu.y * (gV[2] - gV[0]);
+  gCornerU[3] = gSu.y * (gV[3] - gV[1]);
+  gAlphaU[0] = fu0 * gAl[0] + fu1 * gAl[2];
+  gAlphaU[1] = fu0 * gAl[1] + fu1 * gAl[3];
+  gAlphaU[2] = gSu.y * (gAl[2] - gAl[0]);
+  gAlphaU[3] = gSu.y * (gAl[3] - gAl[1]);
+}
+
+// Samples whose normal needs the full §5.3 convention (α = 1 patch corners, where Q_u or Q_v
+// vanishes, and other degenerate crosses): the first two of a row are remembered, more make the
+// row redo all of its normals. Selects, no branches.
+void noteFallback(bool degenerate, uint b, inout uint count, inout uint f0, inout uint f1) {
+  f0 = degenerate && count == 0u ? b : f0;
+  f1 = degenerate && count == 1u ? b : f1;
+  count += degenerate ? 1u : 0u;
 }
 
 void main() {
@@ -101,23 +165,19 @@ void main() {
   REAL3 P[MU][MV];
   [[unroll]] for (uint r = 0; r < MU; ++r)
     [[unroll]] for (uint s = 0; s < MV; ++s) P[r][s] = net[base + r * pc.netCols + s].xyz;
-  REAL cu[MU][DU + 1u], cv[MV][DV + 1u];
+  REAL cu[MU][DU + 1u];
   [[unroll]] for (uint r = 0; r < MU; ++r)
     [[unroll]] for (uint d = 0; d <= DU; ++d) cu[r][d] = params[kParamCoefU + r * kCoefStride + d];
   [[unroll]] for (uint s = 0; s < MV; ++s)
     [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[kParamCoefV + s * kCoefStride + d];
-  REAL3 V[4];
-  REAL al[4];
-  if (kAEB) loadPatchCorners(i, j, V, al);
-
+  if (kAEB) loadPatchCorners(i, j, gV, gAl);
+  REAL denV = REAL(gM);
   for (uint row = 0u; row < rowCount; ++row) {
     gA = a0 + row * step;
-    // u contraction of this row: T0 = Σ_r B_r(u) P[r][.], T1 = Σ_r B_r'(u) P[r][.].
     REAL tu = REAL(gA) / REAL(gN);
-    REAL3 T0[MV], T1[MV];
     [[unroll]] for (uint s = 0; s < MV; ++s) {
-      T0[s] = REAL3(0);
-      T1[s] = REAL3(0);
+      gT0[s] = REAL3(0);
+      gT1[s] = REAL3(0);
     }
     [[unroll]] for (uint r = 0; r < MU; ++r) {
       REAL w0 = cu[r][DU], dp = REAL(0);
@@ -126,72 +186,44 @@ void main() {
         w0 = w0 * tu + cu[r][d];
       }
       [[unroll]] for (uint s = 0; s < MV; ++s) {
-        T0[s] += w0 * P[r][s];
-        T1[s] += dp * P[r][s];
+        gT0[s] += w0 * P[r][s];
+        gT1[s] += dp * P[r][s];
       }
     }
-    REAL3 su = kAEB ? singularBlend(tu) : REAL3(0);
-    REAL fu0 = REAL(1) - su.x, fu1 = su.x;
-    bool edgeRow = !innerRow();
-
-    // Samples whose normal needs the full §5.3 convention (degenerate crosses): the first two are
-    // remembered, more make the row redo all of its normals (as surface_grid.comp).
+    gSu = kAEB ? singularBlend(tu) : REAL3(0);
+    if (kAEB) blendCornersU();
     uint fallbackCount = 0u, fallback0 = 0u, fallback1 = 0u;
-    REAL denV = REAL(gM);
-    // Groups of 4 samples (independent work for the SIMD units); the last group is partial.
-    for (uint b0 = 0u; b0 <= gM; b0 += 4u) {
+
+    // Interior samples b = 1 .. m-1 of an inner row (none for rows 0 and n), in groups of 4; the
+    // last group repeats sample m-1 (the same value stored twice) instead of branching.
+    uint interiorEnd = innerRow() ? gM : 1u;
+    for (uint b0 = 1u; b0 < interiorEnd; b0 += 4u) {
       [[unroll]] for (uint e = 0u; e < 4u; ++e) {
-        uint b = min(b0 + e, gM);
+        uint b = min(b0 + e, gM - 1u);
         REAL t = REAL(b) / denV;
-        REAL3 p = REAL3(0), du = REAL3(0), dv = REAL3(0);
-        [[unroll]] for (uint s = 0; s < MV; ++s) {
-          REAL c0 = cv[s][DV], dp = REAL(0);
-          [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
-            dp = dp * t + c0;
-            c0 = c0 * t + cv[s][d];
-          }
-          p += c0 * T0[s];
-          du += c0 * T1[s];
-          dv += dp * T0[s];
-        }
-        if (kAEB) {
-          // MATH.md §5.3 (evalAlphaEBPatch): Q = C + A M, Q_u = C_u + A M_u + A_u M, Q_v likewise.
-          REAL3 sv = singularBlend(t);
-          REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;
-          REAL A00, A10, A01;
-          REAL3 L00, L10, L01;
-          cornerBlend(fu0, fu1, fv0, fv1, al, V, A00, L00);
-          cornerBlend(-su.y, su.y, fv0, fv1, al, V, A10, L10);
-          cornerBlend(fu0, fu1, -sv.y, sv.y, al, V, A01, L01);
-          REAL3 M = L00 - p, Mu = L10 - du, Mv = L01 - dv;
-          du = du + A00 * Mu + A10 * M;
-          dv = dv + A00 * Mv + A01 * M;
-          p = p + A00 * M;
-        }
+        REAL3 p, du, dv;
+        evalSample(t, p, du, dv);
         REAL3 n = cross(du, dv);
-        if (b0 + e <= gM) {
-          // §5.3: an α = 1 patch corner takes the vertex's diagonal limit (cheap: a few loads), a
-          // degenerate cross the full convention below (rare).
-          bool degenerate = degenerateCross(du, dv, n);
-          if (kAEB && edgeRow && (b == 0u || b == gM)) {
-            REAL3 nc;
-            if (alphaEBVertexNormal(i, j, gA == 0u ? 0u : 1u, b == 0u ? 0u : 1u, nc)) {
-              n = nc;
-              degenerate = false;
-            }
-          }
-          if (degenerate) {  // redone below
-            if (fallbackCount == 0u) fallback0 = b;
-            else fallback1 = b;
-            ++fallbackCount;
-          }
-          writeSample(b, p, normalize(n), tu, t);
-        }
+        REAL len = length(n);
+        noteFallback(degenerateCrossLength(du, dv, len), b, fallbackCount, fallback0, fallback1);
+        writeInterior(b, p, n / len, tu, t);
       }
     }
+    // Perimeter samples: b = 0 and m of an inner row, every b of rows 0 and n.
+    uint perimeterCount = innerRow() ? 2u : gM + 1u;
+    for (uint k = 0u; k < perimeterCount; ++k) {
+      uint b = innerRow() ? k * gM : k;
+      REAL t = REAL(b) / denV;
+      REAL3 p, du, dv;
+      evalSample(t, p, du, dv);
+      REAL3 n = cross(du, dv);
+      REAL len = length(n);
+      noteFallback(degenerateCrossLength(du, dv, len), b, fallbackCount, fallback0, fallback1);
+      writePerimeter(b, p, n / len);
+    }
 
-    // The fallback normals, as surface_eval.comp computes them. A loop, not an if: on llvmpipe a
-    // loop body runs only while some lane still has points left.
+    // The fallback normals, as surface_eval.comp computes them, overwriting those stored above. A
+    // loop, not an if: on llvmpipe a loop body runs only while some lane still has points left.
     uint todo = fallbackCount <= 2u ? fallbackCount : gM + 1u;
     for (uint f = 0u; f < todo; ++f) {
       uint b = fallbackCount <= 2u ? (f == 0u ? fallback0 : fallback1) : f;

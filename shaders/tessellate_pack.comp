@@ -17,10 +17,11 @@ layout(std430, binding = 6) writeonly buffer VertexBuf { vec4 outVerts[]; };
 layout(std430, binding = 7) readonly buffer BoundaryBuf { REAL4 boundary[]; };
 layout(std430, binding = 8) readonly buffer SourceBuf { uint sources[]; };
 layout(push_constant) uniform PushBlock { TessPackPush pc; };
+layout(constant_id = 9) const uint LIST_SOURCES = 1;  // tess_layout.h kTessSpecListSources
 
 // field 0: point, 1: normal of a source.
 vec3 sourceValue(uint source, uint field) {
-  if ((source & kTessListSource) != 0u) {
+  if (LIST_SOURCES != 0u && (source & kTessListSource) != 0u) {
     uint k = 3u * (source & ~kTessListSource);
     return field == 0u ? vec3(points[k], points[k + 1u], points[k + 2u])
                        : vec3(normals[k], normals[k + 1u], normals[k + 2u]);

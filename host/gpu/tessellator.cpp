@@ -23,7 +23,7 @@ struct SurfaceTessellator::TargetSets {
 };
 
 struct SurfaceTessellator::Impl {
-  vk::ComputePipeline pack;
+  vk::ComputePipeline pack[2];  // without / with list-mode sources
   vk::DescriptorSet vertexPassSet, listSet;
   std::map<std::pair<VkBuffer, VkDeviceSize>, TargetSets> targetSets;
   std::map<std::pair<VkBuffer, VkDeviceSize>, uint64_t> indexGeneration;
@@ -53,9 +53,15 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags 
   vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
-// Inner rows per grid-pass invocation (uniform rates): the patch net and corner data are per-lane
-// gathers on llvmpipe, paid once per invocation.
-constexpr uint32_t kGridRowsPerInvocation = 8;
+// Uniform rates: each grid-pass invocation takes as many inner rows of its patch as leaves at least
+// this many invocations (the per-invocation start-up, measured on llvmpipe, costs more than the
+// lanes lost to a short last block).
+constexpr uint32_t kMinGridInvocations = 256;
+
+uint32_t rowsPerInvocation(uint32_t innerRows, uint32_t patches) {
+  const uint32_t blocks = std::clamp((kMinGridInvocations + patches - 1) / patches, 1u, std::max(innerRows, 1u));
+  return std::max(1u, (innerRows + blocks - 1) / blocks);
+}
 
 // Host side of the grid pass: per patch (n, m, first interior vertex, first perimeter slot), per
 // invocation (patch, row).
@@ -122,15 +128,23 @@ SurfaceTessellator::SurfaceTessellator(std::shared_ptr<vk::Context> ctx, GpuSurf
       surface_(surface),
       kernels_(std::make_unique<KernelSet>(ctx_, surface.precision(), options.workgroupSize)),
       impl_(std::make_unique<Impl>()) {
-  const bool d = surface.precision() == Precision::Double;
+  setRates(rates);
+}
+
+// Two variants: with list-mode sources (mixed edge rates) or without (no masked list reads).
+const vk::ComputePipeline& SurfaceTessellator::packPipeline() {
+  const bool list = listSampleCount_ > 0;
+  vk::ComputePipeline& pipe = impl_->pack[list ? 1 : 0];
+  if (pipe.handle() != VK_NULL_HANDLE) return pipe;
+  const bool d = surface_.precision() == Precision::Double;
   vk::ComputePipelineDesc desc;
   desc.spirv = d ? std::span<const uint32_t>(tessellate_pack_comp_f64) : std::span<const uint32_t>(tessellate_pack_comp);
-  desc.specConstants = {{layout::kSpecWorkgroupSize, options.workgroupSize}};
+  desc.specConstants = {{layout::kSpecWorkgroupSize, kernels_->workgroupSize()}, {tl::kTessSpecListSources, list ? 1u : 0u}};
   desc.pushConstantBytes = sizeof(tl::TessPackPush);
   desc.storageBufferCount = tl::kTessBindingCount;
   desc.label = d ? "tessellate_pack_f64" : "tessellate_pack_f32";
-  impl_->pack = vk::ComputePipeline::create(*ctx_, desc);
-  setRates(rates);
+  pipe = vk::ComputePipeline::create(*ctx_, desc);
+  return pipe;
 }
 
 SurfaceTessellator::~SurfaceTessellator() = default;
@@ -212,7 +226,7 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   gridUniform_ = plan.uniform;
   gridPush_ = {};
   gridPush_.invocations = uint32_t(plan.rows.size() / 2);
-  gridPush_.rowsPerInvocation = kGridRowsPerInvocation;
+  gridPush_.rowsPerInvocation = rowsPerInvocation(plan.patches[0] - 1, uint32_t(plan.patches.size() / 4));
   gridPush_.patchesV = uint32_t(surface_.patchesV());
   gridPush_.firstSpanU = uint32_t(surface_.patches().u.first);
   gridPush_.firstSpanV = uint32_t(surface_.patches().v.first);
@@ -251,7 +265,7 @@ SurfaceTessellator::TargetSets& SurfaceTessellator::targetSets(VkBuffer vertices
       .bind(tl::kTessGridBindingRows, rowItems_)
       .bind(tl::kTessGridBindingBoundary, boundary_);
   sets.grid.bindExternal(tl::kTessGridBindingVertices, vertices, offset, vertexBytes());
-  sets.pack = vk::DescriptorSet::create(*ctx_, impl_->pack);
+  sets.pack = vk::DescriptorSet::create(*ctx_, packPipeline());
   sets.pack.bind(0, k.dummy())
       .bind(1, k.dummy())
       .bind(tl::kTessBindingPoints, points_)
@@ -355,7 +369,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   grid.bind(cmd, sets.grid.handle());
   if (gridUniform_) {  // inner rows, then rows 0 and n (tess_layout.h TessGridPush)
     tl::TessGridPush inner = gridPush_, edges = gridPush_;
-    inner.invocations = gridPatchCount_ * ((gridPush_.rateN - 2) / kGridRowsPerInvocation + 1);
+    inner.invocations = gridPatchCount_ * ((gridPush_.rateN - 2) / gridPush_.rowsPerInvocation + 1);
     inner.edgeRows = 0;
     edges.invocations = gridPatchCount_;
     edges.edgeRows = 1;
@@ -371,8 +385,9 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
 
   // (4) The shared corner and edge vertices.
   const tl::TessPackPush pp{boundaryVertexCount_, 0, 0, 0};
-  impl_->pack.bind(cmd, sets.pack.handle());
-  impl_->pack.push(cmd, pp);
+  const vk::ComputePipeline& pack = packPipeline();
+  pack.bind(cmd, sets.pack.handle());
+  pack.push(cmd, pp);
   k.dispatch(cmd, boundaryVertexCount_);
 
   // (5) Indices, once per configuration and target.

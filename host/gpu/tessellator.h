@@ -107,6 +107,7 @@ class SurfaceTessellator {
   struct TargetSets;
   TargetSets& targetSets(VkBuffer vertices, VkDeviceSize offset);
   const vk::ComputePipeline& gridPipeline();
+  const vk::ComputePipeline& packPipeline();
 
   std::shared_ptr<vk::Context> ctx_;
   GpuSurface& surface_;
