@@ -336,5 +336,106 @@ TEST_F(TessellatorTest, PlainFamiliesMatchCpu) {
   EXPECT_LE(positionError(tess, cpu, download(tess.vertexBuffer(), tess.vertexCount())), kFp32Rel * 20);
 }
 
+// Interior vertices (one patch each, no normal averaging) against the CPU §5.3 normal of their
+// canonical sample. Regular normals: fp32 within 2e-3 where the derivatives are not nearly
+// parallel (the cross of two fp32 derivatives of relative error ~kFp32Rel, over sin of their
+// angle); fallback normals (shifted / base / fixed axis): fp32 5e-3 (a shifted evaluation δ = 2^-12
+// from a pole has derivatives of order δ, a few hundred ulps of the net), fp64 1e-6 in both cases
+// (the vertices themselves are fp32). Returns how many fallback normals were compared.
+int expectInteriorNormals(const gpu::SurfaceTessellator& tess, const Surface& cpu, const std::vector<TessVertex>& v,
+                          Precision pr) {
+  const TessTopology& t = tess.topology();
+  const PatchRange r = cpu.patches();
+  const bool fp64 = pr == Precision::Double;
+  double worstRegular = 0.0, worstFallback = 0.0;
+  int fallbacks = 0;
+  for (uint32_t k = t.cornerCount + t.edgeVertexCount; k < t.vertexCount; ++k) {
+    const gpu::TessSample& s = t.samples[k];
+    const SurfacePoint e = cpu.evaluate(s.a + r.u.first, s.b + r.v.first, s.u, s.v);
+    const glm::dvec3 got(v[k].normal[0], v[k].normal[1], v[k].normal[2]);
+    const double err = glm::length(got - e.normal);
+    if (e.normalRule == NormalRule::Regular) {
+      const double sinA = glm::length(glm::cross(e.du, e.dv)) / (glm::length(e.du) * glm::length(e.dv));
+      if (sinA < 0.05) continue;
+      worstRegular = std::max(worstRegular, err);
+      EXPECT_LE(err, fp64 ? 1e-6 : 2e-3) << "vertex " << k << " patch " << s.a << "," << s.b << " uv " << s.u << ","
+                                         << s.v;
+    } else {
+      ++fallbacks;
+      worstFallback = std::max(worstFallback, err);
+      EXPECT_LE(err, fp64 ? 1e-6 : 5e-3) << "fallback vertex " << k << " patch " << s.a << "," << s.b << " uv "
+                                         << s.u << "," << s.v;
+    }
+  }
+  std::printf("  interior normals (%s): max error regular %.3g, fallback %.3g over %d vertices\n",
+              fp64 ? "fp64" : "fp32", worstRegular, worstFallback, fallbacks);
+  return fallbacks;
+}
+
+void expectUnitNormals(const std::vector<TessVertex>& v) {
+  for (size_t k = 0; k < v.size(); ++k) {
+    const glm::dvec3 n(v[k].normal[0], v[k].normal[1], v[k].normal[2]);
+    ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z)) << "vertex " << k;
+    ASSERT_NEAR(glm::length(n), 1.0, 1e-5) << "vertex " << k;
+  }
+}
+
+class TessellatorPrecisionTest : public VulkanTest, public ::testing::WithParamInterface<Precision> {};
+
+// Uniform rates take the grid pass's uniform mode, mixed rates its per-patch records and the list
+// pass; both agree with the CPU in positions and interior normals, in fp32 and fp64.
+TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
+  const Precision pr = GetParam();
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  const Surface cpu = Surface::create(testSurface());
+  gpu::GpuSurface surf(ctx_, cpu, pr);
+  const double posTol = pr == Precision::Double ? kFp32Rel : kFp32Rel * 20;  // fp32 vertices either way
+  for (bool mixed : {false, true}) {
+    SCOPED_TRACE(mixed ? "mixed rates" : "uniform rates");
+    const TessRates rates = mixed ? mixedRates(int(surf.patchesU()), int(surf.patchesV()), false, true)
+                                  : gpu::SurfaceTessellator::uniformRates(surf, 7);
+    gpu::SurfaceTessellator tess(ctx_, surf, rates);
+    vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) { tess.record(cmd); });
+    const auto v = download(tess.vertexBuffer(), tess.vertexCount());
+    const TessTopology& t = tess.topology();
+    double worst = 0.0;
+    for (uint32_t k = 0; k < t.vertexCount; ++k) {
+      const gpu::TessSample& s = t.samples[k];
+      const SurfacePoint e = cpu.evaluate(s.a + cpu.patches().u.first, s.b + cpu.patches().v.first, s.u, s.v);
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.point[c] - double(v[k].position[c])));
+      EXPECT_EQ(v[k].uv[0], float(s.a + cpu.patches().u.first) + float(s.u)) << "vertex " << k;
+    }
+    EXPECT_LE(worst / scaleOf(cpu.model()), posTol);
+    expectUnitNormals(v);
+    expectInteriorNormals(tess, cpu, v, pr);
+  }
+}
+
+// A net whose first four rows sit at the origin: patch row 0 collapses to a point (every normal is
+// the fixed axis), and the u = 0 row of patch row 1 is a pole (Q_v = 0: the shifted rule). Whole
+// grid rows need the fallback, which the grid pass then redoes for every sample of the row.
+TEST_P(TessellatorPrecisionTest, DegenerateRowsTakeTheFallbackNormals) {
+  const Precision pr = GetParam();
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  SurfaceModel m;
+  m.family.construction = Construction::ExtendedBSpline;
+  m.family.degree = 4;
+  m.rows = 7;
+  m.cols = 5;
+  for (int i = 0; i < m.rows; ++i)
+    for (int j = 0; j < m.cols; ++j)
+      m.points.push_back(i < 4 ? glm::dvec3(0.0) : glm::dvec3(i, j, 0.3 * std::sin(1.3 * i + j)));
+  const Surface cpu = Surface::create(m);
+  gpu::GpuSurface surf(ctx_, cpu, pr);
+  gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 6));
+  vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) { tess.record(cmd); });
+  const auto v = download(tess.vertexBuffer(), tess.vertexCount());
+  expectUnitNormals(v);
+  EXPECT_GT(expectInteriorNormals(tess, cpu, v, pr), 20);
+}
+
+INSTANTIATE_TEST_SUITE_P(Precisions, TessellatorPrecisionTest, ::testing::Values(Precision::Float, Precision::Double),
+                         [](const auto& info) { return info.param == Precision::Double ? "fp64" : "fp32"; });
+
 }  // namespace
 }  // namespace shapespline::test
