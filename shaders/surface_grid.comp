@@ -1,6 +1,7 @@
 #version 450
 // Fast grid path of surface_eval.comp for tensor surfaces (MATH.md §1, §6) and α-EB surfaces
 // (§5.2, §5.3: Q = C + a (L - C) with the bilinear singular-blend weights of the 4 corner α and V,
+// their u half blended once per row,
 // derivatives by the weight rule) when samplesV is a multiple of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one row a
 // of one patch. The u contraction T_d[s] = Σ_r B_r^(d)(u_a) P[r][s] (core/grid_sampler.cpp order:
 // u first, then v) is done once per invocation and shared by the RUN_LENGTH points; every loop bound is a
@@ -93,9 +94,8 @@ void main() {
     loadPatchCorners(i, j, V, al);
   }
 
-  // Points whose normal needs the full §5.3 convention (α-EB patch corners, degenerate crosses):
-  // the first four (an invocation holds at most the 4 corners of its patch) are remembered, more make
-  // the whole invocation redo its normals.
+  // Points whose normal needs the full §5.3 convention (degenerate crosses, α = 1 patch corners
+  // among them): the first four are remembered, more make the whole invocation redo its normals.
   uint fallbackCount = 0u, fallback0 = 0u, fallback1 = 0u, fallback2 = 0u, fallback3 = 0u;
   for (uint k = 0; k < rowsPer; ++k) {
     uint a = a0 + k, row = row0 + k;
@@ -104,7 +104,13 @@ void main() {
     REAL3 su = kAEB ? singularBlend(tu) : REAL3(0);
     // u-factor pairs of order 0,1,2: (1-S, S), (-S', S'), (-S'', S'').
     REAL fu00 = REAL(1) - su.x, fu10 = su.x;
-    bool edgeU = a == 0u || a + 1u == pc.samplesU;
+    // The u halves of the corner weights of this row, u orders 0, 1, 2.
+    CornerHalf H0, H1, H2;
+    if (kAEB) {
+      H0 = cornerBlendU(fu00, fu10, al, V);
+      H1 = cornerBlendU(-su.y, su.y, al, V);
+      H2 = cornerBlendU(-su.z, su.z, al, V);
+    }
     REAL3 T0[MV], T1[MV], T2[MV];
     [[unroll]] for (uint s = 0; s < MV; ++s) {
       T0[s] = REAL3(0);
@@ -156,12 +162,12 @@ void main() {
           REAL A00, A10 = REAL(0), A01 = REAL(0), A20 = REAL(0), A11 = REAL(0), A02 = REAL(0);
           REAL3 L00, L10 = REAL3(0), L01 = REAL3(0), L20 = REAL3(0), L11 = REAL3(0), L02 = REAL3(0);
           REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;
-          cornerBlend(fu00, fu10, fv0, fv1, al, V, A00, L00);
-          if (kNeedT1) cornerBlend(-su.y, su.y, fv0, fv1, al, V, A10, L10);
-          if (kWantDuu) cornerBlend(-su.z, su.z, fv0, fv1, al, V, A20, L20);
-          if (kNeedD1V) cornerBlend(fu00, fu10, -sv.y, sv.y, al, V, A01, L01);
-          if (kWantDuv) cornerBlend(-su.y, su.y, -sv.y, sv.y, al, V, A11, L11);
-          if (kWantDvv) cornerBlend(fu00, fu10, -sv.z, sv.z, al, V, A02, L02);
+          cornerBlendV(H0, fv0, fv1, A00, L00);
+          if (kNeedT1) cornerBlendV(H1, fv0, fv1, A10, L10);
+          if (kWantDuu) cornerBlendV(H2, fv0, fv1, A20, L20);
+          if (kNeedD1V) cornerBlendV(H0, -sv.y, sv.y, A01, L01);
+          if (kWantDuv) cornerBlendV(H1, -sv.y, sv.y, A11, L11);
+          if (kWantDvv) cornerBlendV(H0, -sv.z, sv.z, A02, L02);
           REAL3 M = L00 - p[e], Mu = L10 - u[e], Mv = L01 - v[e];
           if (kWantDuu) uu[e] = uu[e] + A00 * (L20 - uu[e]) + REAL(2) * A10 * Mu + A20 * M;
           if (kWantDuv) uv[e] = uv[e] + A00 * (L11 - uv[e]) + A10 * Mv + A01 * Mu + A11 * M;
@@ -171,17 +177,18 @@ void main() {
           p[e] = p[e] + A00 * M;
         }
         if (kWantNormal) {
+          // An α = 1 patch corner makes Q_u or Q_v vanish exactly and lands here as degenerate.
+          // Selects, not branches (llvmpipe would run a per-lane branch for every sample).
           REAL3 n = cross(u[e], v[e]);
-          bool corner = kAEB && edgeU && (b0 + e == 0u || b0 + e + 1u == pc.samplesV);
-          if (corner || degenerateCross(u[e], v[e], n)) {  // redone after the loops
-            uint pt = row * pc.samplesV + b0 + e;
-            if (fallbackCount == 0u) fallback0 = pt;
-            else if (fallbackCount == 1u) fallback1 = pt;
-            else if (fallbackCount == 2u) fallback2 = pt;
-            else fallback3 = pt;
-            ++fallbackCount;
-          }
-          nn[e] = normalize(n);
+          REAL len = length(n);
+          bool fb = degenerateCrossLength(u[e], v[e], len);
+          uint pt = row * pc.samplesV + b0 + e;
+          fallback0 = fb && fallbackCount == 0u ? pt : fallback0;
+          fallback1 = fb && fallbackCount == 1u ? pt : fallback1;
+          fallback2 = fb && fallbackCount == 2u ? pt : fallback2;
+          fallback3 = fb && fallbackCount == 3u ? pt : fallback3;
+          fallbackCount += fb ? 1u : 0u;
+          nn[e] = n / len;
         }
       }
       uint o = (row * pc.samplesV + b0) >> 2;

@@ -63,6 +63,25 @@ void cornerBlend(REAL fu0, REAL fu1, REAL fv0, REAL fv1, in REAL al[4], in REAL3
   L = w00 * V[0] + w01 * V[1] + w10 * V[2] + w11 * V[3];
 }
 
+// cornerBlend split in its u half (once per grid row) and v half (per sample): for the v = 0 side
+// (corners 0, 2) and the v = 1 side (corners 1, 3), α and V blended with the u factors.
+struct CornerHalf {
+  REAL a0, a1;
+  REAL3 L0, L1;
+};
+CornerHalf cornerBlendU(REAL fu0, REAL fu1, in REAL al[4], in REAL3 V[4]) {
+  CornerHalf h;
+  h.a0 = fu0 * al[0] + fu1 * al[2];
+  h.a1 = fu0 * al[1] + fu1 * al[3];
+  h.L0 = fu0 * V[0] + fu1 * V[2];
+  h.L1 = fu0 * V[1] + fu1 * V[3];
+  return h;
+}
+void cornerBlendV(in CornerHalf h, REAL fv0, REAL fv1, out REAL a, out REAL3 L) {
+  a = fv0 * h.a0 + fv1 * h.a1;
+  L = fv0 * h.L0 + fv1 * h.L1;
+}
+
 // core/surface.cpp evalAlphaEBPatch (MATH.md §5.2, §5.3): Q = C + a M, M = L - C, with the
 // bilinear weights of the singular blend in u and v. base receives C.
 PatchDerivs evalAlphaEBPatch(in Basis2 B, uint i, uint j, REAL u, REAL v, out PatchDerivs c) {
