@@ -30,6 +30,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -132,6 +133,26 @@ struct GpuGolden {
       }
   }
 
+  // The point limit of a case and its derivative limits: the precision rule (rel x model scale x
+  // growth, growth = 1/α_min for α-EB, the factor by which V amplifies the net) capped by the
+  // case's own limit; fp64 derivatives at 1e3 x the fp64 point rule, fp32 at the case's limits.
+  struct CaseLimits {
+    double point;
+    std::function<double(const char*)> derivative;
+  };
+  CaseLimits limitsFor(CaseReport& r, double growth) const {
+    const double scale = modelScale(r.model());
+    const json& tc = r.testCase();
+    const bool d = fp64();
+    return {std::min(rel() * scale * growth, caseLimit(tc, "point", d)), [&tc, d, scale, growth](const char* f) {
+              const double l = caseLimit(tc, f, d);
+              return d ? std::min(l, kFp64Rel * scale * growth * 1e3) : l;
+            }};
+  }
+  static double alphaGrowth(Construction c, const std::vector<double>& alpha) {
+    return c == Construction::AlphaEB ? 1.0 / *std::min_element(alpha.begin(), alpha.end()) : 1.0;
+  }
+
   void curve(CaseReport& r) {
     const io::Model parsed = io::parseModel(r.model());
     const CurveModel& model = std::get<CurveModel>(parsed);
@@ -141,14 +162,7 @@ struct GpuGolden {
       return;
     }
     const bool aeb = model.family.construction == Construction::AlphaEB;
-    const double g = aeb ? 1.0 / *std::min_element(model.alpha.begin(), model.alpha.end()) : 1.0;
-    const double scale = modelScale(r.model());
-    const json& tc = r.testCase();
-    const double tolP = std::min(rel() * scale * g, caseLimit(tc, "point", fp64()));
-    auto tolDer = [&](const char* f) {
-      const double l = caseLimit(tc, f, fp64());
-      return fp64() ? std::min(l, kFp64Rel * scale * g * 1e3) : l;
-    };
+    const auto [tolP, tolDer] = limitsFor(r, alphaGrowth(model.family.construction, model.alpha));
     gpu::GpuCurve state(ctx, c, precision);
     gpu::CurveEvaluator ev(ctx, precision);
     const json& in = r.inputs().at("samples");
@@ -187,13 +201,7 @@ struct GpuGolden {
   void knotVectorCurve(CaseReport& r, const Curve& c) {
     ++knotVectorCases;
     const CurveModel& model = c.model();
-    const double scale = modelScale(r.model());
-    const json& tc = r.testCase();
-    const double tolP = std::min(rel() * scale, caseLimit(tc, "point", fp64()));
-    auto tolDer = [&](const char* f) {
-      const double l = caseLimit(tc, f, fp64());
-      return fp64() ? std::min(l, kFp64Rel * scale * 1e3) : l;
-    };
+    const auto [tolP, tolDer] = limitsFor(r, 1.0);
     const auto [a, b] = c.parameterRange();
     r.compare("u_range[0]", r.expected("u_range")[0], a, 1e-12 * std::max(1.0, std::abs(a)));
     r.compare("u_range[1]", r.expected("u_range")[1], b, 1e-12 * std::max(1.0, std::abs(b)));
@@ -225,14 +233,7 @@ struct GpuGolden {
       return;
     }
     const bool aeb = model.family.construction == Construction::AlphaEB;
-    const double g = aeb ? 1.0 / *std::min_element(model.alpha.begin(), model.alpha.end()) : 1.0;
-    const double scale = modelScale(r.model());
-    const json& tc = r.testCase();
-    const double tolP = std::min(rel() * scale * g, caseLimit(tc, "point", fp64()));
-    auto tolDer = [&](const char* f) {
-      const double l = caseLimit(tc, f, fp64());
-      return fp64() ? std::min(l, kFp64Rel * scale * g * 1e3) : l;
-    };
+    const auto [tolP, tolDer] = limitsFor(r, alphaGrowth(model.family.construction, model.alpha));
     gpu::GpuSurface state(ctx, s, precision);
     gpu::SurfaceEvaluator ev(ctx, precision);
     std::vector<gpu::SurfaceSample> samples;
