@@ -1,6 +1,6 @@
 #version 450
-// Grid pass of the tessellator (shaders/tess_layout.h): one invocation evaluates row a of patch p's
-// (n+1) x (m+1) grid, u = a/n, v = b/m: the point and the MATH.md §5.3 unit normal of tensor
+// Grid pass of the tessellator (shaders/tess_layout.h): one invocation evaluates one or more rows a
+// of patch p's (n+1) x (m+1) grid, u = a/n, v = b/m: the point and the MATH.md §5.3 unit normal of tensor
 // surfaces (§1, §6) and α-EB surfaces (§5.2). Interior samples are final vertices and are written
 // interleaved straight into the vertex buffer; the perimeter samples go to BOUNDARY, from where
 // tessellate_pack.comp builds the shared corner and edge vertices.
