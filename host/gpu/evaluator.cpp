@@ -392,22 +392,6 @@ layout::EvalPush curvePush(const GpuCurve& c) {
   return p;
 }
 
-layout::EvalPush surfacePush(const GpuSurface& s) {
-  layout::EvalPush p{};
-  p.itemsV = uint32_t(s.patchesV());
-  p.samplesU = 1;
-  p.samplesV = 1;
-  p.firstSpanU = uint32_t(s.patches().u.first);
-  p.firstSpanV = uint32_t(s.patches().v.first);
-  p.netCols = s.netCols();
-  p.netOffsetU = s.netOffsetU();
-  p.netOffsetV = s.netOffsetV();
-  p.rows = s.vertexRows();
-  p.cols = s.vertexCols();
-  p.alphaOffset = s.alphaOffset();
-  p.invHOffset = layout::kNoOffset;
-  return p;
-}
 
 layout::KnotEvalPush knotPush(const GpuModel& m, uint32_t itemsV, uint32_t netCols) {
   layout::KnotEvalPush p{};
@@ -450,6 +434,23 @@ std::vector<CurvePoint> runCurveList(KernelSet& k, GpuCurve& curve, const std::v
 }
 
 }  // namespace
+
+layout::EvalPush surfacePush(const GpuSurface& s) {
+  layout::EvalPush p{};
+  p.itemsV = uint32_t(s.patchesV());
+  p.samplesU = 1;
+  p.samplesV = 1;
+  p.firstSpanU = uint32_t(s.patches().u.first);
+  p.firstSpanV = uint32_t(s.patches().v.first);
+  p.netCols = s.netCols();
+  p.netOffsetU = s.netOffsetU();
+  p.netOffsetV = s.netOffsetV();
+  p.rows = s.vertexRows();
+  p.cols = s.vertexCols();
+  p.alphaOffset = s.alphaOffset();
+  p.invHOffset = layout::kNoOffset;
+  return p;
+}
 
 // ---- CurveEvaluator -----------------------------------------------------------------------------
 

@@ -9,6 +9,7 @@
 #include "vk/buffer.h"
 #include "vk/context.h"
 #include "vk/pipeline.h"
+#include "layout.h"
 
 #include <cstdint>
 #include <map>
@@ -17,6 +18,8 @@
 #include <vector>
 
 namespace shapespline::gpu {
+
+class GpuSurface;
 
 enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
                     SurfaceGrid, TessellateGrid };
@@ -54,6 +57,9 @@ class KernelSet {
   std::map<std::pair<int, std::vector<uint32_t>>, vk::ComputePipeline> pipelines_;
   vk::Buffer dummy_;
 };
+
+// EvalPush fields of a surface's net, patch range and α-EB data (items and samples left to the caller).
+layout::EvalPush surfacePush(const GpuSurface& s);
 
 // Number of storage-buffer bindings of every evaluation pipeline (layout.h: outputs 5..13).
 inline constexpr uint32_t kBindingCount = 14;

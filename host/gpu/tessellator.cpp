@@ -343,21 +343,9 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
           .bind(layout::kBindingOutput + uint32_t(Field::Point), points_)
           .bind(layout::kBindingOutput + uint32_t(Field::Normal), normals_);
     }
-    layout::EvalPush ep{};
+    layout::EvalPush ep = surfacePush(surface_);
     ep.firstItem = 0;
     ep.itemCount = listSampleCount_;
-    ep.itemsV = uint32_t(surface_.patchesV());
-    ep.samplesU = 1;
-    ep.samplesV = 1;
-    ep.firstSpanU = uint32_t(surface_.patches().u.first);
-    ep.firstSpanV = uint32_t(surface_.patches().v.first);
-    ep.netCols = surface_.netCols();
-    ep.netOffsetU = surface_.netOffsetU();
-    ep.netOffsetV = surface_.netOffsetV();
-    ep.rows = surface_.vertexRows();
-    ep.cols = surface_.vertexCols();
-    ep.alphaOffset = surface_.alphaOffset();
-    ep.invHOffset = layout::kNoOffset;
     eval.bind(cmd, impl_->listSet.handle());
     eval.push(cmd, ep);
     k.dispatch(cmd, (uint64_t(listSampleCount_) + layout::kPointsPerInvocation - 1) / layout::kPointsPerInvocation);
