@@ -4,14 +4,31 @@
 #ifndef SHAPESPLINE_COMMON_GLSL
 #define SHAPESPLINE_COMMON_GLSL
 
+// PACKED_STORES=1 (the `_pk` variants, need shaderInt64): llvmpipe stores an SSBO value one scalar
+// component per SIMD lane at a time, so fp32 output written as uint64 pairs of floats takes half
+// the stores (the same bytes in memory). FLOAT4 is the store type of a vec4 (vertex buffers,
+// always float); PLANE4 that of a REAL4 output plane (packed only when REAL is float).
+#if defined(PACKED_STORES) && PACKED_STORES
+#extension GL_ARB_gpu_shader_int64 : require
+#define FLOAT4 u64vec2
+#define TO_FLOAT4(v) u64vec2(packUint2x32(floatBitsToUint((v).xy)), packUint2x32(floatBitsToUint((v).zw)))
+#else
+#define FLOAT4 vec4
+#define TO_FLOAT4(v) (v)
+#endif
+
 #if defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE
 #define REAL double
 #define REAL3 dvec3
 #define REAL4 dvec4
+#define PLANE4 dvec4
+#define TO_PLANE4(v) (v)
 #else
 #define REAL float
 #define REAL3 vec3
 #define REAL4 vec4
+#define PLANE4 FLOAT4
+#define TO_PLANE4(v) TO_FLOAT4(v)
 #endif
 #define SHAPESPLINE_GLSL 1
 #include "layout.h"
@@ -67,12 +84,15 @@ REAL3 singularBlend(REAL t) {
     plane[(s_ + 1u) >> 2][(s_ + 1u) & 3u] = (value).y; \
     plane[(s_ + 2u) >> 2][(s_ + 2u) & 3u] = (value).z; \
   }
-// Four consecutive points q*4 .. q*4+3 as three REAL4 stores.
-#define STORE_XYZ4(plane, q, v0, v1, v2, v3)                \
-  {                                                         \
-    plane[3u * (q)] = REAL4((v0).xyz, (v1).x);              \
-    plane[3u * (q) + 1u] = REAL4((v1).yz, (v2).xy);         \
-    plane[3u * (q) + 2u] = REAL4((v2).z, (v3).xyz);         \
+// Four consecutive points q*4 .. q*4+3 as three stores into a REAL4 array (CONVERT = identity)
+// or a PLANE4 array (STORE_XYZ4_PLANE).
+#define STORE_XYZ4_AS(plane, q, v0, v1, v2, v3, CONVERT)             \
+  {                                                                  \
+    plane[3u * (q)] = CONVERT(REAL4((v0).xyz, (v1).x));              \
+    plane[3u * (q) + 1u] = CONVERT(REAL4((v1).yz, (v2).xy));         \
+    plane[3u * (q) + 2u] = CONVERT(REAL4((v2).z, (v3).xyz));         \
   }
+#define STORE_XYZ4(plane, q, v0, v1, v2, v3) STORE_XYZ4_AS(plane, q, v0, v1, v2, v3, )
+#define STORE_XYZ4_PLANE(plane, q, v0, v1, v2, v3) STORE_XYZ4_AS(plane, q, v0, v1, v2, v3, TO_PLANE4)
 
 #endif  // SHAPESPLINE_COMMON_GLSL

@@ -1,9 +1,9 @@
 #version 450
 // Fast grid path of surface_eval.comp for tensor surfaces (MATH.md §1, §6) and α-EB surfaces
 // (§5.2, §5.3: Q = C + a (L - C) with the bilinear singular-blend weights of the 4 corner α and V,
-// their u half blended once per row,
-// derivatives by the weight rule) when samplesV is a multiple of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one row a
-// of one patch. The u contraction T_d[s] = Σ_r B_r^(d)(u_a) P[r][s] (core/grid_sampler.cpp order:
+// their u half blended once per row, derivatives by the weight rule) when samplesV is a multiple
+// of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one
+// row a of one patch. The u contraction T_d[s] = Σ_r B_r^(d)(u_a) P[r][s] (core/grid_sampler.cpp order:
 // u first, then v) is done once per invocation and shared by the RUN_LENGTH points; every loop bound is a
 // specialization constant (m_u, m_v, degree) so LLVM unrolls them and the local arrays stay in registers.
 // Output layout as surface_eval.comp (layout.h): 4 points = three REAL4 per field.
@@ -21,16 +21,19 @@
 //  - RUN_LENGTH may exceed samplesV: one invocation then covers RUN_LENGTH / samplesV consecutive
 //    rows of one patch (evaluator.cpp picks RUN_LENGTH), so the m_u x m_v net gathers are paid once
 //    per several rows.
+// variant: packed-stores (fp32 output planes stored as uint64 pairs; common.glsl)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 
-layout(std430, binding = 5) writeonly buffer OutPoint { REAL4 outPoint[]; };
-layout(std430, binding = 8) writeonly buffer OutDu { REAL4 outDu[]; };
-layout(std430, binding = 9) writeonly buffer OutDv { REAL4 outDv[]; };
-layout(std430, binding = 10) writeonly buffer OutDuu { REAL4 outDuu[]; };
-layout(std430, binding = 11) writeonly buffer OutDuv { REAL4 outDuv[]; };
-layout(std430, binding = 12) writeonly buffer OutDvv { REAL4 outDvv[]; };
+layout(std430, binding = 5) writeonly buffer OutPoint { PLANE4 outPoint[]; };
+layout(std430, binding = 8) writeonly buffer OutDu { PLANE4 outDu[]; };
+layout(std430, binding = 9) writeonly buffer OutDv { PLANE4 outDv[]; };
+layout(std430, binding = 10) writeonly buffer OutDuu { PLANE4 outDuu[]; };
+layout(std430, binding = 11) writeonly buffer OutDuv { PLANE4 outDuv[]; };
+layout(std430, binding = 12) writeonly buffer OutDvv { PLANE4 outDvv[]; };
+// Normals stay REAL4 in every variant: the fallback pass rewrites single points (3 REALs), which
+// a packed view could not do without the neighbouring point's normal.
 layout(std430, binding = 13) writeonly buffer OutNormal { REAL4 outNormal[]; };
 layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
 
@@ -192,12 +195,12 @@ void main() {
         }
       }
       uint o = (row * pc.samplesV + b0) >> 2;
-      if (kWantPoint) STORE_XYZ4(outPoint, o, p[0], p[1], p[2], p[3])
-      if (kWantDu) STORE_XYZ4(outDu, o, u[0], u[1], u[2], u[3])
-      if (kWantDv) STORE_XYZ4(outDv, o, v[0], v[1], v[2], v[3])
-      if (kWantDuu) STORE_XYZ4(outDuu, o, uu[0], uu[1], uu[2], uu[3])
-      if (kWantDuv) STORE_XYZ4(outDuv, o, uv[0], uv[1], uv[2], uv[3])
-      if (kWantDvv) STORE_XYZ4(outDvv, o, vv[0], vv[1], vv[2], vv[3])
+      if (kWantPoint) STORE_XYZ4_PLANE(outPoint, o, p[0], p[1], p[2], p[3])
+      if (kWantDu) STORE_XYZ4_PLANE(outDu, o, u[0], u[1], u[2], u[3])
+      if (kWantDv) STORE_XYZ4_PLANE(outDv, o, v[0], v[1], v[2], v[3])
+      if (kWantDuu) STORE_XYZ4_PLANE(outDuu, o, uu[0], uu[1], uu[2], uu[3])
+      if (kWantDuv) STORE_XYZ4_PLANE(outDuv, o, uv[0], uv[1], uv[2], uv[3])
+      if (kWantDvv) STORE_XYZ4_PLANE(outDvv, o, vv[0], vv[1], vv[2], vv[3])
       if (kWantNormal) STORE_XYZ4(outNormal, o, nn[0], nn[1], nn[2], nn[3])
     }
   }

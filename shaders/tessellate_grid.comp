@@ -6,6 +6,7 @@
 // tessellate_pack.comp builds the shared corner and edge vertices.
 // The arithmetic is surface_grid.comp's (u contraction once per row, bases by Horner from the
 // coefficients in registers, α-EB weights per sample); see there for the llvmpipe reasoning.
+// variant: packed-stores (vertices stored as uint64 pairs of floats; common.glsl)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
@@ -14,7 +15,7 @@
 layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
 layout(std430, binding = 3) readonly buffer PatchBuf { uvec4 patchRecords[]; };
 layout(std430, binding = 4) readonly buffer RowBuf { uvec2 rowItems[]; };
-layout(std430, binding = 5) writeonly buffer VertexOut { vec4 outVerts[]; };
+layout(std430, binding = 5) writeonly buffer VertexOut { FLOAT4 outVerts[]; };
 layout(std430, binding = 6) buffer BoundaryBuf { REAL4 boundary[]; };
 
 layout(push_constant) uniform PushBlock { TessGridPush pc; };
@@ -41,8 +42,8 @@ uint perimeterSlot(uint b) { return gBoundaryFirst + tessPerimeterSlot(gN, gM, g
 
 void writeInterior(uint b, REAL3 p, REAL3 n, REAL tu, REAL tv) {
   uint k = interiorVertex(b);
-  outVerts[2u * k] = vec4(vec3(p), float(n.x));
-  outVerts[2u * k + 1u] = vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv)));
+  outVerts[2u * k] = TO_FLOAT4(vec4(vec3(p), float(n.x)));
+  outVerts[2u * k + 1u] = TO_FLOAT4(vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv))));
 }
 
 void writePerimeter(uint b, REAL3 p, REAL3 n) {
@@ -51,16 +52,6 @@ void writePerimeter(uint b, REAL3 p, REAL3 n) {
   boundary[2u * s + 1u] = REAL4(n, 0);
 }
 
-// Only in the (rare) fallback loop, so the branch costs nothing in the sample loops.
-void writeNormal(uint b, REAL3 n) {
-  if (interiorSample(b)) {
-    uint k = interiorVertex(b);
-    outVerts[2u * k].w = float(n.x);
-    outVerts[2u * k + 1u].xy = vec2(n.yz);
-  } else {
-    boundary[2u * perimeterSlot(b) + 1u] = REAL4(n, 0);
-  }
-}
 
 // Point, Q_u, Q_v at v = t of the current row (surface_grid.comp's arithmetic), branch-free. The row
 // data: its u contraction T0 = Σ_r B_r(u) P[r][.], T1 = Σ_r B_r'(u) P[r][.], S(u) and its
@@ -232,7 +223,16 @@ void main() {
       hornerBasis(tu, v, B);
       PatchDerivs c;
       PatchDerivs qd = evalPatch(B, i, j, tu, v, c);
-      writeNormal(b, surfaceNormal(i, j, tu, v, qd, c));
+      REAL3 n = surfaceNormal(i, j, tu, v, qd, c);
+      // The whole sample again, point from the same arithmetic as above (a packed vertex has no
+      // normal-only store); only in this rare loop, so the branch costs the sample loops nothing.
+      REAL3 p, du, dv;
+      evalSample(v, p, du, dv);
+      if (interiorSample(b)) {
+        writeInterior(b, p, n, tu, v);
+      } else {
+        writePerimeter(b, p, n);
+      }
     }
   }
 }

@@ -5,6 +5,7 @@
 // every patch that contains the vertex (canonical + extra sources; the per-patch MATH.md §5.3
 // rule, so an α = 1 corner gets the mean of its patches' diagonal limits); uv from the host.
 // Never writes NaN.
+// variant: packed-stores (vertices stored as uint64 pairs of floats; common.glsl)
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "tess_layout.h"
@@ -13,7 +14,7 @@ layout(std430, binding = 2) readonly buffer PointPlane { REAL points[]; };
 layout(std430, binding = 3) readonly buffer NormalPlane { REAL normals[]; };
 layout(std430, binding = 4) readonly buffer UVBuf { vec2 uvs[]; };
 layout(std430, binding = 5) readonly buffer ExtraBuf { uvec2 extra[]; };
-layout(std430, binding = 6) writeonly buffer VertexBuf { vec4 outVerts[]; };
+layout(std430, binding = 6) writeonly buffer VertexBuf { FLOAT4 outVerts[]; };
 layout(std430, binding = 7) readonly buffer BoundaryBuf { REAL4 boundary[]; };
 layout(std430, binding = 8) readonly buffer SourceBuf { uint sources[]; };
 layout(push_constant) uniform PushBlock { TessPackPush pc; };
@@ -41,6 +42,6 @@ void main() {
   float len = length(n);
   // Opposite patch normals (a fold) cancel: keep the canonical one.
   n = len > 1e-6 * float(e.y + 1u) ? n / len : n0;
-  outVerts[2u * k] = vec4(p, n.x);
-  outVerts[2u * k + 1u] = vec4(n.yz, uvs[k]);
+  outVerts[2u * k] = TO_FLOAT4(vec4(p, n.x));
+  outVerts[2u * k + 1u] = TO_FLOAT4(vec4(n.yz, uvs[k]));
 }

@@ -3,6 +3,7 @@
 
 #include "core/bspline.h"
 #include "gpu/kernels.h"
+#include "gpu/plane_pool.h"
 #include "layout.h"
 #include "vk/buffer.h"
 #include "vk/error.h"
@@ -10,6 +11,7 @@
 #include "vk/submit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -34,10 +36,12 @@ vk::DescriptorSet makeSet(KernelSet& k, const vk::ComputePipeline& pipe) {
 }
 
 // A buffer of `reals` REALs rounded up to whole REAL4 so the shaders' REAL4 view covers every value.
-vk::Buffer realBuffer(KernelSet& k, size_t reals, vk::MemoryUse use, const char* label) {
+size_t realBufferBytes(KernelSet& k, size_t reals) {
   const size_t rs = realSize(k.precision());
-  const size_t bytes = std::max<size_t>(((reals + 3) / 4) * 4 * rs, 16 * rs);
-  return vk::Buffer::create(k.context(), bytes, vk::kStorageUsage, use, label);
+  return std::max<size_t>(((reals + 3) / 4) * 4 * rs, 16 * rs);
+}
+vk::Buffer realBuffer(KernelSet& k, size_t reals, vk::MemoryUse use, const char* label) {
+  return vk::Buffer::create(k.context(), realBufferBytes(k, reals), vk::kStorageUsage, use, label);
 }
 
 // Records the α-EB vertex pass when the model's parameters changed since the last one.
@@ -180,8 +184,8 @@ struct GridJob {
 };
 
 template <class Push>
-void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec& grid, FieldMask fields,
-             const ChunkConsumer& consumer, size_t maxPlaneBytes) {
+void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& job, const GridSpec& grid,
+             FieldMask fields, const ChunkConsumer& consumer, size_t maxPlaneBytes) {
   if (fields == 0 || (fields & ~job.allowed) != 0)
     throw std::invalid_argument("evaluateGrid: fields mask " + std::to_string(fields) + " asks for fields this evaluator does not produce");
   if (grid.samplesU < 1 || grid.samplesV < 1 || (!job.surface && grid.samplesV != 1))
@@ -234,17 +238,18 @@ void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec
   const auto& pipe = k.pipeline(job.kernel, spec);
   std::vector<vk::DescriptorSet> keep;  // vertex pass / tables
   const int slots = chunkCount > 1 ? ChunkRing::kSlots : 1;
-  std::vector<vk::Buffer> planes[ChunkRing::kSlots];
+  static_assert(PlanePool::kSlots == ChunkRing::kSlots);
+  const VkDeviceSize planeBytes = realBufferBytes(k, perChunk * ppi * 3);
+  std::array<std::array<const vk::Buffer*, kFieldCount>, ChunkRing::kSlots> planes{};
   vk::DescriptorSet sets[ChunkRing::kSlots];
   for (int s = 0; s < slots; ++s) {
-    planes[s].resize(kFieldCount);
-    for (int f : active) planes[s][f] = realBuffer(k, perChunk * ppi * 3, vk::MemoryUse::Readback, "gpu.plane");
+    for (int f : active) planes[s][f] = &pool.acquire(k.context(), s, f, planeBytes);
     sets[s] = makeSet(k, pipe);
     sets[s].bind(layout::kBindingNet, m.netBuffer())
         .bind(layout::kBindingParams, m.paramBuffer())
         .bind(layout::kBindingVerts, m.vertexBuffer());
     if (!job.knotVector) sets[s].bind(layout::kBindingTable, table);
-    for (int f : active) sets[s].bind(layout::kBindingOutput + f, planes[s][f]);
+    for (int f : active) sets[s].bind(layout::kBindingOutput + f, *planes[s][f]);
   }
   ChunkRing ring(k.context());  // declared last: its destructor waits before anything it uses goes
 
@@ -288,9 +293,10 @@ void runGrid(KernelSet& k, GpuModel& m, const GridJob<Push>& job, const GridSpec
     out.itemCount = std::min(perChunk, grid.firstItem + count - out.firstItem);
     out.pointsPerItem = ppi;
     out.precision = k.precision();
-    for (int f : active) out.planes[f] = planes[slot][f].mapped();
+    for (int f : active) out.planes[f] = planes[slot][f]->mapped();
     consumer(out);
   }
+  pool.trim(limit);
 }
 
 // List mode: samples (host ListSample bytes) -> planes of every allowed field, read back as doubles.
@@ -455,7 +461,9 @@ layout::EvalPush surfacePush(const GpuSurface& s) {
 // ---- CurveEvaluator -----------------------------------------------------------------------------
 
 CurveEvaluator::CurveEvaluator(std::shared_ptr<vk::Context> ctx, Precision precision, EvaluatorOptions options)
-    : kernels_(std::make_unique<KernelSet>(std::move(ctx), precision, options.workgroupSize)), options_(options) {}
+    : kernels_(std::make_unique<KernelSet>(std::move(ctx), precision, options.workgroupSize, options.packedStores)),
+      planes_(std::make_unique<PlanePool>()),
+      options_(options) {}
 CurveEvaluator::~CurveEvaluator() = default;
 Precision CurveEvaluator::precision() const { return kernels_->precision(); }
 
@@ -465,11 +473,11 @@ void CurveEvaluator::evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMa
   if (curve.knotVector()) {
     GridJob<layout::KnotEvalPush> job{Kernel::BSplineCurveEval, false, true, kCurveFields, knotPush(curve, 1, 1),
                                       curve.gridItemCount()};
-    runGrid(*kernels_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
+    runGrid(*kernels_, *planes_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
     return;
   }
   GridJob<layout::EvalPush> job{Kernel::CurveEval, false, false, kCurveFields, curvePush(curve), curve.spanCount()};
-  runGrid(*kernels_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
+  runGrid(*kernels_, *planes_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 
 std::vector<CurvePoint> CurveEvaluator::evaluateList(GpuCurve& curve, std::span<const CurveSample> samples) {
@@ -535,7 +543,9 @@ std::vector<CurvePoint> CurveEvaluator::evaluateListAt(GpuCurve& curve, std::spa
 // ---- SurfaceEvaluator ---------------------------------------------------------------------------
 
 SurfaceEvaluator::SurfaceEvaluator(std::shared_ptr<vk::Context> ctx, Precision precision, EvaluatorOptions options)
-    : kernels_(std::make_unique<KernelSet>(std::move(ctx), precision, options.workgroupSize)), options_(options) {}
+    : kernels_(std::make_unique<KernelSet>(std::move(ctx), precision, options.workgroupSize, options.packedStores)),
+      planes_(std::make_unique<PlanePool>()),
+      options_(options) {}
 SurfaceEvaluator::~SurfaceEvaluator() = default;
 Precision SurfaceEvaluator::precision() const { return kernels_->precision(); }
 
@@ -546,7 +556,7 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
     GridJob<layout::KnotEvalPush> job{Kernel::BSplineSurfaceEval, true, true, kSurfaceFields,
                                       knotPush(surface, uint32_t(surface.gridItemsV()), surface.netCols()),
                                       surface.gridItemCount()};
-    runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
+    runGrid(*kernels_, *planes_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
     return;
   }
   // surface_grid.comp: tensor and α-EB surfaces, with or without normals, RUN_LENGTH samples (whole
@@ -555,7 +565,7 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
   const bool fast = grid.samplesV % 4 == 0 && !options_.generalKernelsOnly;
   GridJob<layout::EvalPush> job{fast ? Kernel::SurfaceGrid : Kernel::SurfaceEval, true, false, kSurfaceFields,
                                 surfacePush(surface), surface.patchCount()};
-  runGrid(*kernels_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
+  runGrid(*kernels_, *planes_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 
 std::vector<SurfacePoint> SurfaceEvaluator::evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples) {
@@ -633,7 +643,7 @@ std::vector<SurfacePoint> SurfaceEvaluator::evaluateListAt(GpuSurface& surface,
 
 BasisTableEvaluator::BasisTableEvaluator(std::shared_ptr<vk::Context> ctx, Precision precision,
                                          EvaluatorOptions options)
-    : kernels_(std::make_unique<KernelSet>(std::move(ctx), precision, options.workgroupSize)) {}
+    : kernels_(std::make_unique<KernelSet>(std::move(ctx), precision, options.workgroupSize, options.packedStores)) {}
 BasisTableEvaluator::~BasisTableEvaluator() = default;
 
 std::vector<double> BasisTableEvaluator::evaluate(const SpanBasis& basis, int sampleCount) {

@@ -8,7 +8,8 @@
 // device and host memory stay bounded whatever the job size; the consumer sees each chunk once,
 // in order, while the output buffers are mapped. Two output slots stream: the GPU computes chunk
 // k+1 while the consumer reads chunk k, so device + host memory stay at 2 chunks of planes
-// (2 x fields x maxPlaneBytes) however many points the job has.
+// (2 x fields x maxPlaneBytes) however many points the job has. The evaluator keeps those planes
+// for its next grid job (gpu/plane_pool.h); an evaluator is used by one thread at a time.
 #include "core/curve.h"
 #include "core/sample_grid.h"
 #include "core/span_basis.h"
@@ -24,6 +25,7 @@
 namespace shapespline::gpu {
 
 class KernelSet;
+class PlanePool;
 
 struct EvaluatorOptions {
   uint32_t workgroupSize = 64;                 // spec constant of every kernel
@@ -32,6 +34,9 @@ struct EvaluatorOptions {
   // lavapipe and halved its throughput (measured 2–4 MiB: 113–124 vs 27–59 Mpts/s fp32).
   size_t maxPlaneBytes = size_t(4) << 20;
   bool generalKernelsOnly = false;             // never pick a specialised fast kernel (tests, benchmarks)
+  // Store fp32 output planes as uint64 pairs where the device has shaderInt64 (half the stores on
+  // llvmpipe; the same bytes). Off: the plain float stores every device runs (tests cover both).
+  bool packedStores = true;
 };
 
 struct CurveSample {
@@ -62,6 +67,7 @@ class CurveEvaluator {
 
  private:
   std::unique_ptr<KernelSet> kernels_;
+  std::unique_ptr<PlanePool> planes_;  // readback planes reused by successive grid jobs
   EvaluatorOptions options_;
 };
 
@@ -82,6 +88,7 @@ class SurfaceEvaluator {
 
  private:
   std::unique_ptr<KernelSet> kernels_;
+  std::unique_ptr<PlanePool> planes_;  // readback planes reused by successive grid jobs
   EvaluatorOptions options_;
 };
 

@@ -15,8 +15,12 @@
 #include "shaders/surface_eval_comp_f64.h"
 #include "shaders/surface_grid_comp.h"
 #include "shaders/surface_grid_comp_f64.h"
+#include "shaders/surface_grid_comp_f64_pk.h"
+#include "shaders/surface_grid_comp_pk.h"
 #include "shaders/tessellate_grid_comp.h"
 #include "shaders/tessellate_grid_comp_f64.h"
+#include "shaders/tessellate_grid_comp_f64_pk.h"
+#include "shaders/tessellate_grid_comp_pk.h"
 #include "tess_layout.h"
 
 #include <algorithm>
@@ -51,8 +55,11 @@ void requirePrecision(const vk::Context& ctx, Precision p) {
                              "' does not support; use precision float");
 }
 
-KernelSet::KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize)
-    : ctx_(std::move(ctx)), precision_(precision), workgroupSize_(workgroupSize) {
+KernelSet::KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize, bool packedStores)
+    : ctx_(std::move(ctx)),
+      precision_(precision),
+      workgroupSize_(workgroupSize),
+      packedStores_(packedStores && ctx_->supportsInt64()) {
   requirePrecision(*ctx_, precision_);
   dummy_ = vk::Buffer::create(*ctx_, 256, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.dummy");
 }
@@ -62,58 +69,55 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<
   auto it = pipelines_.find(key);
   if (it != pipelines_.end()) return it->second;
   const bool d = precision_ == Precision::Double;
-  std::span<const uint32_t> code;
+  ShaderVariants code;
   uint32_t push = sizeof(layout::EvalPush);
   const char* label = "";
   switch (kernel) {
     case Kernel::CurveEval:
-      code = d ? std::span<const uint32_t>(curve_eval_comp_f64) : std::span<const uint32_t>(curve_eval_comp);
+      code = {curve_eval_comp, curve_eval_comp_f64, {}, {}};
       label = "curve_eval";
       break;
     case Kernel::SurfaceEval:
-      code = d ? std::span<const uint32_t>(surface_eval_comp_f64) : std::span<const uint32_t>(surface_eval_comp);
+      code = {surface_eval_comp, surface_eval_comp_f64, {}, {}};
       label = "surface_eval";
       break;
     case Kernel::BSplineCurveEval:
-      code = d ? std::span<const uint32_t>(bspline_curve_eval_comp_f64)
-               : std::span<const uint32_t>(bspline_curve_eval_comp);
+      code = {bspline_curve_eval_comp, bspline_curve_eval_comp_f64, {}, {}};
       push = sizeof(layout::KnotEvalPush);
       label = "bspline_curve_eval";
       break;
     case Kernel::BSplineSurfaceEval:
-      code = d ? std::span<const uint32_t>(bspline_surface_eval_comp_f64)
-               : std::span<const uint32_t>(bspline_surface_eval_comp);
+      code = {bspline_surface_eval_comp, bspline_surface_eval_comp_f64, {}, {}};
       push = sizeof(layout::KnotEvalPush);
       label = "bspline_surface_eval";
       break;
     case Kernel::SurfaceGrid:
-      code = d ? std::span<const uint32_t>(surface_grid_comp_f64) : std::span<const uint32_t>(surface_grid_comp);
+      code = {surface_grid_comp, surface_grid_comp_f64, surface_grid_comp_pk, surface_grid_comp_f64_pk};
       label = "surface_grid";
       break;
     case Kernel::TessellateGrid:
-      code = d ? std::span<const uint32_t>(tessellate_grid_comp_f64) : std::span<const uint32_t>(tessellate_grid_comp);
+      code = {tessellate_grid_comp, tessellate_grid_comp_f64, tessellate_grid_comp_pk, tessellate_grid_comp_f64_pk};
       push = sizeof(tess_layout::TessGridPush);
       label = "tessellate_grid";
       break;
     case Kernel::AlphaEBVertices:
-      code = d ? std::span<const uint32_t>(alpha_eb_vertices_comp_f64)
-               : std::span<const uint32_t>(alpha_eb_vertices_comp);
+      code = {alpha_eb_vertices_comp, alpha_eb_vertices_comp_f64, {}, {}};
       push = sizeof(layout::VertexPush);
       label = "alpha_eb_vertices";
       break;
     case Kernel::BasisTable:
-      code = d ? std::span<const uint32_t>(basis_table_comp_f64) : std::span<const uint32_t>(basis_table_comp);
+      code = {basis_table_comp, basis_table_comp_f64, {}, {}};
       push = sizeof(layout::TablePush);
       label = "basis_table";
       break;
   }
   vk::ComputePipelineDesc desc;
-  desc.spirv = code;
+  desc.spirv = code.pick(d, packedStores_);
   desc.specConstants.push_back({layout::kSpecWorkgroupSize, workgroupSize_});
   for (size_t i = 0; i < spec.size(); ++i) desc.specConstants.push_back({static_cast<uint32_t>(i + 1), spec[i]});
   desc.pushConstantBytes = push;
   desc.storageBufferCount = kBindingCount;
-  desc.label = std::string(label) + (d ? "_f64" : "_f32");
+  desc.label = std::string(label) + (d ? "_f64" : "_f32") + (packedStores_ && code.hasPacked() ? "_pk" : "");
   auto [pos, ok] = pipelines_.emplace(key, vk::ComputePipeline::create(*ctx_, desc));
   (void)ok;
   return pos->second;

@@ -35,14 +35,28 @@ std::vector<std::byte> toReal4(std::span<const glm::dvec3> points, Precision p);
 // Throws std::runtime_error naming the device when Double is asked of a device without shaderFloat64.
 void requirePrecision(const vk::Context& ctx, Precision p);
 
+// The compiled variants of one shader (shaders/CMakeLists.txt): fp32, fp64 and, for shaders marked
+// packed-stores, the same with 64-bit packed output stores (empty spans where there are none).
+struct ShaderVariants {
+  std::span<const uint32_t> f32, f64, f32Packed, f64Packed;
+  bool hasPacked() const { return !f32Packed.empty(); }
+  std::span<const uint32_t> pick(bool fp64, bool packed) const {
+    if (packed && hasPacked()) return fp64 ? f64Packed : f32Packed;
+    return fp64 ? f64 : f32;
+  }
+};
+
 class KernelSet {
  public:
-  KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize);
+  // packedStores: use the packed-store variants where the device has shaderInt64.
+  KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize, bool packedStores);
 
   vk::Context& context() const { return *ctx_; }
   const std::shared_ptr<vk::Context>& contextPtr() const { return ctx_; }
   Precision precision() const { return precision_; }
   uint32_t workgroupSize() const { return workgroupSize_; }
+  // Whether the packed-store variants are in use (asked for and shaderInt64 present).
+  bool packedStores() const { return packedStores_; }
   // spec[i] is the value of constant_id i + 1 (id 0 is the workgroup size).
   const vk::ComputePipeline& pipeline(Kernel kernel, const std::vector<uint32_t>& spec);
   // 256-byte buffer bound to every binding a pipeline variant does not use.
@@ -54,6 +68,7 @@ class KernelSet {
   std::shared_ptr<vk::Context> ctx_;
   Precision precision_;
   uint32_t workgroupSize_;
+  bool packedStores_;
   std::map<std::pair<int, std::vector<uint32_t>>, vk::ComputePipeline> pipelines_;
   vk::Buffer dummy_;
 };

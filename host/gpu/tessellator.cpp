@@ -4,6 +4,8 @@
 #include "layout.h"
 #include "shaders/tessellate_pack_comp.h"
 #include "shaders/tessellate_pack_comp_f64.h"
+#include "shaders/tessellate_pack_comp_f64_pk.h"
+#include "shaders/tessellate_pack_comp_pk.h"
 #include "tess_layout.h"
 #include "vk/error.h"
 #include "vk/pipeline.h"
@@ -126,7 +128,7 @@ SurfaceTessellator::SurfaceTessellator(std::shared_ptr<vk::Context> ctx, GpuSurf
                                        TessellatorOptions options)
     : ctx_(std::move(ctx)),
       surface_(surface),
-      kernels_(std::make_unique<KernelSet>(ctx_, surface.precision(), options.workgroupSize)),
+      kernels_(std::make_unique<KernelSet>(ctx_, surface.precision(), options.workgroupSize, options.packedStores)),
       impl_(std::make_unique<Impl>()) {
   setRates(rates);
 }
@@ -138,11 +140,14 @@ const vk::ComputePipeline& SurfaceTessellator::packPipeline() {
   if (pipe.handle() != VK_NULL_HANDLE) return pipe;
   const bool d = surface_.precision() == Precision::Double;
   vk::ComputePipelineDesc desc;
-  desc.spirv = d ? std::span<const uint32_t>(tessellate_pack_comp_f64) : std::span<const uint32_t>(tessellate_pack_comp);
+  const ShaderVariants code{tessellate_pack_comp, tessellate_pack_comp_f64, tessellate_pack_comp_pk,
+                            tessellate_pack_comp_f64_pk};
+  const bool packed = kernels_->packedStores();
+  desc.spirv = code.pick(d, packed);
   desc.specConstants = {{layout::kSpecWorkgroupSize, kernels_->workgroupSize()}, {tl::kTessSpecListSources, list ? 1u : 0u}};
   desc.pushConstantBytes = sizeof(tl::TessPackPush);
   desc.storageBufferCount = tl::kTessBindingCount;
-  desc.label = d ? "tessellate_pack_f64" : "tessellate_pack_f32";
+  desc.label = std::string(d ? "tessellate_pack_f64" : "tessellate_pack_f32") + (packed ? "_pk" : "");
   pipe = vk::ComputePipeline::create(*ctx_, desc);
   return pipe;
 }

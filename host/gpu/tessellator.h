@@ -62,6 +62,9 @@ struct TessTargets {
 
 struct TessellatorOptions {
   uint32_t workgroupSize = 64;
+  // Write vertices as uint64 pairs of floats where the device has shaderInt64 (half the stores on
+  // llvmpipe; the same bytes); off: plain vec4 stores.
+  bool packedStores = true;
 };
 
 class SurfaceTessellator {

@@ -357,7 +357,34 @@ TEST_P(GpuSurfaceSweep, DegenerateRowsRedoWholeInvocations) {
   compareSurfaceGrid(cpu, ev, state, 5, 8, err, pr);  // samplesV % 4 == 0: surface_grid.comp
   std::printf("  degenerate rows %s: max error point %.3g normal %.3g fallback normal %.3g\n",
               pr == Precision::Double ? "fp64" : "fp32", err.maxErr[0], err.maxErr[6], err.maxErr[7]);
-  if (pr == Precision::Double) EXPECT_GT(err.count[7], 40) << "fallback normals compared";
+  if (pr == Precision::Double) {
+    EXPECT_GT(err.count[7], 40) << "fallback normals compared";
+  }
+}
+
+// surface_grid.comp with plain float stores (devices without shaderInt64) as well as the packed
+// ones the other tests use on lavapipe: an α-EB surface with every field and normals, a plain
+// family without normals, over several chunks.
+TEST_P(GpuSurfaceSweep, PlainStoresMatchCpu) {
+  const Precision pr = GetParam();
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  gpu::EvaluatorOptions opt;
+  opt.packedStores = false;
+  opt.maxPlaneBytes = 2048;  // one or two patches per chunk
+  gpu::SurfaceEvaluator ev(ctx_, pr, opt);
+  ErrorTracker err;
+  for (const SurfaceCase& sc : surfaceCases()) {
+    if (sc.name != "aeb6_CO" && sc.name != "xw5_OC") continue;
+    SCOPED_TRACE(sc.name);
+    const Surface cpu = makeSurface(sc);
+    gpu::GpuSurface state(ctx_, cpu, pr);
+    int chunks = 0;
+    compareSurfaceGrid(cpu, ev, state, 9, 8, err, pr, &chunks, sc.name == "aeb6_CO");
+    EXPECT_GT(chunks, 1);
+  }
+  EXPECT_GT(err.count[0], 0) << "cases compared";
+  std::printf("  plain stores %s: max error point %.3g du %.3g normal %.3g, max error/tol %.3g\n",
+              pr == Precision::Double ? "fp64" : "fp32", err.maxErr[0], err.maxErr[1], err.maxErr[6], err.maxRatio);
 }
 
 TEST_P(GpuSurfaceSweep, ChunkedJobMatches) {

@@ -380,12 +380,26 @@ void expectUnitNormals(const std::vector<TessVertex>& v) {
   }
 }
 
-class TessellatorPrecisionTest : public VulkanTest, public ::testing::WithParamInterface<Precision> {};
+// (precision, packed stores): the packed-store variants (uint64 pairs, where the device has
+// shaderInt64) and the plain vec4 stores every other device runs.
+struct TessConfig {
+  Precision precision;
+  bool packedStores;
+};
+
+class TessellatorPrecisionTest : public VulkanTest, public ::testing::WithParamInterface<TessConfig> {
+ protected:
+  gpu::TessellatorOptions options() const {
+    gpu::TessellatorOptions o;
+    o.packedStores = GetParam().packedStores;
+    return o;
+  }
+};
 
 // Uniform rates take the grid pass's uniform mode, mixed rates its per-patch records and the list
 // pass; both agree with the CPU in positions and interior normals, in fp32 and fp64.
 TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
-  const Precision pr = GetParam();
+  const Precision pr = GetParam().precision;
   if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
   const Surface cpu = Surface::create(testSurface());
   gpu::GpuSurface surf(ctx_, cpu, pr);
@@ -394,7 +408,7 @@ TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
     SCOPED_TRACE(mixed ? "mixed rates" : "uniform rates");
     const TessRates rates = mixed ? mixedRates(int(surf.patchesU()), int(surf.patchesV()), false, true)
                                   : gpu::SurfaceTessellator::uniformRates(surf, 7);
-    gpu::SurfaceTessellator tess(ctx_, surf, rates);
+    gpu::SurfaceTessellator tess(ctx_, surf, rates, options());
     vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) { tess.record(cmd); });
     const auto v = download(tess.vertexBuffer(), tess.vertexCount());
     const TessTopology& t = tess.topology();
@@ -415,7 +429,7 @@ TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
 // the fixed axis), and the u = 0 row of patch row 1 is a pole (Q_v = 0: the shifted rule). Whole
 // grid rows need the fallback, which the grid pass then redoes for every sample of the row.
 TEST_P(TessellatorPrecisionTest, DegenerateRowsTakeTheFallbackNormals) {
-  const Precision pr = GetParam();
+  const Precision pr = GetParam().precision;
   if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
   SurfaceModel m;
   m.family.construction = Construction::ExtendedBSpline;
@@ -427,15 +441,20 @@ TEST_P(TessellatorPrecisionTest, DegenerateRowsTakeTheFallbackNormals) {
       m.points.push_back(i < 4 ? glm::dvec3(0.0) : glm::dvec3(i, j, 0.3 * std::sin(1.3 * i + j)));
   const Surface cpu = Surface::create(m);
   gpu::GpuSurface surf(ctx_, cpu, pr);
-  gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 6));
+  gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 6), options());
   vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) { tess.record(cmd); });
   const auto v = download(tess.vertexBuffer(), tess.vertexCount());
   expectUnitNormals(v);
   EXPECT_GT(expectInteriorNormals(tess, cpu, v, pr), 20);
 }
 
-INSTANTIATE_TEST_SUITE_P(Precisions, TessellatorPrecisionTest, ::testing::Values(Precision::Float, Precision::Double),
-                         [](const auto& info) { return info.param == Precision::Double ? "fp64" : "fp32"; });
+INSTANTIATE_TEST_SUITE_P(Precisions, TessellatorPrecisionTest,
+                         ::testing::Values(TessConfig{Precision::Float, true}, TessConfig{Precision::Float, false},
+                                           TessConfig{Precision::Double, true}),
+                         [](const auto& info) {
+                           return std::string(info.param.precision == Precision::Double ? "fp64" : "fp32") +
+                                  (info.param.packedStores ? "_packed" : "_plain");
+                         });
 
 }  // namespace
 }  // namespace shapespline::test
