@@ -8,13 +8,25 @@
 // component per SIMD lane at a time, so fp32 output written as uint64 pairs of floats takes half
 // the stores (the same bytes in memory). FLOAT4 is the store type of a vec4 (vertex buffers,
 // always float); PLANE4 that of a REAL4 output plane (packed only when REAL is float).
+// A tessellator vertex (tess_layout.h: two vec4) is one 32-byte VERTEX store when packed (one
+// per-lane store loop instead of two).
 #if defined(PACKED_STORES) && PACKED_STORES
 #extension GL_ARB_gpu_shader_int64 : require
 #define FLOAT4 u64vec2
-#define TO_FLOAT4(v) u64vec2(packUint2x32(floatBitsToUint((v).xy)), packUint2x32(floatBitsToUint((v).zw)))
+#define PACK_FLOAT2(v) packUint2x32(floatBitsToUint(v))
+#define TO_FLOAT4(v) u64vec2(PACK_FLOAT2((v).xy), PACK_FLOAT2((v).zw))
+#define VERTEX u64vec4
+#define STORE_VERTEX(buf, k, a, b) \
+  buf[k] = u64vec4(PACK_FLOAT2((a).xy), PACK_FLOAT2((a).zw), PACK_FLOAT2((b).xy), PACK_FLOAT2((b).zw));
 #else
 #define FLOAT4 vec4
 #define TO_FLOAT4(v) (v)
+#define VERTEX vec4
+#define STORE_VERTEX(buf, k, a, b) \
+  {                                \
+    buf[2u * (k)] = (a);           \
+    buf[2u * (k) + 1u] = (b);      \
+  }
 #endif
 
 #if defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE

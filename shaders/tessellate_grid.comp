@@ -15,7 +15,7 @@
 layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
 layout(std430, binding = 3) readonly buffer PatchBuf { uvec4 patchRecords[]; };
 layout(std430, binding = 4) readonly buffer RowBuf { uvec2 rowItems[]; };
-layout(std430, binding = 5) writeonly buffer VertexOut { FLOAT4 outVerts[]; };
+layout(std430, binding = 5) writeonly buffer VertexOut { VERTEX outVerts[]; };
 layout(std430, binding = 6) buffer BoundaryBuf { REAL4 boundary[]; };
 
 layout(push_constant) uniform PushBlock { TessGridPush pc; };
@@ -42,8 +42,7 @@ uint perimeterSlot(uint b) { return gBoundaryFirst + tessPerimeterSlot(gN, gM, g
 
 void writeInterior(uint b, REAL3 p, REAL3 n, REAL tu, REAL tv) {
   uint k = interiorVertex(b);
-  outVerts[2u * k] = TO_FLOAT4(vec4(vec3(p), float(n.x)));
-  outVerts[2u * k + 1u] = TO_FLOAT4(vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv))));
+  STORE_VERTEX(outVerts, k, vec4(vec3(p), float(n.x)), vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv))))
 }
 
 void writePerimeter(uint b, REAL3 p, REAL3 n) {

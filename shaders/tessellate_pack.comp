@@ -12,10 +12,30 @@
 
 layout(std430, binding = 2) readonly buffer PointPlane { REAL points[]; };
 layout(std430, binding = 3) readonly buffer NormalPlane { REAL normals[]; };
+// Packed variant: 64-bit loads as well (llvmpipe gathers one scalar per lane at a time, so a vec2
+// read as one uint64 is one gather instead of two).
+#if defined(PACKED_STORES) && PACKED_STORES
+layout(std430, binding = 4) readonly buffer UVBuf { uint64_t uvs[]; };
+layout(std430, binding = 5) readonly buffer ExtraBuf { uint64_t extra[]; };
+vec2 uvOf(uint k) { return uintBitsToFloat(unpackUint2x32(uvs[k])); }
+uvec2 extraOf(uint k) { return unpackUint2x32(extra[k]); }
+#else
 layout(std430, binding = 4) readonly buffer UVBuf { vec2 uvs[]; };
 layout(std430, binding = 5) readonly buffer ExtraBuf { uvec2 extra[]; };
-layout(std430, binding = 6) writeonly buffer VertexBuf { FLOAT4 outVerts[]; };
+vec2 uvOf(uint k) { return uvs[k]; }
+uvec2 extraOf(uint k) { return extra[k]; }
+#endif
+layout(std430, binding = 6) writeonly buffer VertexBuf { VERTEX outVerts[]; };
+#if defined(PACKED_STORES) && PACKED_STORES && !(defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE)
+layout(std430, binding = 7) readonly buffer BoundaryBuf { u64vec2 boundary[]; };
+vec3 boundaryXYZ(uint i) {
+  u64vec2 w = boundary[i];
+  return vec3(uintBitsToFloat(unpackUint2x32(w.x)), uintBitsToFloat(unpackUint2x32(w.y).x));
+}
+#else
 layout(std430, binding = 7) readonly buffer BoundaryBuf { REAL4 boundary[]; };
+vec3 boundaryXYZ(uint i) { return vec3(boundary[i].xyz); }
+#endif
 layout(std430, binding = 8) readonly buffer SourceBuf { uint sources[]; };
 layout(push_constant) uniform PushBlock { TessPackPush pc; };
 layout(constant_id = 9) const uint LIST_SOURCES = 1;  // tess_layout.h kTessSpecListSources
@@ -27,7 +47,7 @@ vec3 sourceValue(uint source, uint field) {
     return field == 0u ? vec3(points[k], points[k + 1u], points[k + 2u])
                        : vec3(normals[k], normals[k + 1u], normals[k + 2u]);
   }
-  return vec3(boundary[2u * source + field].xyz);
+  return boundaryXYZ(2u * source + field);
 }
 
 void main() {
@@ -37,11 +57,10 @@ void main() {
   vec3 p = sourceValue(canonical, 0u);
   vec3 n0 = sourceValue(canonical, 1u);
   vec3 n = n0;
-  uvec2 e = extra[k];
+  uvec2 e = extraOf(k);
   for (uint s = 0u; s < e.y; ++s) n += sourceValue(sources[e.x + s], 1u);
   float len = length(n);
   // Opposite patch normals (a fold) cancel: keep the canonical one.
   n = len > 1e-6 * float(e.y + 1u) ? n / len : n0;
-  outVerts[2u * k] = TO_FLOAT4(vec4(p, n.x));
-  outVerts[2u * k + 1u] = TO_FLOAT4(vec4(n.yz, uvs[k]));
+  STORE_VERTEX(outVerts, k, vec4(p, n.x), vec4(n.yz, uvOf(k)))
 }
