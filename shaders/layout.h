@@ -60,7 +60,7 @@ SS_CONST(uint32_t, kSpecOutputMask, 5u);    // fieldBit(Field) bits (core/sample
 SS_CONST(uint32_t, kSpecAlphaEB, 6u);       // 1: α-EB construction, 0: plain local family
 SS_CONST(uint32_t, kSpecListMode, 7u);      // 1: SAMPLES list, 0: per-item grid from TABLE
 SS_CONST(uint32_t, kSpecSurface, 8u);       // alpha_eb_vertices: 1 surface net, 0 curve polygon
-SS_CONST(uint32_t, kSpecRunLength, 9u);     // surface_grid: samples per invocation (whole rows, <= 256)
+SS_CONST(uint32_t, kSpecRunLength, 9u);     // surface_grid / curve_grid: samples per invocation
 SS_CONST(uint32_t, kSpecUniformRates, 9u);  // tessellate_grid: 1 when every patch has the same rates
 
 // Field indices (must equal core/sample_grid.h Field).

@@ -218,23 +218,29 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
   std::vector<int> active;
   for (int f = 0; f < kFieldCount; ++f)
     if (fields & fieldBit(Field(f))) active.push_back(f);
-  // surface_grid.comp (RUN_LENGTH samples per invocation): rows of up to 256 samples go whole to one
-  // invocation, several consecutive rows of a patch per invocation while that stays within 256
-  // samples (the patch net is then gathered once per several rows); longer rows are split into the
-  // longest run of 64, 32, 16, 8 or 4 samples dividing samplesV.
-  uint32_t run = sv % 64 == 0 ? 64u : sv % 32 == 0 ? 32u : sv % 16 == 0 ? 16u : sv % 8 == 0 ? 8u : 4u;
-  if (sv <= 256) {
+  // surface_grid.comp / curve_grid.comp (RUN_LENGTH samples per invocation): rows (curves: spans)
+  // of up to 256 samples go whole to one invocation, several consecutive rows of a patch (spans)
+  // per invocation while that stays within 256 samples (the net is then gathered once per several
+  // rows); longer rows are split into the longest run of 64, 32, 16, 8 or 4 samples dividing them.
+  const bool gridKernel = job.kernel == Kernel::SurfaceGrid || job.kernel == Kernel::CurveGrid;
+  const uint32_t rowLength = job.surface ? sv : su;
+  uint32_t run = rowLength % 64 == 0   ? 64u
+                 : rowLength % 32 == 0 ? 32u
+                 : rowLength % 16 == 0 ? 16u
+                 : rowLength % 8 == 0  ? 8u
+                                       : 4u;
+  if (rowLength <= 256) {
     // Normal jobs pay one masked pass of the fallback-normal loop per invocation (surface_grid.comp):
-    // up to 1024 samples (16 rows) per invocation amortise it.
+    // up to 1024 samples (16 rows) per invocation amortise it. Curve spans need not divide anything.
     const bool normals = (fields & fieldBit(Field::Normal)) != 0;
     const uint32_t maxRows = normals ? 16u : 4u, maxRun = normals ? 1024u : 256u;
     uint32_t rows = 1;
-    while (rows < maxRows && su % (rows * 2) == 0 && sv * rows * 2 <= maxRun) rows *= 2;
-    run = sv * rows;
+    while (rows < maxRows && (!job.surface || su % (rows * 2) == 0) && rowLength * rows * 2 <= maxRun) rows *= 2;
+    run = rowLength * rows;
   }
   std::vector<uint32_t> spec = {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
                                 fields,           m.alphaEB() ? 1u : 0u, 0u, job.surface ? 1u : 0u};
-  if (job.kernel == Kernel::SurfaceGrid) spec.push_back(run);
+  if (gridKernel) spec.push_back(run);
   const auto& pipe = k.pipeline(job.kernel, spec);
   std::vector<vk::DescriptorSet> keep;  // vertex pass / tables
   const int slots = chunkCount > 1 ? ChunkRing::kSlots : 1;
@@ -276,8 +282,12 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     }
     pipe.bind(cmd, sets[slot].handle());
     pipe.push(cmd, pc);
-    const uint64_t perInvocation = job.kernel == Kernel::SurfaceGrid ? run : layout::kPointsPerInvocation;
-    k.dispatch(cmd, (uint64_t(n) * ppi + perInvocation - 1) / perInvocation);
+    // Grid kernels: whole rows (spans) per invocation, or runs that divide a row.
+    const uint64_t invocations = !gridKernel               ? (uint64_t(n) * ppi + layout::kPointsPerInvocation - 1) /
+                                                                 layout::kPointsPerInvocation
+                                 : run >= rowLength && !job.surface ? (uint64_t(n) + run / rowLength - 1) / (run / rowLength)
+                                                                    : (uint64_t(n) * ppi + run - 1) / run;
+    k.dispatch(cmd, invocations);
     ring.submit(slot);
   };
 
@@ -476,7 +486,10 @@ void CurveEvaluator::evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMa
     runGrid(*kernels_, *planes_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
     return;
   }
-  GridJob<layout::EvalPush> job{Kernel::CurveEval, false, false, kCurveFields, curvePush(curve), curve.spanCount()};
+  // curve_grid.comp when the samples come in whole groups of 4 (the packed stores of 4 points).
+  const bool fast = grid.samplesU % 4 == 0 && !options_.generalKernelsOnly;
+  GridJob<layout::EvalPush> job{fast ? Kernel::CurveGrid : Kernel::CurveEval, false, false, kCurveFields,
+                                curvePush(curve), curve.spanCount()};
   runGrid(*kernels_, *planes_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 

@@ -10,6 +10,10 @@
 #include "shaders/bspline_surface_eval_comp.h"
 #include "shaders/bspline_surface_eval_comp_f64.h"
 #include "shaders/curve_eval_comp.h"
+#include "shaders/curve_grid_comp.h"
+#include "shaders/curve_grid_comp_f64.h"
+#include "shaders/curve_grid_comp_f64_pk.h"
+#include "shaders/curve_grid_comp_pk.h"
 #include "shaders/curve_eval_comp_f64.h"
 #include "shaders/surface_eval_comp.h"
 #include "shaders/surface_eval_comp_f64.h"
@@ -94,6 +98,10 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<
     case Kernel::SurfaceGrid:
       code = {surface_grid_comp, surface_grid_comp_f64, surface_grid_comp_pk, surface_grid_comp_f64_pk};
       label = "surface_grid";
+      break;
+    case Kernel::CurveGrid:
+      code = {curve_grid_comp, curve_grid_comp_f64, curve_grid_comp_pk, curve_grid_comp_f64_pk};
+      label = "curve_grid";
       break;
     case Kernel::TessellateGrid:
       code = {tessellate_grid_comp, tessellate_grid_comp_f64, tessellate_grid_comp_pk, tessellate_grid_comp_f64_pk};

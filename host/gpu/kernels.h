@@ -22,7 +22,7 @@ namespace shapespline::gpu {
 class GpuSurface;
 
 enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
-                    SurfaceGrid, TessellateGrid };
+                    SurfaceGrid, CurveGrid, TessellateGrid };
 
 // Bytes of one REAL.
 inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }

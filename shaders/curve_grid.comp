@@ -1,0 +1,107 @@
+#version 450
+// Fast grid path of curve_eval.comp (MATH.md §1 with optional span knots, α-EB curves §4.2) when
+// the samples per span are a multiple of 4: one invocation = RUN_LENGTH consecutive samples of one
+// span (RUN_LENGTH < samplesU, dividing it) or RUN_LENGTH / samplesU whole consecutive spans. The
+// span's points, its α-EB vertex data and 1/h are gathered once per span instead of once per
+// sample, the basis comes by Horner from coefficients in registers (the evalSpanBasis code and
+// t = a/(S-1) of basis_table.comp, so the values are those of the table), and every loop bound is
+// a specialization constant. Mirrors host/core/curve.cpp evalLocalSpan / evalAlphaEBSpan in the
+// same operation order; see surface_grid.comp for the llvmpipe reasoning.
+// variant: packed-stores (fp32 output planes stored as uint64 pairs; common.glsl)
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#include "common.glsl"
+
+layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = 5) writeonly buffer OutPoint { PLANE4 outPoint[]; };
+layout(std430, binding = 6) writeonly buffer OutD1 { PLANE4 outD1[]; };
+layout(std430, binding = 7) writeonly buffer OutD2 { PLANE4 outD2[]; };
+
+layout(push_constant) uniform PushBlock { EvalPush pc; };
+
+const bool kWantPoint = (OUTPUT_MASK & (1u << kFieldPoint)) != 0u;
+const bool kWantD1 = (OUTPUT_MASK & (1u << kFieldD1)) != 0u;
+const bool kWantD2 = (OUTPUT_MASK & (1u << kFieldD2)) != 0u;
+const bool kAEB = ALPHA_EB != 0u;
+layout(constant_id = 9) const uint RUN_LENGTH = 4;  // a multiple of 4 (evaluator.cpp picks it)
+const uint MU = BASIS_COUNT_U;
+const uint DU = POLY_DEGREE_U;
+
+void main() {
+  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint spansPer = max(1u, RUN_LENGTH / pc.samplesU);  // spans of this invocation
+  uint runLen = min(RUN_LENGTH, pc.samplesU);          // samples of each of its spans
+  uint runs = pc.samplesU / runLen;
+  uint block = q / runs;
+  uint item0 = block * spansPer;
+  if (item0 >= pc.itemCount) return;
+  uint aRun = (q - block * runs) * runLen;
+  uint spanCount = min(spansPer, pc.itemCount - item0);
+
+  REAL cu[MU][DU + 1u];
+  [[unroll]] for (uint r = 0; r < MU; ++r)
+    [[unroll]] for (uint d = 0; d <= DU; ++d) cu[r][d] = params[kParamCoefU + r * kCoefStride + d];
+  REAL den = REAL(pc.samplesU - 1u);
+
+  for (uint k = 0; k < spanCount; ++k) {
+    uint item = item0 + k;
+    uint span = pc.firstItem + item + pc.firstSpanU;
+    uint first = span + pc.netOffsetU;
+    REAL3 P[MU];
+    [[unroll]] for (uint r = 0; r < MU; ++r) P[r] = net[first + r].xyz;
+    // α-EB: the span's vertices j0 = span, j1 = span + 1 (mod the vertex count: closed curves);
+    // plain curves: 1/h of the span (span knots) or 1.
+    REAL3 v0 = REAL3(0), v1 = REAL3(0);
+    REAL a0 = REAL(0), a1 = REAL(0), invH = REAL(1);
+    if (kAEB) {
+      uint j0 = span % pc.rows, j1 = (span + 1u) % pc.rows;
+      v0 = verts[j0].xyz;
+      v1 = verts[j1].xyz;
+      a0 = params[pc.alphaOffset + j0];
+      a1 = params[pc.alphaOffset + j1];
+    } else if (pc.invHOffset != kNoOffset) {
+      invH = params[pc.invHOffset + span - pc.firstSpanU];
+    }
+    REAL da = a1 - a0;
+    REAL3 dv = v1 - v0;
+
+    for (uint g = 0; g < runLen / 4u; ++g) {
+      uint a0s = aRun + 4u * g;
+      REAL3 p[4], d1[4], d2[4];
+      [[unroll]] for (uint e = 0; e < 4u; ++e) {
+        REAL t = pc.samplesU > 1u ? REAL(a0s + e) / den : REAL(0);
+        REAL3 c0 = REAL3(0), c1 = REAL3(0), c2 = REAL3(0);
+        [[unroll]] for (uint r = 0; r < MU; ++r) {
+          // evalSpanBasis: p, p', p''/2 by simultaneous Horner.
+          REAL w0 = cu[r][DU], dp = REAL(0), ddp = REAL(0);
+          [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) {
+            ddp = ddp * t + dp;
+            dp = dp * t + w0;
+            w0 = w0 * t + cu[r][d];
+          }
+          c0 += w0 * P[r];
+          c1 += dp * P[r];
+          c2 += (REAL(2) * ddp) * P[r];
+        }
+        if (kAEB) {
+          // evalAlphaEBSpan (the base span with 1/h = 1).
+          REAL3 s = singularBlend(t);
+          REAL a = a0 + s.x * da, a_1 = s.y * da, a_2 = s.z * da;
+          REAL3 l = v0 + s.x * dv, l1 = s.y * dv, l2 = s.z * dv;
+          REAL3 m = l - c0, m1 = l1 - c1, m2 = l2 - c2;
+          p[e] = c0 + a * m;
+          d1[e] = c1 + a * m1 + a_1 * m;
+          d2[e] = c2 + a * m2 + REAL(2) * a_1 * m1 + a_2 * m;
+        } else {
+          p[e] = c0;
+          d1[e] = c1 * invH;
+          d2[e] = c2 * (invH * invH);
+        }
+      }
+      uint o = (item * pc.samplesU + a0s) >> 2;
+      if (kWantPoint) STORE_XYZ4_PLANE(outPoint, o, p[0], p[1], p[2], p[3])
+      if (kWantD1) STORE_XYZ4_PLANE(outD1, o, d1[0], d1[1], d1[2], d1[3])
+      if (kWantD2) STORE_XYZ4_PLANE(outD2, o, d2[0], d2[1], d2[2], d2[3])
+    }
+  }
+}
