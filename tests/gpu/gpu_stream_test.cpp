@@ -100,6 +100,43 @@ TEST_P(GpuStream, ManyChunksAreByteIdenticalToOneChunk) {
   EXPECT_EQ(std::memcmp(slice.bytes[0].data(), one.bytes[0].data() + 5 * itemBytes, slice.bytes[0].size()), 0);
 }
 
+// The evaluator keeps its readback planes from one job to the next (gpu/plane_pool.h): a repeated
+// job gets the same planes and the same bytes; a job whose single item exceeds the plane budget
+// still runs (its planes are dropped afterwards), and the budget-sized job after it is unchanged.
+TEST_P(GpuStream, SuccessiveJobsReuseTheirPlanes) {
+  const Precision pr = GetParam();
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  const size_t rs = pr == Precision::Double ? 8 : 4;
+  const Surface cpu = alphaEBSurface();
+  gpu::GpuSurface state(ctx_, cpu, pr);
+  GridSpec grid;
+  grid.samplesU = 9;
+  grid.samplesV = 8;
+  gpu::EvaluatorOptions small;
+  small.maxPlaneBytes = 3 * grid.pointsPerItem() * 3 * rs + 100;  // 3 patches per chunk
+  gpu::SurfaceEvaluator ev(ctx_, pr, small);
+  Collected first, second, afterLarge;
+  ev.evaluateGrid(state, grid, kAllSurface, collector(first, rs));
+  ev.evaluateGrid(state, grid, kAllSurface, collector(second, rs));
+  EXPECT_GT(first.chunks, 2u);
+  EXPECT_EQ(first.planes, second.planes) << "the second job allocated new planes";
+  GridSpec large;
+  large.samplesU = large.samplesV = 64;  // one patch's plane is 4096 points, over the budget
+  large.itemCount = 2;
+  Collected big;
+  ev.evaluateGrid(state, large, fieldBit(Field::Point), collector(big, rs));
+  EXPECT_EQ(big.bytes[0].size(), 2 * large.pointsPerItem() * 3 * rs);
+  ev.evaluateGrid(state, grid, kAllSurface, collector(afterLarge, rs));
+  for (int f = 0; f < kFieldCount; ++f) {
+    ASSERT_EQ(first.bytes[f].size(), second.bytes[f].size()) << "field " << f;
+    ASSERT_EQ(first.bytes[f].size(), afterLarge.bytes[f].size()) << "field " << f;
+    EXPECT_TRUE(first.bytes[f].empty() ||
+                (std::memcmp(first.bytes[f].data(), second.bytes[f].data(), first.bytes[f].size()) == 0 &&
+                 std::memcmp(first.bytes[f].data(), afterLarge.bytes[f].data(), first.bytes[f].size()) == 0))
+        << "field " << f << " differs between successive jobs";
+  }
+}
+
 TEST_P(GpuStream, ThrowingConsumerLeavesNothingInFlight) {
   const Precision pr = GetParam();
   if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
