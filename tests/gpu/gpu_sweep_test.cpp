@@ -335,7 +335,9 @@ TEST_P(GpuSurfaceSweep, GridMatchesCpu) {
     // Without normals and with samplesV % 4 == 0, plain families take surface_grid.comp (a few
     // cases only: every family/degree is one more pipeline to compile).
     if (sc.name == "xw5_CO" || sc.name == "ubp6_OC" || sc.name == "bspline_3x5")
-      compareSurfaceGrid(cpu, ev, state, 6, 8, err, pr, nullptr, false);
+      compareSurfaceGrid(cpu, ev, state, 6, 8, err, pr, nullptr, false);  // groups of 8 samples
+    if (sc.name == "xw5_CO" || sc.name == "aeb4_OO")
+      compareSurfaceGrid(cpu, ev, state, 3, 12, err, pr);  // 12 per row: groups of 4, with normals
   }
   std::printf("  surface sweep %s: max error point %.3g du %.3g dv %.3g duu %.3g duv %.3g dvv %.3g normal %.3g "
               "(fallback normals %.3g), max error/tol %.3g\n",
