@@ -13,9 +13,9 @@
 //
 // Tuned for llvmpipe/lavapipe, where every SSBO access of a SIMD vector is a per-lane loop (gather /
 // scatter with a bounds check per lane), so the number of load and store *components* is the cost:
-//  - the v basis is evaluated in registers per sample (evalSpanBasis Horner, the same code and t =
-//    b/(Sv-1) as basis_table.comp, so the values are identical) from the v coefficients loaded once
-//    per invocation, instead of 2-3 m_v TABLE loads per point;
+//  - the v direction is evaluated in registers per sample, instead of 2-3 m_v TABLE loads per
+//    point: each row's u contraction is turned into polynomials in v (the power basis of the v
+//    basis coefficients, loaded once per invocation), one Horner pass per sample;
 //  - likewise the u basis (evalSpanBasis on t = a/(Su-1), as basis_table.comp): the coefficient
 //    loads have constant addresses, which llvmpipe turns into one scalar load instead of a gather;
 //  - RUN_LENGTH may exceed samplesV: one invocation then covers RUN_LENGTH / samplesV consecutive
@@ -134,29 +134,45 @@ void main() {
         if (kWantDuu) T2[s] += w2 * P[r][s];
       }
     }
+    // The row in the power basis of v: W_k[d] = Σ_s c_s,d T_k[s] (B_s(v) = Σ_d c_s,d v^d), so a
+    // sample is one Horner pass over d instead of every v basis function and a contraction
+    // (llvmpipe fuses no multiply-adds: 54 instead of 120 operations for P, Q_u, Q_v of a bicubic).
+    REAL3 W0[DV + 1u], W1[DV + 1u], W2[DV + 1u];
+    [[unroll]] for (uint d = 0; d <= DV; ++d) {
+      W0[d] = REAL3(0);
+      W1[d] = REAL3(0);
+      W2[d] = REAL3(0);
+      [[unroll]] for (uint s = 0; s < MV; ++s) {
+        W0[d] += cv[s][d] * T0[s];
+        if (kNeedT1) W1[d] += cv[s][d] * T1[s];
+        if (kWantDuu) W2[d] += cv[s][d] * T2[s];
+      }
+    }
 
     for (uint g = 0; g < runLen / 4u; ++g) {
       uint b0 = bRun + 4u * g;
       REAL3 p[4], u[4], v[4], uu[4], uv[4], vv[4], nn[4];
       [[unroll]] for (uint e = 0; e < 4u; ++e) {
-        // evalSpanBasis for v_b (basis_table.comp: t = b/(Sv-1)): p, p', p''/2 by Horner.
+        // v_b = b/(Sv-1) (basis_table.comp's t); value, first and half second derivative of the
+        // row polynomials by simultaneous Horner.
         REAL t = pc.samplesV > 1u ? REAL(b0 + e) / denV : REAL(0);
-        p[e] = REAL3(0); u[e] = REAL3(0); v[e] = REAL3(0); uu[e] = REAL3(0); uv[e] = REAL3(0); vv[e] = REAL3(0);
-        [[unroll]] for (uint s = 0; s < MV; ++s) {
-          REAL c0 = cv[s][DV], dp = REAL(0), ddp = REAL(0);
-          [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
-            ddp = ddp * t + dp;
-            dp = dp * t + c0;
-            c0 = c0 * t + cv[s][d];
-          }
-          REAL c1 = dp, c2 = REAL(2) * ddp;
-          p[e] += c0 * T0[s];
-          if (kNeedT1) u[e] += c0 * T1[s];
-          if (kNeedD1V) v[e] += c1 * T0[s];
-          if (kWantDuu) uu[e] += c0 * T2[s];
-          if (kWantDuv) uv[e] += c1 * T1[s];
-          if (kWantDvv) vv[e] += c2 * T0[s];
+        REAL3 c0 = W0[DV], c1 = REAL3(0), c2 = REAL3(0);  // of W0: C, C_v, C_vv / 2
+        REAL3 e0 = W1[DV], e1 = REAL3(0);                  // of W1: C_u, C_uv
+        REAL3 f0 = W2[DV];                                  // of W2: C_uu
+        [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
+          if (kWantDvv) c2 = c2 * t + c1;
+          if (kNeedD1V) c1 = c1 * t + c0;
+          c0 = c0 * t + W0[d];
+          if (kWantDuv) e1 = e1 * t + e0;
+          if (kNeedT1) e0 = e0 * t + W1[d];
+          if (kWantDuu) f0 = f0 * t + W2[d];
         }
+        p[e] = c0;
+        u[e] = kNeedT1 ? e0 : REAL3(0);
+        v[e] = kNeedD1V ? c1 : REAL3(0);
+        uu[e] = kWantDuu ? f0 : REAL3(0);
+        uv[e] = kWantDuv ? e1 : REAL3(0);
+        vv[e] = kWantDvv ? REAL(2) * c2 : REAL3(0);
         if (kAEB) {
           // MATH.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q.
           REAL3 sv = singularBlend(t);
