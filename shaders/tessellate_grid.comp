@@ -16,7 +16,18 @@ layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
 layout(std430, binding = 3) readonly buffer PatchBuf { uvec4 patchRecords[]; };
 layout(std430, binding = 4) readonly buffer RowBuf { uvec2 rowItems[]; };
 layout(std430, binding = 5) writeonly buffer VertexOut { VERTEX outVerts[]; };
-layout(std430, binding = 6) buffer BoundaryBuf { REAL4 boundary[]; };
+// A perimeter sample is (p, 0, n, 0): in the packed fp32 variant one 32-byte store, like a vertex.
+#if defined(PACKED_STORES) && PACKED_STORES && !(defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE)
+layout(std430, binding = 6) writeonly buffer BoundaryBuf { VERTEX boundary[]; };
+#define STORE_PERIMETER(s, p, n) STORE_VERTEX(boundary, s, vec4(p, 0), vec4(n, 0))
+#else
+layout(std430, binding = 6) writeonly buffer BoundaryBuf { REAL4 boundary[]; };
+#define STORE_PERIMETER(s, p, n)        \
+  {                                     \
+    boundary[2u * (s)] = REAL4(p, 0);   \
+    boundary[2u * (s) + 1u] = REAL4(n, 0); \
+  }
+#endif
 
 layout(push_constant) uniform PushBlock { TessGridPush pc; };
 
@@ -47,8 +58,7 @@ void writeInterior(uint b, REAL3 p, REAL3 n, REAL tu, REAL tv) {
 
 void writePerimeter(uint b, REAL3 p, REAL3 n) {
   uint s = perimeterSlot(b);
-  boundary[2u * s] = REAL4(p, 0);
-  boundary[2u * s + 1u] = REAL4(n, 0);
+  STORE_PERIMETER(s, p, n)
 }
 
 
