@@ -62,14 +62,21 @@ ChunkConsumer collector(Collected& out, size_t realBytes) {
   };
 }
 
-class GpuStream : public VulkanTest, public ::testing::WithParamInterface<Precision> {};
+// Parameter: the precision (skipped for fp64 without shaderFloat64).
+class GpuStream : public VulkanTest, public ::testing::WithParamInterface<Precision> {
+ protected:
+  void SetUp() override {
+    VulkanTest::SetUp();
+    if (IsSkipped()) return;
+    if (GetParam() == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  }
+  size_t realBytes() const { return GetParam() == Precision::Double ? 8 : 4; }
+};
 
 TEST_P(GpuStream, ManyChunksAreByteIdenticalToOneChunk) {
   const Precision pr = GetParam();
-  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
-  const size_t rs = pr == Precision::Double ? 8 : 4;
-  const Surface cpu = alphaEBSurface();
-  gpu::GpuSurface state(ctx_, cpu, pr);
+  const size_t rs = realBytes();
+  gpu::GpuSurface state(ctx_, alphaEBSurface(), pr);
   GridSpec grid;
   grid.samplesU = 13;
   grid.samplesV = 6;
@@ -105,13 +112,9 @@ TEST_P(GpuStream, ManyChunksAreByteIdenticalToOneChunk) {
 // still runs (its planes are dropped afterwards), and the budget-sized job after it is unchanged.
 TEST_P(GpuStream, SuccessiveJobsReuseTheirPlanes) {
   const Precision pr = GetParam();
-  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
-  const size_t rs = pr == Precision::Double ? 8 : 4;
-  const Surface cpu = alphaEBSurface();
-  gpu::GpuSurface state(ctx_, cpu, pr);
-  GridSpec grid;
-  grid.samplesU = 9;
-  grid.samplesV = 8;
+  const size_t rs = realBytes();
+  gpu::GpuSurface state(ctx_, alphaEBSurface(), pr);
+  const GridSpec grid{9, 8, 0, 0};
   gpu::EvaluatorOptions small;
   small.maxPlaneBytes = 3 * grid.pointsPerItem() * 3 * rs + 100;  // 3 patches per chunk
   gpu::SurfaceEvaluator ev(ctx_, pr, small);
@@ -139,9 +142,7 @@ TEST_P(GpuStream, SuccessiveJobsReuseTheirPlanes) {
 
 TEST_P(GpuStream, ThrowingConsumerLeavesNothingInFlight) {
   const Precision pr = GetParam();
-  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
-  const Surface cpu = alphaEBSurface();
-  gpu::GpuSurface state(ctx_, cpu, pr);
+  gpu::GpuSurface state(ctx_, alphaEBSurface(), pr);
   gpu::EvaluatorOptions small;
   small.maxPlaneBytes = 4096;
   gpu::SurfaceEvaluator ev(ctx_, pr, small);
@@ -156,7 +157,7 @@ TEST_P(GpuStream, ThrowingConsumerLeavesNothingInFlight) {
   EXPECT_EQ(calls, 2);
   // The evaluator and model stay usable.
   Collected again;
-  ev.evaluateGrid(state, grid, fieldBit(Field::Point), collector(again, pr == Precision::Double ? 8 : 4));
+  ev.evaluateGrid(state, grid, fieldBit(Field::Point), collector(again, realBytes()));
   EXPECT_GT(again.chunks, 2u);
 }
 
