@@ -285,12 +285,10 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     }
     pipe.bind(cmd, sets[slot].handle());
     pipe.push(cmd, pc);
-    // Grid kernels: whole rows (spans) per invocation, or runs that divide a row.
-    const uint64_t invocations = !gridKernel               ? (uint64_t(n) * ppi + layout::kPointsPerInvocation - 1) /
-                                                                 layout::kPointsPerInvocation
-                                 : run >= rowLength && !job.surface ? (uint64_t(n) + run / rowLength - 1) / (run / rowLength)
-                                                                    : (uint64_t(n) * ppi + run - 1) / run;
-    k.dispatch(cmd, invocations);
+    // Grid kernels: `run` samples per invocation (whole rows or spans, or runs dividing a row; the
+    // last invocation of a curve chunk may hold fewer spans).
+    const uint64_t perInvocation = gridKernel ? run : layout::kPointsPerInvocation;
+    k.dispatch(cmd, (uint64_t(n) * ppi + perInvocation - 1) / perInvocation);
     ring.submit(slot);
   };
 
