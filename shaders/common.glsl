@@ -6,10 +6,9 @@
 
 // PACKED_STORES=1 (the `_pk` variants, need shaderInt64): llvmpipe stores an SSBO value one scalar
 // component per SIMD lane at a time, so fp32 output written as uint64 pairs of floats takes half
-// the stores (the same bytes in memory). FLOAT4 is the store type of a vec4 (vertex buffers,
-// always float); PLANE4 that of a REAL4 output plane (packed only when REAL is float).
-// A tessellator vertex (tess_layout.h: two vec4) is one 32-byte VERTEX store when packed (one
-// per-lane store loop instead of two).
+// the stores (the same bytes in memory). FLOAT4 is the store type of a vec4; PLANE4 that of a REAL4
+// output plane (FLOAT4 when REAL is float). VERTEX: a tessellator vertex (tess_layout.h: two vec4),
+// one 32-byte store when packed (one per-lane store loop instead of two).
 #if defined(PACKED_STORES) && PACKED_STORES
 #extension GL_ARB_gpu_shader_int64 : require
 #define FLOAT4 u64vec2
