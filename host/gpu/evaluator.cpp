@@ -457,14 +457,7 @@ layout::EvalPush surfacePush(const GpuSurface& s) {
   p.itemsV = uint32_t(s.patchesV());
   p.samplesU = 1;
   p.samplesV = 1;
-  p.firstSpanU = uint32_t(s.patches().u.first);
-  p.firstSpanV = uint32_t(s.patches().v.first);
-  p.netCols = s.netCols();
-  p.netOffsetU = s.netOffsetU();
-  p.netOffsetV = s.netOffsetV();
-  p.rows = s.vertexRows();
-  p.cols = s.vertexCols();
-  p.alphaOffset = s.alphaOffset();
+  setSurfaceNetFields(p, s);
   p.invHOffset = layout::kNoOffset;
   return p;
 }

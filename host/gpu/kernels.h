@@ -4,6 +4,7 @@
 // is compiled once per evaluator, and the helpers every evaluator shares (REAL conversion, dispatch
 // sizing, a dummy buffer for bindings a variant does not use).
 #include "core/sample_grid.h"
+#include "gpu/gpu_model.h"
 
 #include <glm/vec3.hpp>
 #include "vk/buffer.h"
@@ -18,8 +19,6 @@
 #include <vector>
 
 namespace shapespline::gpu {
-
-class GpuSurface;
 
 enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
                     SurfaceGrid, CurveGrid, TessellateGrid };
@@ -72,6 +71,20 @@ class KernelSet {
   std::map<std::pair<int, std::vector<uint32_t>>, vk::ComputePipeline> pipelines_;
   vk::Buffer dummy_;
 };
+
+// The net, patch-range and α-EB fields that layout::EvalPush and tess_layout::TessGridPush share
+// (same names), from a surface.
+template <class Push>
+void setSurfaceNetFields(Push& p, const GpuSurface& s) {
+  p.firstSpanU = uint32_t(s.patches().u.first);
+  p.firstSpanV = uint32_t(s.patches().v.first);
+  p.netCols = s.netCols();
+  p.netOffsetU = s.netOffsetU();
+  p.netOffsetV = s.netOffsetV();
+  p.rows = s.vertexRows();
+  p.cols = s.vertexCols();
+  p.alphaOffset = s.alphaOffset();
+}
 
 // EvalPush fields of a surface's net, patch range and α-EB data (items and samples left to the caller).
 layout::EvalPush surfacePush(const GpuSurface& s);

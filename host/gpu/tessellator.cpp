@@ -233,14 +233,7 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   gridPush_.invocations = uint32_t(plan.rows.size() / 2);
   gridPush_.rowsPerInvocation = rowsPerInvocation(plan.patches[0] - 1, uint32_t(plan.patches.size() / 4));
   gridPush_.patchesV = uint32_t(surface_.patchesV());
-  gridPush_.firstSpanU = uint32_t(surface_.patches().u.first);
-  gridPush_.firstSpanV = uint32_t(surface_.patches().v.first);
-  gridPush_.netCols = surface_.netCols();
-  gridPush_.netOffsetU = surface_.netOffsetU();
-  gridPush_.netOffsetV = surface_.netOffsetV();
-  gridPush_.rows = surface_.vertexRows();
-  gridPush_.cols = surface_.vertexCols();
-  gridPush_.alphaOffset = surface_.alphaOffset();
+  setSurfaceNetFields(gridPush_, surface_);
   gridPush_.rateN = plan.patches[0];
   gridPush_.rateM = plan.patches[1];
   gridPush_.interiorFirst = plan.patches[2];
