@@ -27,6 +27,7 @@
 #include "core/surface.h"
 #include "gpu/evaluator.h"
 #include "support/tolerances.h"
+#include "support/degenerate_nets.h"
 #include "support/vk_fixture.h"
 
 namespace shapespline::test {
@@ -345,22 +346,13 @@ TEST_P(GpuSurfaceSweep, GridMatchesCpu) {
               err.maxErr[4], err.maxErr[5], err.maxErr[6], err.maxErr[7], err.maxRatio);
 }
 
-// The first four net rows at the origin: patch row 0 is a point (fixed-axis normals everywhere)
-// and the u = 0 row of patch row 1 a pole (shifted-rule normals). Every sample of those grid rows
-// needs the fallback, more than surface_grid.comp remembers per invocation, so it redoes whole
+// collapsedRowsNet: patch row 0 is a point (fixed-axis normals everywhere) and the u = 0 row of
+// patch row 1 a pole (shifted-rule normals). Every sample of those grid rows needs the fallback, more than surface_grid.comp remembers per invocation, so it redoes whole
 // invocations; fp64 matches the CPU's fallback normals within 1e-6, fp32 stays finite and unit.
 TEST_P(GpuSurfaceSweep, DegenerateRowsRedoWholeInvocations) {
   const Precision pr = GetParam();
   if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
-  SurfaceModel m;
-  m.family.construction = Construction::ExtendedBSpline;
-  m.family.degree = 4;
-  m.rows = 7;
-  m.cols = 5;
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j)
-      m.points.push_back(i < 4 ? glm::dvec3(0.0) : glm::dvec3(i, j, 0.3 * std::sin(1.3 * i + j)));
-  const Surface cpu = Surface::create(m);
+  const Surface cpu = Surface::create(collapsedRowsNet());
   gpu::SurfaceEvaluator ev(ctx_, pr);
   gpu::GpuSurface state(ctx_, cpu, pr);
   ErrorTracker err;

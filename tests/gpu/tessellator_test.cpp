@@ -22,6 +22,7 @@
 #include "core/surface.h"
 #include "gpu/tessellator.h"
 #include "support/tolerances.h"
+#include "support/degenerate_nets.h"
 #include "support/vk_fixture.h"
 #include "tess_layout.h"
 #include "vk/submit.h"
@@ -425,21 +426,12 @@ TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
   }
 }
 
-// A net whose first four rows sit at the origin: patch row 0 collapses to a point (every normal is
-// the fixed axis), and the u = 0 row of patch row 1 is a pole (Q_v = 0: the shifted rule). Whole
-// grid rows need the fallback, which the grid pass then redoes for every sample of the row.
+// collapsedRowsNet (a point patch row and a pole row): whole grid rows need the fallback normal,
+// which the grid pass then redoes for every sample of the row.
 TEST_P(TessellatorPrecisionTest, DegenerateRowsTakeTheFallbackNormals) {
   const Precision pr = GetParam().precision;
   if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
-  SurfaceModel m;
-  m.family.construction = Construction::ExtendedBSpline;
-  m.family.degree = 4;
-  m.rows = 7;
-  m.cols = 5;
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j)
-      m.points.push_back(i < 4 ? glm::dvec3(0.0) : glm::dvec3(i, j, 0.3 * std::sin(1.3 * i + j)));
-  const Surface cpu = Surface::create(m);
+  const Surface cpu = Surface::create(collapsedRowsNet());
   gpu::GpuSurface surf(ctx_, cpu, pr);
   gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 6), options());
   vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) { tess.record(cmd); });
