@@ -38,7 +38,7 @@ failed=()
 for exe in core_tests io_tests gpu_tests cli_tests; do
   [[ -x build-asan/tests/$exe ]] || continue
   echo "sanitize: $exe" >&2
-  # From the repository root, like ctest (../shared/golden).
+  # From the repository root, like ctest.
   build-asan/tests/$exe --gtest_brief=1 --gtest_filter="-$excluded" || failed+=("$exe")
 done
 ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -R '^fuzz/' || failed+=("fuzz replay")

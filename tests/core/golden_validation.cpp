@@ -1,4 +1,4 @@
-// Golden family `validation` (shared/golden/README.md): each case's model must be accepted or rejected
+// Golden family `validation` (tests/data/golden/README.md): each case's model must be accepted or rejected
 // as `expected.valid` says. A rejection must be a ModelError naming a field (the message mentions it).
 #include <cstdio>
 #include <string>

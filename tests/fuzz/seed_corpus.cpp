@@ -1,6 +1,6 @@
 // Writes the fuzz seed corpus into a folder: every examples/models/*.json, the `model` of every
-// golden case (../shared/golden or $SHAPESPLINE_GOLDEN_DIR, read in place, never copied into the
-// repository) and every entry of the bad-input catalog (tests/support/bad_models.h).
+// golden case (tests/data/golden or $SHAPESPLINE_GOLDEN_DIR, read in place) and every entry of the
+// bad-input catalog (tests/support/bad_models.h).
 // Usage: model_fuzz_seeds OUT_DIR. Files are named by origin so that a finding can be traced back.
 #include <cctype>
 #include <cstdio>

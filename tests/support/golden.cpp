@@ -16,7 +16,7 @@ std::filesystem::path goldenDir() {
     // Relative paths are relative to the repository root, like the default.
     return p.is_absolute() ? p : std::filesystem::path(SHAPESPLINE_SOURCE_DIR) / p;
   }
-  return std::filesystem::path(SHAPESPLINE_SOURCE_DIR) / ".." / "shared" / "golden";
+  return std::filesystem::path(SHAPESPLINE_SOURCE_DIR) / "tests" / "data" / "golden";
 }
 
 std::vector<GoldenFile> loadGoldenFiles() {

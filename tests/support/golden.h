@@ -1,5 +1,5 @@
 #pragma once
-// Golden-vector harness: loads ../shared/golden (or $SHAPESPLINE_GOLDEN_DIR), dispatches each case to
+// Golden-vector harness: loads tests/data/golden (or $SHAPESPLINE_GOLDEN_DIR), dispatches each case to
 // the checker registered for its family, and makes sure nothing is skipped silently: a case of an
 // unknown family fails, and so does a case whose checker did not compare every `expected` field.
 #include <glm/vec3.hpp>
