@@ -1,0 +1,66 @@
+#include "io/output_set.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <system_error>
+#include <vector>
+
+namespace shapespline::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The identity of an output's directory entry: its folder with symlinks and `..` resolved, and
+// its file name. (Two names of one inode are different entries: each rename replaces its own.)
+fs::path entryKey(const fs::path& path) {
+  std::error_code ec;
+  fs::path folder = path.parent_path();
+  if (folder.empty()) folder = ".";
+  fs::path resolved = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+  if (ec) resolved = fs::absolute(folder, ec).lexically_normal();
+  return resolved / path.filename();
+}
+
+}  // namespace
+
+AtomicFile& OutputSet::add(const fs::path& path, const std::string& option) {
+  const fs::path key = entryKey(path);
+  for (size_t i = 0; i < keys_.size(); ++i) {
+    if (keys_[i] == key) {
+      throw OutputPathError(option, path.string(),
+                            "is the same file as " + files_[i].option() + " ('" + files_[i].target().string() +
+                                "'); give each output its own path");
+    }
+  }
+  files_.emplace_back(path, option);
+  keys_.push_back(key);
+  return files_.back();
+}
+
+void OutputSet::commit() {
+  std::vector<AtomicFile*> files;
+  for (auto& f : files_) files.push_back(&f);
+  commitFiles(files.data(), files.size());
+}
+
+void OutputSet::discard() noexcept {
+  for (auto& f : files_) f.discard();
+}
+
+void writeStdout(std::string_view text) {
+  if (!text.empty() && std::fwrite(text.data(), 1, text.size(), stdout) != text.size()) {
+    const int err = errno;
+    throw OutputWriteError("stdout", "", "write failed: " + std::generic_category().message(err));
+  }
+}
+
+void flushStdout() {
+  errno = 0;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    const int err = errno ? errno : EIO;
+    throw OutputWriteError("stdout", "", "write failed: " + std::generic_category().message(err));
+  }
+}
+
+}  // namespace shapespline::io
