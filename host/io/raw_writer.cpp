@@ -1,10 +1,10 @@
 // Raw little-endian float32/float64 records plus a JSON sidecar. One record per point, points in
 // item order, then a (u sample), then b (v sample); a record is every requested field in the
 // sidecar's "fields" order, 3 components each (2-D curves carry z = 0). Shards of one job
-// concatenate byte for byte into the unsharded file (their sidecars give each item range).
+// concatenate byte for byte into the unsharded file (their sidecars give each item range, and list
+// the spans of their own items only).
 #include "io/sample_writer.h"
-
-#include <nlohmann/json.hpp>
+#include "io/shard_info.h"
 
 #include <bit>
 #include <cstring>
@@ -48,37 +48,11 @@ class RawWriter final : public SampleWriter {
     }
   }
 
+  // The sidecar describes this file's own items only (io/shard_info.h), so its size follows the
+  // shard, not the model; `merge` rebuilds the unsharded job's sidecar from the shards'.
   void finish() override {
-    nlohmann::ordered_json j;
-    j["format"] = "shapespline-raw";
-    j["format_version"] = 1;
-    j["data_file"] = out_.target().filename().string();
-    j["dtype"] = precision_ == Precision::Double ? "float64" : "float32";
-    j["byte_order"] = "little";
-    j["kind"] = layout_.surface ? "surface" : "curve";
-    j["item"] = layout_.surface ? "patch" : "span";
-    nlohmann::ordered_json names = nlohmann::ordered_json::array();
-    for (Field f : fields_) names.push_back(fieldName(f));
-    j["fields"] = names;
-    j["components"] = 3;
-    j["values_per_record"] = fields_.size() * 3;
-    j["order"] = layout_.surface ? "item, then u sample a, then v sample b; record = fields in order, xyz each"
-                                 : "item (span), then sample s; record = fields in order, xyz each";
-    j["grid"] = {{"samples_u", layout_.samplesU}, {"samples_v", layout_.samplesV},
-                 {"points_per_item", layout_.pointsPerItem()},
-                 {"local_parameters", "s/(S-1), both ends included"}};
-    j["counts"] = {{"items", layout_.itemCount}, {"points", layout_.pointCount()},
-                   {"values", layout_.pointCount() * fields_.size() * 3},
-                   {"bytes", layout_.pointCount() * fields_.size() * 3 * (precision_ == Precision::Double ? 8 : 4)}};
-    j["items"] = {{"first", layout_.firstItem}, {"count", layout_.itemCount}, {"total", layout_.totalItems},
-                  {"items_v", layout_.itemsV}, {"spans_u", layout_.spanU}, {"spans_v", layout_.spanV},
-                  {"mapping", layout_.surface ? "item k (0-based over the whole model) is patch (spans_u[k / items_v], spans_v[k % items_v])"
-                                              : "item k (0-based over the whole model) is span spans_u[k]"}};
-    j["shard"] = {{"index", layout_.shardIndex}, {"count", layout_.shardCount}};
-    j["computed_precision"] = layout_.precision == Precision::Double ? "double" : "float";
-    j["source"] = layout_.source;
-    sidecar_.write(j.dump(2));
-    sidecar_.write("\n");
+    writeRawSidecar(sidecar_, rawSidecarOf(layout_, layout_.job, precision_ == Precision::Double,
+                                           out_.target().filename().string()));
   }
 
  private:

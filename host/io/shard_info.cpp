@@ -1,0 +1,378 @@
+#include "io/shard_info.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cstring>
+#include <limits>
+
+namespace shapespline::io {
+namespace {
+
+// 64-bit FNV-1a (Fowler, Noll, Vo): offset basis 14695981039346656037, prime 1099511628211.
+class Fnv1a {
+ public:
+  void bytes(const void* data, size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) {
+      h_ ^= p[i];
+      h_ *= 1099511628211ull;
+    }
+  }
+  // Every value is hashed with a fixed width (and every sequence with its length), so that two
+  // different inputs never produce the same byte stream.
+  void u64(uint64_t v) {
+    unsigned char b[8];
+    for (int i = 0; i < 8; ++i) b[i] = static_cast<unsigned char>(v >> (8 * i));
+    bytes(b, 8);
+  }
+  void f64(double v) { u64(std::bit_cast<uint64_t>(v)); }
+  void text(std::string_view s) {
+    u64(s.size());
+    bytes(s.data(), s.size());
+  }
+  void f64s(const std::vector<double>& v) {
+    u64(v.size());
+    for (double x : v) f64(x);
+  }
+  void points(const std::vector<glm::dvec3>& v) {
+    u64(v.size());
+    for (const auto& p : v) {
+      f64(p.x);
+      f64(p.y);
+      f64(p.z);
+    }
+  }
+  std::string hex() const {
+    static const char* digits = "0123456789abcdef";
+    std::string s(16, '0');
+    for (int i = 0; i < 16; ++i) s[static_cast<size_t>(i)] = digits[(h_ >> (60 - 4 * i)) & 0xf];
+    return s;
+  }
+
+ private:
+  uint64_t h_ = 14695981039346656037ull;
+};
+
+void family(Fnv1a& h, const FamilySpec& f) {
+  h.u64(static_cast<uint64_t>(f.construction));
+  h.u64(static_cast<uint64_t>(f.degree));
+  h.u64(static_cast<uint64_t>(f.order));
+  h.f64(f.lambda);
+  h.f64s(f.mu);
+}
+
+void job(Fnv1a& h, const SampleLayout& l, OutputFormat format) {
+  h.text("shapespline-job-1");
+  h.text(outputFormatName(format));
+  h.u64(l.surface ? 1 : 0);
+  h.u64(static_cast<uint64_t>(l.dimension));
+  h.u64(static_cast<uint64_t>(l.samplesU));
+  h.u64(static_cast<uint64_t>(l.samplesV));
+  h.u64(l.fields);
+  h.u64(l.precision == Precision::Double ? 1 : 0);
+  h.u64(l.totalItems);
+  h.u64(l.itemsV);
+}
+
+bool validUtf8At(std::string_view s, size_t i, size_t* length) {
+  const auto c = static_cast<unsigned char>(s[i]);
+  size_t n = 0;
+  uint32_t cp = 0;
+  if (c >= 0xc2 && c <= 0xdf) n = 2, cp = c & 0x1f;
+  else if (c >= 0xe0 && c <= 0xef) n = 3, cp = c & 0x0f;
+  else if (c >= 0xf0 && c <= 0xf4) n = 4, cp = c & 0x07;
+  else return false;
+  if (i + n > s.size()) return false;
+  for (size_t k = 1; k < n; ++k) {
+    const auto d = static_cast<unsigned char>(s[i + k]);
+    if ((d & 0xc0) != 0x80) return false;
+    cp = (cp << 6) | (d & 0x3f);
+  }
+  // No overlong forms, surrogates or code points beyond U+10FFFF.
+  if ((n == 3 && cp < 0x800) || (n == 4 && (cp < 0x10000 || cp > 0x10ffff)) || (cp >= 0xd800 && cp <= 0xdfff)) {
+    return false;
+  }
+  *length = n;
+  return true;
+}
+
+// Digits only, no sign, at most `limit`.
+std::optional<uint64_t> parseU64(std::string_view s, uint64_t limit) {
+  if (s.empty() || s.size() > 20) return std::nullopt;
+  for (char c : s) {
+    if (c < '0' || c > '9') return std::nullopt;
+  }
+  if (s.size() > 1 && s[0] == '0') return std::nullopt;
+  uint64_t v = 0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || p != s.data() + s.size() || v > limit) return std::nullopt;
+  return v;
+}
+
+// Splits at single spaces; false when a token is empty (two spaces, leading/trailing space).
+bool splitSpaces(std::string_view s, std::vector<std::string_view>& out) {
+  out.clear();
+  size_t pos = 0;
+  while (true) {
+    const size_t sp = s.find(' ', pos);
+    const std::string_view tok = s.substr(pos, sp == std::string_view::npos ? std::string_view::npos : sp - pos);
+    if (tok.empty()) return false;
+    out.push_back(tok);
+    if (sp == std::string_view::npos) return true;
+    pos = sp + 1;
+  }
+}
+
+// "A<sep>B" -> (A, B) with each <= limit.
+std::optional<std::pair<uint64_t, uint64_t>> parsePair(std::string_view s, std::string_view sep, uint64_t limit) {
+  const size_t at = s.find(sep);
+  if (at == std::string_view::npos) return std::nullopt;
+  const auto a = parseU64(s.substr(0, at), limit), b = parseU64(s.substr(at + sep.size()), limit);
+  if (!a || !b) return std::nullopt;
+  return std::pair{*a, *b};
+}
+
+}  // namespace
+
+std::string jobFingerprint(const CurveModel& m, const SampleLayout& layout, OutputFormat format) {
+  Fnv1a h;
+  job(h, layout, format);
+  h.text("curve");
+  family(h, m.family);
+  h.u64(m.closed ? 1 : 0);
+  h.u64(static_cast<uint64_t>(m.dimension));
+  h.points(m.points);
+  h.f64s(m.alpha);
+  h.f64s(m.knots);
+  return h.hex();
+}
+
+std::string jobFingerprint(const SurfaceModel& m, const SampleLayout& layout, OutputFormat format) {
+  Fnv1a h;
+  job(h, layout, format);
+  h.text("surface");
+  family(h, m.family);
+  h.u64(static_cast<uint64_t>(m.orderV));
+  h.u64(m.closedU ? 1 : 0);
+  h.u64(m.closedV ? 1 : 0);
+  h.u64(static_cast<uint64_t>(m.rows));
+  h.u64(static_cast<uint64_t>(m.cols));
+  h.points(m.points);
+  h.f64s(m.alpha);
+  h.f64s(m.knotsU);
+  h.f64s(m.knotsV);
+  return h.hex();
+}
+
+std::string escapeText(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c < 0x20 || c == 0x7f) {
+      static const char* digits = "0123456789abcdef";
+      out += "\\u00";
+      out += digits[c >> 4];
+      out += digits[c & 0xf];
+    } else if (c < 0x80) {
+      out += static_cast<char>(c);
+    } else {
+      size_t n = 0;
+      if (validUtf8At(s, i, &n)) {
+        out.append(s.substr(i, n));
+        i += n;
+        continue;
+      }
+      out += "\\ufffd";
+    }
+    ++i;
+  }
+  return out;
+}
+
+ShardInfo shardInfoOf(const SampleLayout& l) {
+  ShardInfo s;
+  s.job = l.job;
+  s.surface = l.surface;
+  s.shardIndex = l.shardIndex;
+  s.shardCount = l.shardCount;
+  s.firstItem = l.firstItem;
+  s.itemCount = l.itemCount;
+  s.totalItems = l.totalItems;
+  s.samplesU = l.samplesU;
+  s.samplesV = l.surface ? l.samplesV : 1;
+  return s;
+}
+
+ShardInfo wholeJobOf(const ShardInfo& shard) {
+  ShardInfo w = shard;
+  w.shardIndex = w.shardCount = 1;
+  w.firstItem = 0;
+  w.itemCount = w.totalItems;
+  return w;
+}
+
+std::string shardInfoLine(const ShardInfo& s) {
+  return "shapespline job " + s.job + (s.surface ? " surface" : " curve") + " shard " + std::to_string(s.shardIndex) +
+         "/" + std::to_string(s.shardCount) + " items " + std::to_string(s.firstItem) + ".." +
+         std::to_string(s.endItem()) + " of " + std::to_string(s.totalItems) + " grid " + std::to_string(s.samplesU) +
+         "x" + std::to_string(s.samplesV);
+}
+
+std::optional<ShardInfo> parseShardInfoLine(std::string_view line) {
+  std::vector<std::string_view> t;
+  if (!splitSpaces(line, t) || t.size() != 12) return std::nullopt;
+  if (t[0] != "shapespline" || t[1] != "job" || t[4] != "shard" || t[6] != "items" || t[8] != "of" ||
+      t[10] != "grid") {
+    return std::nullopt;
+  }
+  ShardInfo s;
+  if (t[2].size() != 16 || t[2].find_first_not_of("0123456789abcdef") != std::string_view::npos) return std::nullopt;
+  s.job = std::string(t[2]);
+  if (t[3] != "curve" && t[3] != "surface") return std::nullopt;
+  s.surface = t[3] == "surface";
+  constexpr uint64_t kMaxItems = (uint64_t{1} << 62) - 1;
+  const auto kn = parsePair(t[5], "/", 1'000'000'000);
+  const auto range = parsePair(t[7], "..", kMaxItems);
+  const auto total = parseU64(t[9], kMaxItems);
+  const auto grid = parsePair(t[11], "x", 65536);
+  if (!kn || !range || !total || !grid) return std::nullopt;
+  if (kn->first < 1 || kn->first > kn->second || range->first > range->second || range->second > *total) {
+    return std::nullopt;
+  }
+  if (grid->first < 2 || (s.surface ? grid->second < 2 : grid->second != 1)) return std::nullopt;
+  s.shardIndex = static_cast<int>(kn->first);
+  s.shardCount = static_cast<int>(kn->second);
+  s.firstItem = range->first;
+  s.itemCount = range->second - range->first;
+  s.totalItems = *total;
+  s.samplesU = static_cast<int>(grid->first);
+  s.samplesV = static_cast<int>(grid->second);
+  return s;
+}
+
+std::string plyInfoComments(const ShardInfo& info, std::string_view escapedSource) {
+  return std::string(kPlySourcePrefix) + std::string(escapedSource) + "\n" + std::string(kPlyJobPrefix) +
+         shardInfoLine(info) + "\n";
+}
+
+std::string objHeader(const ShardInfo& s, std::string_view escapedSource) {
+  const bool relative = s.shardCount > 1;
+  return std::string(kObjSourcePrefix) + std::string(escapedSource) + "\n# " + (s.surface ? "patches " : "spans ") +
+         std::to_string(s.firstItem) + ".." + std::to_string(s.endItem()) + " of " + std::to_string(s.totalItems) +
+         ", grid " + std::to_string(s.samplesU) + (s.surface ? "x" + std::to_string(s.samplesV) : std::string()) +
+         (relative ? ", shard " + std::to_string(s.shardIndex) + "/" + std::to_string(s.shardCount) +
+                         " (relative indices: concatenate shards)"
+                   : std::string()) +
+         "\n" + std::string(kObjJobPrefix) + shardInfoLine(s) + "\n";
+}
+
+SpanWindow spanWindow(uint64_t first, uint64_t count, uint64_t itemsV) {
+  if (itemsV == 0) itemsV = 1;
+  SpanWindow w;
+  w.row0 = first / itemsV;
+  w.row1 = count == 0 ? w.row0 : (first + count - 1) / itemsV + 1;
+  if (count == 0) {
+    w.col0 = w.col1 = first % itemsV;
+  } else if (w.row1 - w.row0 == 1) {
+    w.col0 = first % itemsV;
+    w.col1 = w.col0 + count;
+  } else {
+    w.col0 = 0;
+    w.col1 = itemsV;
+  }
+  return w;
+}
+
+RawSidecar rawSidecarOf(const SampleLayout& l, const std::string& job, bool float64, const std::string& dataFile) {
+  RawSidecar s;
+  s.dataFile = dataFile;
+  s.float64 = float64;
+  for (int f = 0; f < kFieldCount; ++f) {
+    if (l.fields & fieldBit(static_cast<Field>(f))) s.fields.emplace_back(fieldName(static_cast<Field>(f)));
+  }
+  s.info = shardInfoOf(l);
+  s.info.job = job;
+  s.itemsV = l.itemsV == 0 ? 1 : l.itemsV;
+  const SpanWindow w = spanWindow(l.firstItem, l.itemCount, s.itemsV);
+  s.spansUOffset = w.row0;
+  s.spansVOffset = w.col0;
+  for (uint64_t r = w.row0; r < w.row1 && r < l.spanU.size(); ++r) s.spansU.push_back(l.spanU[r]);
+  for (uint64_t c = w.col0; c < w.col1 && c < l.spanV.size(); ++c) s.spansV.push_back(l.spanV[c]);
+  s.computedDouble = l.precision == Precision::Double;
+  s.source = l.source;
+  return s;
+}
+
+void writeRawSidecar(AtomicFile& out, const RawSidecar& s) {
+  const ShardInfo& i = s.info;
+  const uint64_t points = i.itemCount * i.pointsPerItem(), values = points * s.valuesPerRecord();
+  std::string t = "{\n";
+  auto key = [&](const char* k, const std::string& value, bool last = false) {
+    t += "  \"" + std::string(k) + "\": " + value + (last ? "\n" : ",\n");
+  };
+  auto str = [](std::string_view v) { return "\"" + escapeText(v) + "\""; };
+  key("format", str("shapespline-raw"));
+  key("format_version", "2");
+  key("data_file", str(s.dataFile));
+  key("dtype", str(s.float64 ? "float64" : "float32"));
+  key("byte_order", str("little"));
+  key("kind", str(i.surface ? "surface" : "curve"));
+  key("item", str(i.surface ? "patch" : "span"));
+  std::string names = "[";
+  for (size_t k = 0; k < s.fields.size(); ++k) names += (k ? ", " : "") + str(s.fields[k]);
+  key("fields", names + "]");
+  key("components", "3");
+  key("values_per_record", std::to_string(s.valuesPerRecord()));
+  key("order", str(i.surface ? "item, then u sample a, then v sample b; record = fields in order, xyz each"
+                             : "item (span), then sample s; record = fields in order, xyz each"));
+  key("grid", "{\"samples_u\": " + std::to_string(i.samplesU) + ", \"samples_v\": " + std::to_string(i.samplesV) +
+                  ", \"points_per_item\": " + std::to_string(i.pointsPerItem()) +
+                  ", \"local_parameters\": \"s/(S-1), both ends included\"}");
+  key("counts", "{\"items\": " + std::to_string(i.itemCount) + ", \"points\": " + std::to_string(points) +
+                    ", \"values\": " + std::to_string(values) + ", \"bytes\": " + std::to_string(values * s.valueSize()) +
+                    "}");
+  t += "  \"items\": {\n    \"first\": " + std::to_string(i.firstItem) + ",\n    \"count\": " +
+       std::to_string(i.itemCount) + ",\n    \"total\": " + std::to_string(i.totalItems) + ",\n    \"items_v\": " +
+       std::to_string(s.itemsV) + ",\n    \"spans_u_offset\": " + std::to_string(s.spansUOffset) +
+       ",\n    \"spans_v_offset\": " + std::to_string(s.spansVOffset) + ",\n    \"spans_u\": ";
+  out.write(t);
+  t.clear();
+  // The span lists may be long: written in pieces through the file's buffer.
+  for (const auto* list : {&s.spansU, &s.spansV}) {
+    std::string piece;
+    out.write("[", 1);
+    for (size_t k = 0; k < list->size(); k += 4096) {
+      piece.clear();
+      for (size_t e = std::min(list->size(), k + 4096), j = k; j < e; ++j) {
+        if (j) piece += ", ";
+        piece += std::to_string((*list)[j]);
+      }
+      out.write(piece);
+    }
+    out.write(list == &s.spansU ? "],\n    \"spans_v\": " : "],\n");
+  }
+  t += "    \"mapping\": " +
+       str(i.surface ? "item k (0-based over the whole model) is patch (spans_u[k / items_v - spans_u_offset], "
+                       "spans_v[k % items_v - spans_v_offset])"
+                     : "item k (0-based over the whole model) is span spans_u[k - spans_u_offset]") +
+       "\n  },\n";
+  key("shard", "{\"index\": " + std::to_string(i.shardIndex) + ", \"count\": " + std::to_string(i.shardCount) + "}");
+  key("job", str(i.job));
+  key("computed_precision", str(s.computedDouble ? "double" : "float"));
+  key("source", str(s.source), true);
+  t += "}\n";
+  out.write(t);
+}
+
+}  // namespace shapespline::io

@@ -1,0 +1,90 @@
+#pragma once
+// What every output of `sample` says about the job it belongs to, so that `merge` (io/merge.h) can
+// verify the shards it joins: a job fingerprint (64-bit FNV-1a, http://www.isthe.com/chongo/tech/
+// comp/fnv/, over the sampled model's data, the grid, the fields, the precision and the format),
+// the shard K of N and its item range. Written as one text line into PLY `comment` and OBJ `#`
+// headers, and as JSON keys into the raw sidecar; CSV stays plain (see io/merge.h).
+#include "core/model.h"
+#include "io/atomic_file.h"
+#include "io/sample_writer.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace shapespline::io {
+
+// 16 lowercase hex digits. Equal for every shard of one job (and the unsharded job), different when
+// the model, samples per item, fields, computed precision or output format differ.
+std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);
+std::string jobFingerprint(const SurfaceModel& model, const SampleLayout& layout, OutputFormat format);
+
+// `text` as the body of a JSON string: `"` `\` and control characters escaped (\n, \t, \u001f ...),
+// invalid UTF-8 replaced by \ufffd. One line, so a model path cannot inject header lines.
+std::string escapeText(std::string_view text);
+
+struct ShardInfo {
+  std::string job;                    // jobFingerprint
+  bool surface = false;
+  int shardIndex = 1, shardCount = 1; // K of N
+  uint64_t firstItem = 0, itemCount = 0, totalItems = 0;
+  int samplesU = 2, samplesV = 1;
+
+  uint64_t endItem() const { return firstItem + itemCount; }
+  uint64_t pointsPerItem() const { return static_cast<uint64_t>(samplesU) * static_cast<uint64_t>(samplesV); }
+};
+
+ShardInfo shardInfoOf(const SampleLayout& layout);
+// The unsharded job of a shard: shard 1/1, items 0..T of T.
+ShardInfo wholeJobOf(const ShardInfo& shard);
+
+// "shapespline job <hex> <curve|surface> shard K/N items F..E of T grid UxV" (no newline).
+std::string shardInfoLine(const ShardInfo& info);
+// The inverse of shardInfoLine; nullopt unless `line` is exactly such a line with consistent
+// numbers (1 <= K <= N <= 10^9, F <= E <= T < 2^62, 2 <= U, V <= 65536 (V = 1 for curves)).
+std::optional<ShardInfo> parseShardInfoLine(std::string_view line);
+
+// Header lines naming the source and the job, shared by the writers and `merge` so that a merged
+// file is byte-identical to the unsharded one. `escapedSource` is escapeText(model path).
+std::string plyInfoComments(const ShardInfo& info, std::string_view escapedSource);
+std::string objHeader(const ShardInfo& info, std::string_view escapedSource);
+inline constexpr std::string_view kPlySourcePrefix = "comment shapespline sample of ";
+inline constexpr std::string_view kPlyJobPrefix = "comment ";
+inline constexpr std::string_view kObjSourcePrefix = "# shapespline sample of ";
+inline constexpr std::string_view kObjJobPrefix = "# ";
+
+// The raw sidecar (OUT.json), format_version 2. A shard lists the model spans of its own items
+// only: spans_u from row spans_u_offset on (the rows its items touch), spans_v from column
+// spans_v_offset on (the columns of its row when its items lie in one row, else all). Item k of
+// the model is patch (spans_u[k / items_v - spans_u_offset], spans_v[k % items_v - spans_v_offset])
+// (curves: span spans_u[k - spans_u_offset]).
+struct RawSidecar {
+  std::string dataFile;               // file name of the data, no folder
+  bool float64 = true;                // dtype
+  std::vector<std::string> fields;    // field names in record order
+  ShardInfo info;
+  uint64_t itemsV = 1;
+  uint64_t spansUOffset = 0, spansVOffset = 0;
+  std::vector<int> spansU, spansV;
+  bool computedDouble = true;
+  std::string source;                 // the model path as given (escaped when written)
+
+  uint64_t valueSize() const { return float64 ? 8 : 4; }
+  uint64_t valuesPerRecord() const { return static_cast<uint64_t>(fields.size()) * 3; }
+};
+
+// [row0, row1) and [col0, col1) of the item range [first, first + count) over items_v columns.
+struct SpanWindow {
+  uint64_t row0 = 0, row1 = 0, col0 = 0, col1 = 0;
+};
+SpanWindow spanWindow(uint64_t first, uint64_t count, uint64_t itemsV);
+
+// The sidecar of a job from its layout (spans cut to the shard's window).
+RawSidecar rawSidecarOf(const SampleLayout& layout, const std::string& job, bool float64, const std::string& dataFile);
+// Writes `s` as JSON text (ends with a newline). Counts follow from info, grid and fields.
+void writeRawSidecar(AtomicFile& out, const RawSidecar& s);
+
+}  // namespace shapespline::io
