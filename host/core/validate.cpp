@@ -113,6 +113,18 @@ std::string minRule(Construction c, int order, bool closed, const std::string& w
   return s;
 }
 
+// Knot differences (interval widths, the parameter range, texture coordinates u - t_0) must be
+// finite: knots of opposite sign near 1.7e308 are finite each, but their difference overflows, and
+// every parameter derived from it (global u, CSV/PLY/OBJ texture coordinates) would be NaN. The
+// knots are sorted, so t_i - t_0 is the largest difference involving t_i.
+void checkKnotRange(const std::vector<double>& t, const std::string& field) {
+  for (size_t i = 1; i < t.size(); ++i)
+    if (!std::isfinite(t[i] - t[0]))
+      fail(idx(field, i), num(t[i]),
+           "knot differences must be finite in fp64 (t_" + std::to_string(i) + " - t_0 = " + num(t[i]) + " - (" +
+               num(t[0]) + ") overflows)");
+}
+
 // Full B-spline knot vector of n control points and order k (MATH.md §10.1). `field` is the JSON path
 // of the vector ("knots" or "knots[0]").
 void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::string& field) {
@@ -137,6 +149,7 @@ void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::s
   const double a = t[static_cast<size_t>(k - 1)], b = t[n];
   if (!(a < b))
     fail(field, "t_{k-1} = " + num(a) + ", t_N = " + num(b), "the domain must be non-empty: t_{k-1} < t_N");
+  checkKnotRange(t, field);
 }
 
 void checkAlphaValue(double a, const std::string& field) {
@@ -225,6 +238,7 @@ void validateCurve(const CurveModel& m) {
       if (!(m.knots[i] > m.knots[i - 1]))
         fail(idx("knots", i), num(m.knots[i]),
              "span knots must be strictly increasing (previous knot " + num(m.knots[i - 1]) + ")");
+    checkKnotRange(m.knots, "knots");
   } else if (c == Construction::BSpline) {
     if (m.closed) fail("closed", "true", "a bspline with a knot vector must be open (closed = false)");
     checkKnotVector(m.knots, n, f.order, "knots");
