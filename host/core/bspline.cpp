@@ -1,6 +1,7 @@
 #include "core/bspline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace shapespline {
@@ -26,18 +27,30 @@ int findKnotSpan(int order, std::span<const double> knots, int pointCount, doubl
   return left;
 }
 
-void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
-                           double out[kMaxBasisCount][kMaxBasisCount]) {
+namespace {
+
+// Below this width of the knots a span's basis reads, they are scaled (see basisDerivsScaled).
+constexpr int kMinKnotWidthExponent = -500;
+
+// bsplineBasisAllDerivs on knot differences scaled by 2^e, returning e: out[k] are the derivatives
+// with respect to 2^e t, so d^k/dt^k = 2^(k e) out[k]. The basis values are ratios of knot
+// differences and do not change; the scaling keeps the recurrence's quotients N / (t_i - t_j) finite
+// for knot intervals near 1e-310, where 1 / (t_i - t_j) overflows fp64 (e = 0 for wider knots, so
+// ordinary knot vectors are evaluated exactly as before).
+int basisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
+                      double out[kMaxBasisCount][kMaxBasisCount]) {
   // The NURBS Book A2.3 with p = order-1. Every divisor is a difference of knots that brackets the
   // non-empty span [t_span, t_{span+1}], so it is positive.
   const int p = order - 1;
+  const double width = knots[span + p] - knots[span + 1 - p];
+  const int e = width > 0.0 && std::ilogb(width) < kMinKnotWidthExponent ? -std::ilogb(width) : 0;
   double ndu[kMaxBasisCount][kMaxBasisCount];
   double left[kMaxBasisCount], right[kMaxBasisCount];
   double a[2][kMaxBasisCount];
   ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
-    left[j] = t - knots[span + 1 - j];
-    right[j] = knots[span + j] - t;
+    left[j] = std::ldexp(t - knots[span + 1 - j], e);  // exact: differences of nearby knots, then 2^e
+    right[j] = std::ldexp(knots[span + j] - t, e);
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
       ndu[j][r] = right[r + 1] + left[j - r];
@@ -80,6 +93,19 @@ void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, d
   }
   for (int k = n + 1; k <= derivs; ++k)
     for (int j = 0; j <= p; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
+  return e;
+}
+
+glm::dvec3 ldexp3(const glm::dvec3& v, int e) { return {std::ldexp(v.x, e), std::ldexp(v.y, e), std::ldexp(v.z, e)}; }
+
+}  // namespace
+
+void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
+                           double out[kMaxBasisCount][kMaxBasisCount]) {
+  const int e = basisDerivsScaled(order, knots, span, t, derivs, out);
+  if (e == 0) return;
+  for (int k = 1; k <= derivs; ++k)
+    for (int j = 0; j < order; ++j) out[k][j] = std::ldexp(out[k][j], k * e);
 }
 
 void bsplineBasisDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
@@ -92,12 +118,14 @@ void bsplineBasisDerivs(int order, std::span<const double> knots, int span, doub
 
 void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, int derivs, glm::dvec3* out) {
   double basis[kMaxBasisCount][kMaxBasisCount];
-  bsplineBasisAllDerivs(curve.order, curve.knots, span, t, derivs, basis);
+  // Sums of scaled basis derivatives, scaled back once: a derivative that fits fp64 stays finite
+  // even where single basis derivatives do not.
+  const int e = basisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
   const int first = span - curve.order + 1;
   for (int d = 0; d <= derivs; ++d) {
     glm::dvec3 sum(0.0);
     for (int r = 0; r < curve.order; ++r) sum += basis[d][r] * curve.points[first + r];
-    out[d] = sum;
+    out[d] = e == 0 ? sum : ldexp3(sum, d * e);
   }
 }
 
@@ -107,8 +135,8 @@ BSplineCurvePoint evalBSplineCurve(const BSplineCurveData& curve, double t) {
   const double a = curve.knots[curve.order - 1], b = curve.knots[count];
   t = std::clamp(t, a, b);
   const int derivs = std::min(2, curve.order - 1);
-  double basis[3][kMaxBasisCount] = {};
-  bsplineBasisDerivs(curve.order, curve.knots, span, t, derivs, basis);
+  double basis[kMaxBasisCount][kMaxBasisCount] = {};
+  const int e = basisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
   BSplineCurvePoint result;
   const int first = span - curve.order + 1;
   for (int r = 0; r < curve.order; ++r) {
@@ -117,6 +145,7 @@ BSplineCurvePoint evalBSplineCurve(const BSplineCurveData& curve, double t) {
     result.d1 += basis[1][r] * p;
     result.d2 += basis[2][r] * p;
   }
+  if (e != 0) result.d1 = ldexp3(result.d1, e), result.d2 = ldexp3(result.d2, 2 * e);
   return result;
 }
 
@@ -126,9 +155,9 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
   const int spanV = findKnotSpan(kv, surface.knotsV, surface.cols, v);
   u = std::clamp(u, surface.knotsU[ku - 1], surface.knotsU[surface.rows]);
   v = std::clamp(v, surface.knotsV[kv - 1], surface.knotsV[surface.cols]);
-  double bu[3][kMaxBasisCount] = {}, bv[3][kMaxBasisCount] = {};
-  bsplineBasisDerivs(ku, surface.knotsU, spanU, u, std::min(2, ku - 1), bu);
-  bsplineBasisDerivs(kv, surface.knotsV, spanV, v, std::min(2, kv - 1), bv);
+  double bu[kMaxBasisCount][kMaxBasisCount] = {}, bv[kMaxBasisCount][kMaxBasisCount] = {};
+  const int eu = basisDerivsScaled(ku, surface.knotsU, spanU, u, std::min(2, ku - 1), bu);
+  const int ev = basisDerivsScaled(kv, surface.knotsV, spanV, v, std::min(2, kv - 1), bv);
   const int firstU = spanU - ku + 1, firstV = spanV - kv + 1;
   BSplineSurfacePoint result;
   for (int r = 0; r < ku; ++r) {
@@ -146,6 +175,12 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
     result.dv += bu[0][r] * row1;
     result.duv += bu[1][r] * row1;
     result.dvv += bu[0][r] * row2;
+  }
+  result.duDir = result.du, result.dvDir = result.dv;
+  if (eu != 0 || ev != 0) {
+    result.du = ldexp3(result.du, eu), result.dv = ldexp3(result.dv, ev);
+    result.duu = ldexp3(result.duu, 2 * eu), result.duv = ldexp3(result.duv, eu + ev);
+    result.dvv = ldexp3(result.dvv, 2 * ev);
   }
   return result;
 }

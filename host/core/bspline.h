@@ -38,6 +38,9 @@ struct BSplineSurfaceData {
 };
 struct BSplineSurfacePoint {
   glm::dvec3 point{0.0}, du{0.0}, dv{0.0}, duu{0.0}, duv{0.0}, dvv{0.0};
+  // du and dv divided by powers of two (exact; equal to du, dv unless knot intervals are below
+  // about 1e-150): finite where du, dv overflow fp64 (intervals near 1e-310), with the same normal.
+  glm::dvec3 duDir{0.0}, dvDir{0.0};
 };
 BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double u, double v);
 

@@ -4,6 +4,7 @@
 #include "core/validate.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -29,6 +30,12 @@ void checkLocal(const char* name, double t) {
   // Written so that NaN fails too.
   if (!(t >= 0.0 && t <= 1.0))
     throw std::out_of_range(std::string(name) + " = " + fmt(t) + " outside the local parameter range [0, 1]");
+}
+
+// Shortest text that reads back as x (error values: "1e-310", not 17 digits of a subnormal).
+std::string shortest(double x) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
 }
 
 int wrap(int i, int n) { return ((i % n) + n) % n; }
@@ -66,8 +73,19 @@ void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::d
   out.d2 = c.d2 + a * m2 + 2.0 * a_1 * m1 + a_2 * m;
 }
 
-glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha) {
-  return p + ((1.0 - alpha) / alpha) * (p - node);
+glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha, const std::string& field) {
+  const glm::dvec3 d = p - node;
+  const double c = (1.0 - alpha) / alpha;
+  // For α below 1/DBL_MAX (subnormal) the factor itself overflows and 0 * inf would make V NaN even
+  // where P = node; d / α - d is the same value without the overflowing intermediate.
+  const glm::dvec3 v = std::isfinite(c) ? p + c * d : p + (d / alpha - d);
+  if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+    const double dist = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    throw ModelError(field, shortest(alpha),
+                     "alpha is so small that V = P + ((1-alpha)/alpha)(P - node) exceeds the fp64 range (|P - node| = " +
+                         shortest(dist) + "; MATH.md section 4.2): alpha must be at least about |P - node| / 1.8e308");
+  }
+  return v;
 }
 
 // ---- Helpers ------------------------------------------------------------------------------------
@@ -151,7 +169,7 @@ Curve Curve::create(CurveModel model) {
       CurvePoint node;
       evalLocalSpan(nodeBasis, &c.spanPoints_[j], 0.0, 1.0, node);
       c.nodes_[j] = node.point;
-      c.v_[j] = alphaEBVertex(m.points[j], node.point, m.alpha[j]);
+      c.v_[j] = alphaEBVertex(m.points[j], node.point, m.alpha[j], "alpha[" + std::to_string(j) + "]");
     }
   }
   return c;
@@ -187,10 +205,20 @@ CurvePoint Curve::evalSpan(int span, double t) const {
     evalAlphaEBSpan(basis_, &spanPoints_[span], v_[span], v_[j1], model_.alpha[span], model_.alpha[j1], t, out);
     return out;
   }
-  double invH = 1.0;
+  double invH = 1.0, h = 1.0;
   if (!spanKnots_.empty()) {
     const int s = span - spans_.first;
-    invH = 1.0 / (spanKnots_[s + 1] - spanKnots_[s]);
+    h = spanKnots_[s + 1] - spanKnots_[s];
+    invH = 1.0 / h;
+  }
+  if (!std::isfinite(invH)) {
+    // h below 1/DBL_MAX (a subnormal knot interval): 1/h overflows, q/h need not (and 0/h is 0,
+    // where 0 * inf would be NaN). A derivative beyond fp64 still overflows here, and is refused
+    // where it is written.
+    evalLocalSpan(basis_, &spanPoints_[span + spanPointOffset_], t, 1.0, out);
+    out.d1 /= h;
+    out.d2 = out.d2 / h / h;
+    return out;
   }
   evalLocalSpan(basis_, &spanPoints_[span + spanPointOffset_], t, invH, out);
   return out;

@@ -44,8 +44,10 @@ void evalLocalSpan(const SpanBasis& basis, const glm::dvec3* pts, double t, doub
 void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::dvec3& v0, const glm::dvec3& v1,
                      double a0, double a1, double t, CurvePoint& out);
 
-// V_j = P_j + ((1-α_j)/α_j)(P_j - node_j) (MATH.md §4.2, §5.2).
-glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha);
+// V_j = P_j + ((1-α_j)/α_j)(P_j - node_j) (MATH.md §4.2, §5.2). Throws ModelError(field, α, ...)
+// when V_j is beyond the fp64 range (α so small that |P_j - node_j| / α overflows): every point of
+// the two spans at P_j depends on V_j, so such a model cannot be evaluated (it is refused, exit 2).
+glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha, const std::string& field);
 
 // ---- Typed curve --------------------------------------------------------------------------------
 

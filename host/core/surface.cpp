@@ -216,7 +216,8 @@ Surface Surface::create(SurfaceModel model) {
         evalTensorPatch(nodeU, nodeV, &s.net_[static_cast<size_t>(i) * s.netCols_ + j], s.netCols_, 0.0, 0.0, c);
         const size_t k = static_cast<size_t>(i) * m.cols + j;
         s.nodes_[k] = c.p;
-        s.v_[k] = alphaEBVertex(m.at(i, j), c.p, m.alpha[k]);
+        s.v_[k] = alphaEBVertex(m.at(i, j), c.p, m.alpha[k],
+                                "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]");
       }
     }
   }
@@ -253,6 +254,9 @@ void Surface::evalPatch(int i, int j, double u, double v, PatchDerivs& out, Patc
     const BSplineSurfacePoint p = evalBSplineSurface(bspline_, u0 + u * (u1 - u0), v0 + v * (v1 - v0));
     out = {p.point, p.du, p.dv, p.duu, p.duv, p.dvv};
     base = out;
+    // The normal's partials: scaled by powers of two, so still finite (with the same normal) where
+    // knot intervals near 1e-310 make du, dv overflow.
+    base.u = p.duDir, base.v = p.dvDir;
     return;
   }
   const glm::dvec3* net = &net_[static_cast<size_t>(i + offU_) * netCols_ + (j + offV_)];
@@ -308,8 +312,8 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
       return out;
     }
   }
-  // 2. Regular point.
-  if (unitNormal(q.u, q.v, out.normal)) {
+  // 2. Regular point (knot vectors: the partials scaled to stay finite, see evalPatch).
+  if (unitNormal(knotVector_ ? c.u : q.u, knotVector_ ? c.v : q.v, out.normal)) {
     out.normalRule = NormalRule::Regular;
     return out;
   }
@@ -317,7 +321,7 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
   auto towardCentre = [](double t) { return t < 0.5 ? t + kNormalShift : t > 0.5 ? t - kNormalShift : t; };
   PatchDerivs qs, cs;
   evalPatch(i, j, towardCentre(u), towardCentre(v), qs, cs);
-  if (unitNormal(qs.u, qs.v, out.normal)) {
+  if (unitNormal(knotVector_ ? cs.u : qs.u, knotVector_ ? cs.v : qs.v, out.normal)) {
     out.normalRule = NormalRule::Shifted;
     return out;
   }
