@@ -1,7 +1,10 @@
 #include "io/sample_writer.h"
 
+#include "io/number_text.h"
+
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 namespace shapespline::io {
 
@@ -51,28 +54,96 @@ std::pair<int, int> SampleLayout::itemIndex(size_t item) const {
   return {spanU[row], spanV[col]};
 }
 
+namespace {
+
+std::string shortest(double v) {
+  char buf[kMaxNumberChars];
+  return std::string(buf, writeNumber(buf, v));
+}
+
+[[noreturn]] void nonFinite(const std::string& what, double value, size_t item) {
+  throw DerivedValueError(what + " of item " + std::to_string(item) +
+                          " is not finite; nothing was written (got " + shortest(value) + ")");
+}
+
+// start + s (end - start), kept inside [start, end]: rounding may step past an end, and past
+// DBL_MAX to inf for an interval that ends there.
+double lerpInside(const std::pair<double, double>& r, double s) {
+  const double x = r.first + s * (r.second - r.first);
+  return std::clamp(x, std::min(r.first, r.second), std::max(r.first, r.second));
+}
+
+}  // namespace
+
 std::pair<double, double> SampleLayout::parameter(size_t item, int a, int b) const {
   const auto& ru = paramU[item / itemsV];
   const auto& rv = paramV[item % itemsV];
   const double su = samplesU > 1 ? static_cast<double>(a) / (samplesU - 1) : 0.0;
   const double sv = samplesV > 1 ? static_cast<double>(b) / (samplesV - 1) : 0.0;
-  return {ru.first + su * (ru.second - ru.first), rv.first + sv * (rv.second - rv.first)};
+  const double u = lerpInside(ru, su), v = lerpInside(rv, sv);
+  if (!std::isfinite(u)) nonFinite(surface ? "U (global parameter)" : "u (global parameter)", u, item);
+  if (!std::isfinite(v)) nonFinite("V (global parameter)", v, item);
+  return {u, v};
 }
 
 std::pair<double, double> SampleLayout::texCoord(size_t item, int a, int b) const {
   const auto [u, v] = parameter(item, a, b);
   const double u0 = paramU.front().first, u1 = paramU.back().second;
   const double v0 = paramV.front().first, v1 = paramV.back().second;
-  return {u1 > u0 ? (u - u0) / (u1 - u0) : 0.0, v1 > v0 ? (v - v0) / (v1 - v0) : 0.0};
+  // In [0, 1] by construction; the clamp absorbs rounding at the ends (u = u1 may give 1 + ulp).
+  const double s = u1 > u0 ? std::clamp((u - u0) / (u1 - u0), 0.0, 1.0) : 0.0;
+  const double t = v1 > v0 ? std::clamp((v - v0) / (v1 - v0), 0.0, 1.0) : 0.0;
+  if (!std::isfinite(s)) nonFinite("texture coordinate s", s, item);
+  if (!std::isfinite(t)) nonFinite("texture coordinate t", t, item);
+  return {s, t};
 }
 
-FieldMask requiredFields(OutputFormat format, bool surface) {
-  FieldMask m = fieldBit(Field::Point);
-  if (surface && (format == OutputFormat::Obj || format == OutputFormat::Ply)) m |= fieldBit(Field::Normal);
-  return m;
+void SampleLayout::checkDerivedValues() const {
+  auto check = [&](const std::vector<std::pair<double, double>>& ranges, const char* name) {
+    for (size_t k = 0; k < ranges.size(); ++k) {
+      const auto [a, b] = ranges[k];
+      for (double x : {a, b, b - a})
+        if (!std::isfinite(x)) nonFinite(std::string(name) + " interval [" + shortest(a) + ", " + shortest(b) + "]", x, k);
+    }
+    if (!ranges.empty() && !std::isfinite(ranges.back().second - ranges.front().first)) {
+      const double range = ranges.back().second - ranges.front().first;
+      nonFinite(std::string(name) + " range (texture coordinates)", range, 0);
+    }
+  };
+  check(paramU, surface ? "U" : "u");
+  check(paramV, "V");
 }
 
-std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar) {
+namespace {
+
+// Every format's writer behind one check: the layout's derived values before the first byte, and a
+// DerivedValueError of a later call (a value that slipped past the check) as an output failure.
+class CheckedWriter final : public SampleWriter {
+ public:
+  CheckedWriter(std::unique_ptr<SampleWriter> inner, AtomicFile& out) : inner_(std::move(inner)), out_(out) {}
+  void begin(const SampleLayout& layout) override {
+    guard([&] {
+      layout.checkDerivedValues();
+      inner_->begin(layout);
+    });
+  }
+  void consume(const GridChunk& chunk) override { guard([&] { inner_->consume(chunk); }); }
+  void finish() override { guard([&] { inner_->finish(); }); }
+
+ private:
+  template <class F>
+  void guard(const F& f) {
+    try {
+      f();
+    } catch (const DerivedValueError& e) {
+      throw OutputWriteError(out_.option(), out_.target().string(), e.what());
+    }
+  }
+  std::unique_ptr<SampleWriter> inner_;
+  AtomicFile& out_;
+};
+
+std::unique_ptr<SampleWriter> makeUncheckedWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar) {
   switch (format) {
     case OutputFormat::Obj: return makeObjWriter(out);
     case OutputFormat::Ply: return makePlyWriter(out);
@@ -84,6 +155,18 @@ std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& 
       return makeRawWriter(out, *sidecar, format == OutputFormat::RawF32 ? Precision::Float : Precision::Double);
   }
   throw std::logic_error("unknown output format");
+}
+
+}  // namespace
+
+FieldMask requiredFields(OutputFormat format, bool surface) {
+  FieldMask m = fieldBit(Field::Point);
+  if (surface && (format == OutputFormat::Obj || format == OutputFormat::Ply)) m |= fieldBit(Field::Normal);
+  return m;
+}
+
+std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar) {
+  return std::make_unique<CheckedWriter>(makeUncheckedWriter(format, out, sidecar), out);
 }
 
 }  // namespace shapespline::io

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -44,6 +45,7 @@ struct SampleLayout {
   Precision precision = Precision::Double;  // of the chunk data; PLY stores this precision
   int shardIndex = 1, shardCount = 1; // 1-based K of N (1/1 when not sharded)
   std::string source;                 // model file, for headers and the sidecar
+  std::string job;                    // io/shard_info.h jobFingerprint: the same for every shard of a job
   // SVG only: the control polygon (closed = drawn as a loop) and marked data points.
   std::vector<glm::dvec3> controlPoints;
   bool closed = false;
@@ -52,11 +54,24 @@ struct SampleLayout {
   size_t pointsPerItem() const { return static_cast<size_t>(samplesU) * static_cast<size_t>(samplesV); }
   size_t pointCount() const { return itemCount * pointsPerItem(); }
   bool sharded() const { return shardCount > 1; }
-  // Model span/patch indices and global parameter of sample (a, b) of item k.
+  // Model span/patch indices and global parameter of sample (a, b) of item k (inside the item's
+  // interval). Throws DerivedValueError if it is not finite.
   std::pair<int, int> itemIndex(size_t item) const;
   std::pair<double, double> parameter(size_t item, int a, int b) const;
-  // Parameters normalised to [0,1] over the whole model (OBJ/PLY texture coordinates).
+  // Parameters normalised to [0,1] over the whole model (OBJ/PLY texture coordinates); throws
+  // DerivedValueError if they are not finite.
   std::pair<double, double> texCoord(size_t item, int a, int b) const;
+  // Throws DerivedValueError unless every interval end, interval width and the model's whole range
+  // are finite, which makes every parameter() and texCoord() finite (checked before any byte).
+  void checkDerivedValues() const;
+};
+
+// A value a writer derives itself (global parameter, texture coordinate, SVG coordinate) is not
+// finite. The writers of makeSampleWriter rethrow it as OutputWriteError (exit 3, nothing written);
+// model validation (knot differences must be finite) keeps valid models from reaching it.
+class DerivedValueError : public std::range_error {
+ public:
+  using std::range_error::range_error;
 };
 
 class SampleWriter {
@@ -69,6 +84,8 @@ class SampleWriter {
 };
 
 // `out` must outlive the writer. `sidecar` (raw formats only) receives the JSON layout description.
+// The writer checks the layout's derived values in begin() and turns a DerivedValueError of any
+// call into OutputWriteError(out.option(), out.target(), ...).
 std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar = nullptr);
 
 // Fields every writer of `format` needs for the given kind (e.g. OBJ/PLY surfaces need normals).
