@@ -115,19 +115,17 @@ fs::path hiddenSibling(const fs::path& target, const char* tag) {
 }
 
 // The process umask, read without changing it (umask(2) can only be read by setting it, which
-// would race with threads creating files): /proc/self/status has it since Linux 4.7.
+// would race with threads creating files): /proc/self/status has it since Linux 4.7. Read at each
+// commit, as a program may change its umask.
 mode_t processUmask() {
-  static const mode_t mask = [] {
-    std::ifstream in("/proc/self/status");
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.rfind("Umask:", 0) == 0) return static_cast<mode_t>(std::strtoul(line.c_str() + 6, nullptr, 8) & 0777);
-    }
-    const mode_t m = ::umask(022);
-    ::umask(m);
-    return m;
-  }();
-  return mask;
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("Umask:", 0) == 0) return static_cast<mode_t>(std::strtoul(line.c_str() + 6, nullptr, 8) & 0777);
+  }
+  const mode_t m = ::umask(022);
+  ::umask(m);
+  return m;
 }
 
 // ---- Test-only fault ------------------------------------------------------------------------------
@@ -136,17 +134,14 @@ struct IoFault {
   int delayMs = 0;
 };
 
-const IoFault& ioFault() {
-  static const IoFault f = [] {
-    IoFault r;
-    const char* env = std::getenv("SHAPESPLINE_IO_FAULT");
-    if (!env) return r;
-    const std::string_view v(env);
-    if (v.rfind("rename:", 0) == 0) r.failRename = std::atoi(env + 7);
-    if (v.rfind("commit-delay:", 0) == 0) r.delayMs = std::atoi(env + 13);
-    return r;
-  }();
-  return f;
+IoFault ioFault() {
+  IoFault r;
+  const char* env = std::getenv("SHAPESPLINE_IO_FAULT");
+  if (!env) return r;
+  const std::string_view v(env);
+  if (v.rfind("rename:", 0) == 0) r.failRename = std::atoi(env + 7);
+  if (v.rfind("commit-delay:", 0) == 0) r.delayMs = std::atoi(env + 13);
+  return r;
 }
 
 // Holds SIGINT/SIGTERM/SIGHUP back during the renames of a commit: blocked in this thread, and
@@ -409,7 +404,7 @@ void commitFiles(AtomicFile* const* files, size_t count) {
       }
     }
   }
-  const IoFault& fault = ioFault();
+  const IoFault fault = ioFault();
   for (size_t i = 0; i < count; ++i) {
     AtomicFile& f = *files[i];
     int err = 0;

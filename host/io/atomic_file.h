@@ -112,7 +112,7 @@ void commitFiles(AtomicFile* const* files, size_t count);
 inline constexpr int kMaxLiveTempFiles = 32;
 void installTempFileCleanup();
 
-// Test-only fault (SHAPESPLINE_IO_FAULT, read once): "rename:N" makes the N-th rename (1-based) of
+// Test-only fault (SHAPESPLINE_IO_FAULT, read at each commit): "rename:N" makes the N-th rename (1-based) of
 // every commit fail with EIO, "commit-delay:MS" sleeps MS milliseconds between the renames of a
 // set (to widen the window a concurrent writer could use). Messages say "(injected by
 // SHAPESPLINE_IO_FAULT)".
