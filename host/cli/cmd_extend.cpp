@@ -5,6 +5,8 @@
 #include "core/extension.h"
 #include "core/validate.h"
 #include "io/atomic_file.h"
+#include "io/input_file.h"
+#include "io/output_set.h"
 
 #include <cstdio>
 #include <memory>
@@ -21,15 +23,15 @@ std::vector<glm::dvec3> readTargetCurve(const std::string& path, size_t index) {
   const std::string field = "--to-curve[" + std::to_string(index) + "]";
   nlohmann::json j = readJsonFile(path, field);
   if (j.is_object() && j.contains("points")) j = j["points"];
-  if (!j.is_array() || j.empty()) throw InputError(field, path, "expected a list of [x, y, z] control points");
+  if (!j.is_array() || j.empty()) throw InputError(field, io::shortValue(j), "expected a list of [x, y, z] control points");
   std::vector<glm::dvec3> pts;
   for (size_t i = 0; i < j.size(); ++i) {
     const auto& p = j[i];
-    if (!p.is_array() || p.size() != 3) throw InputError(field + ".points[" + std::to_string(i) + "]", p.dump(), "must be [x, y, z]");
+    if (!p.is_array() || p.size() != 3) throw InputError(field + ".points[" + std::to_string(i) + "]", io::shortValue(p), "must be [x, y, z]");
     glm::dvec3 v;
     for (int k = 0; k < 3; ++k) {
       if (!p[static_cast<size_t>(k)].is_number() || !std::isfinite(p[static_cast<size_t>(k)].get<double>())) {
-        throw InputError(field + ".points[" + std::to_string(i) + "]", p.dump(), "must hold finite numbers");
+        throw InputError(field + ".points[" + std::to_string(i) + "]", io::shortValue(p), "must hold finite numbers");
       }
       v[k] = p[static_cast<size_t>(k)].get<double>();
     }
@@ -42,8 +44,9 @@ void runExtend(const ExtendArgs& a) {
   io::Model m = loadModel(a.model);
   std::optional<std::vector<double>> givenU;
   if (!a.u.empty()) givenU = parseNumbers(a.u, "--u");
-  io::AtomicFile out(a.out, "-o");
-  std::optional<io::AtomicFile> svg;
+  io::OutputSet outputs;  // the model and the plot appear together or not at all
+  io::AtomicFile& out = outputs.add(a.out, "-o");
+  io::AtomicFile* svg = nullptr;
   if (std::holds_alternative<CurveModel>(m)) {
     const CurveModel& cm = std::get<CurveModel>(m);
     if (a.to.empty()) throw InputError("--to", "", "at least one target X,Y[,Z] is required for a curve");
@@ -64,7 +67,7 @@ void runExtend(const ExtendArgs& a) {
     if (givenU && givenU->size() != targets.size()) {
       throw InputError("--u", a.u, "needs one parameter per --to target (" + std::to_string(targets.size()) + ")");
     }
-    if (!a.svg.empty()) svg.emplace(a.svg, "--svg");
+    if (!a.svg.empty()) svg = &outputs.add(a.svg, "--svg");
     const ExtensionResult r = extendCurve(bsplineCurveFromModel(cm), targets, givenU);
     CurveModel ext = cm;
     ext.dimension = dim;
@@ -107,8 +110,8 @@ void runExtend(const ExtendArgs& a) {
     for (double u : r.u) std::printf(" %s", number17(u).c_str());
     std::printf("\n");
   }
-  out.commit();
-  if (svg) svg->commit();
+  io::flushStdout();  // stdout failed: exit 3 and no file
+  outputs.commit();
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include "cli/exit_codes.h"
 #include "core/model.h"
 #include "io/atomic_file.h"
+#include "io/input_file.h"
+#include "io/output_set.h"
 
 #include <CLI/CLI.hpp>
 
@@ -20,6 +22,37 @@ int report(const std::string& field, const std::string& reason, int code) {
   return code;
 }
 
+// CLI11's message split into the option it names and the reason, in the error format of every other
+// failure. CLI11 2.x keeps no option name in its errors, so the name is read from the message forms
+// it writes: "Could not convert: NAME = VALUE", "NAME: REASON", "NAME is required". Anything else
+// (extra arguments, a missing subcommand) is about the arguments as a whole.
+int reportParseError(const CLI::ParseError& e) {
+  constexpr size_t kMaxMessageChars = 200;  // the message quotes the argument: keep it bounded
+  const std::string msg = e.what();
+  std::string field = "arguments", reason = msg;
+  const auto isName = [](const std::string& s) {
+    return !s.empty() && s.find(' ') == std::string::npos && s.size() <= 64;
+  };
+  if (const std::string conv = "Could not convert: "; msg.rfind(conv, 0) == 0) {
+    const size_t eq = msg.find(" = ", conv.size());
+    if (eq != std::string::npos && isName(msg.substr(conv.size(), eq - conv.size()))) {
+      field = msg.substr(conv.size(), eq - conv.size());
+      reason = "could not convert the value to the option's type (got " + msg.substr(eq + 3) + ")";
+    }
+  } else if (const size_t colon = msg.find(": "); colon != std::string::npos && isName(msg.substr(0, colon))) {
+    field = msg.substr(0, colon);
+    reason = msg.substr(colon + 2);
+  } else if (const std::string req = " is required"; msg.size() > req.size() &&
+                                                      msg.compare(msg.size() - req.size(), req.size(), req) == 0 &&
+                                                      isName(msg.substr(0, msg.size() - req.size()))) {
+    field = msg.substr(0, msg.size() - req.size());
+    reason = "is required";
+  }
+  report(field, shapespline::io::shortText(reason, kMaxMessageChars), shapespline::cli::kExitBadInput);
+  std::fprintf(stderr, "Run with --help for more information.\n");
+  return shapespline::cli::kExitBadInput;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -28,6 +61,8 @@ int main(int argc, char** argv) {
   // A file size limit (ulimit -f) would otherwise kill the process mid-write and leave the
   // temporary file behind; ignored, the write fails with EFBIG and is reported (exit 3).
   std::signal(SIGXFSZ, SIG_IGN);
+  // SIGINT/SIGTERM/SIGHUP remove the temporary output files, then end the process by the signal.
+  io::installTempFileCleanup();
   takeCliFault();
   CLI::App app{"shapespline: evaluate and sample shape-parametric spline curves and surfaces "
                "(CPU fp64 or Vulkan compute)."};
@@ -46,6 +81,7 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    io::flushStdout();  // a full disk or a closed stream behind stdout is a failed output (exit 3)
     return kExitSuccess;
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
@@ -54,8 +90,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);  // prints CLI11's message and a usage hint
-    return kExitBadInput;
+    return reportParseError(e);  // "shapespline: error: <option>: <reason>" and a usage hint
   } catch (const ModelError& e) {
     return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitBadInput);
   } catch (const InputError& e) {
@@ -63,7 +98,9 @@ int main(int argc, char** argv) {
   } catch (const io::OutputPathError& e) {
     return report(e.option(), "'" + e.path() + "': " + e.reason(), kExitBadInput);
   } catch (const io::OutputWriteError& e) {
-    return report(e.option(), "cannot write '" + e.path() + "': " + e.reason(), kExitRuntime);
+    // A stream (stdout) has no path: "stdout: write failed: ...".
+    return report(e.option(), e.path().empty() ? e.reason() : "cannot write '" + e.path() + "': " + e.reason(),
+                  kExitRuntime);
   } catch (const RuntimeError& e) {
     return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitRuntime);
   } catch (const std::invalid_argument& e) {

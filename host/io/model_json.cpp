@@ -2,15 +2,13 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
-#include <functional>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/validate.h"
+#include "io/input_file.h"
 
 namespace shapespline::io {
 
@@ -18,15 +16,10 @@ namespace {
 
 using nlohmann::json;
 
-constexpr size_t kMaxValueChars = 60;
 // Integers that any field can meaningfully hold; larger ones are rejected before conversion to int.
 constexpr double kMaxInteger = 1e6;
 
-std::string shortText(std::string s) {
-  if (s.size() > kMaxValueChars) s = s.substr(0, kMaxValueChars - 3) + "...";
-  return s;
-}
-std::string shortDump(const json& j) { return shortText(j.dump()); }
+std::string shortDump(const json& j) { return shortValue(j); }
 
 std::string idx(const std::string& base, size_t i) { return base + "[" + std::to_string(i) + "]"; }
 
@@ -76,7 +69,7 @@ double getNumber(const json& j, const std::string& field) {
   if (!j.is_number()) failJson(field, j, "must be a number");
   const double v = j.get<double>();
   // nlohmann cannot read NaN/inf from text, but a json built in code can hold them.
-  if (!std::isfinite(v)) fail(field, j.dump(), "must be a finite number");
+  if (!std::isfinite(v)) fail(field, shortDump(j), "must be a finite number");
   return v;
 }
 
@@ -247,30 +240,6 @@ SurfaceModel readSurface(const json& doc, Construction c) {
   return m;
 }
 
-// Parser callback that rejects duplicate keys, which nlohmann would otherwise resolve silently
-// (last one wins) and so hide a conflicting value.
-struct DuplicateKeyGuard {
-  std::vector<std::vector<std::string>> open;
-  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start: open.emplace_back(); break;
-      case json::parse_event_t::object_end:
-        if (!open.empty()) open.pop_back();
-        break;
-      case json::parse_event_t::key: {
-        const std::string key = parsed.get<std::string>();
-        auto& seen = open.back();
-        for (const auto& s : seen)
-          if (s == key) fail(key, "(repeated)", "duplicate key in a JSON object");
-        seen.push_back(key);
-        break;
-      }
-      default: break;
-    }
-    return true;
-  }
-};
-
 }  // namespace
 
 Model parseModel(const json& doc) {
@@ -325,32 +294,9 @@ Model parseModel(const json& doc) {
   return m;
 }
 
-Model parseModelText(std::string_view text) {
-  json doc;
-  try {
-    DuplicateKeyGuard guard;
-    doc = json::parse(text.begin(), text.end(), std::ref(guard));
-  } catch (const json::exception& e) {
-    // parse_error carries the byte position in its message; show the text around it as the value.
-    std::string near;
-    if (const auto* pe = dynamic_cast<const json::parse_error*>(&e)) {
-      const size_t at = pe->byte > 0 ? pe->byte - 1 : 0;
-      const size_t from = at > 20 ? at - 20 : 0;
-      if (from < text.size()) near = "near \"" + std::string(text.substr(from, 40)) + "\"";
-    }
-    fail("(document)", shortText(near), std::string("malformed JSON: ") + e.what());
-  }
-  return parseModel(doc);
-}
+Model parseModelText(std::string_view text) { return parseModel(parseJsonText(text, "(document)")); }
 
-Model loadModelFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open model file: " + path.string());
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw std::runtime_error("cannot read model file: " + path.string());
-  return parseModelText(ss.str());
-}
+Model loadModelFile(const std::filesystem::path& path) { return parseModelText(readInputFile(path, "(file)")); }
 
 json toJson(const CurveModel& m) {
   const FamilySpec& f = m.family;

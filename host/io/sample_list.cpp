@@ -1,0 +1,111 @@
+#include "io/sample_list.h"
+
+#include <cmath>
+
+#include "io/input_file.h"
+
+namespace shapespline::io {
+
+namespace {
+
+using nlohmann::json;
+
+// Integers any sample index can meaningfully hold; larger ones are rejected before conversion.
+constexpr double kMaxIndex = 1e9;
+
+[[noreturn]] void fail(std::string field, std::string value, std::string rule) {
+  throw ModelError(std::move(field), std::move(value), std::move(rule));
+}
+
+std::string range(const SpanRange& r) { return "[" + std::to_string(r.first) + ", " + std::to_string(r.last) + "]"; }
+
+const json& sampleArray(const json& doc, const std::string& documentField) {
+  if (!doc.is_object() || !doc.contains("samples") || !doc.at("samples").is_array())
+    fail(documentField, shortValue(doc), "expected an object {\"samples\": [...]}");
+  const json& samples = doc.at("samples");
+  if (samples.size() > kMaxSamples)
+    fail(documentField, std::to_string(samples.size()) + " samples",
+         "a sample list holds at most " + std::to_string(kMaxSamples) + " samples");
+  return samples;
+}
+
+double numberAt(const json& obj, const char* key, const std::string& path) {
+  if (!obj.contains(key)) fail(path + "." + key, "", "missing");
+  const json& v = obj.at(key);
+  if (!v.is_number()) fail(path + "." + key, shortValue(v), "must be a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) fail(path + "." + key, shortValue(v), "must be finite");
+  return d;
+}
+
+int integerAt(const json& v, const std::string& path) {
+  if (!v.is_number()) fail(path, shortValue(v), "must be an integer");
+  const double d = v.get<double>();
+  if (d != std::floor(d) || std::fabs(d) > kMaxIndex) fail(path, shortValue(v), "must be an integer");
+  return static_cast<int>(d);
+}
+
+}  // namespace
+
+std::vector<CurveSample> parseCurveSamples(const json& doc, const Curve& curve, const std::string& documentField) {
+  const json& samples = sampleArray(doc, documentField);
+  const SpanRange r = curve.spans();
+  std::vector<CurveSample> out;
+  out.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const std::string path = "samples[" + std::to_string(i) + "]";
+    const json& s = samples[i];
+    if (!s.is_object()) fail(path, shortValue(s), "must be an object");
+    CurveSample q;
+    if (s.contains("u") && !s.contains("span")) {
+      q.global = true;
+      q.u = numberAt(s, "u", path);
+    } else {
+      if (curve.usesKnotVector()) fail(path, shortValue(s), "a knot-vector B-spline takes {\"u\": value}");
+      if (!s.contains("span")) fail(path + ".span", "", "missing");
+      q.span = integerAt(s.at("span"), path + ".span");
+      q.t = numberAt(s, "t", path);
+      if (q.span < r.first || q.span > r.last) fail(path + ".span", std::to_string(q.span), "must be in " + range(r));
+      if (!(q.t >= 0.0 && q.t <= 1.0)) fail(path + ".t", shortValue(s.at("t")), "must be in [0, 1]");
+    }
+    out.push_back(q);
+  }
+  return out;
+}
+
+std::vector<SurfaceSample> parseSurfaceSamples(const json& doc, const Surface& surface,
+                                               const std::string& documentField) {
+  const json& samples = sampleArray(doc, documentField);
+  const PatchRange patches = surface.patches();
+  std::vector<SurfaceSample> out;
+  out.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const std::string path = "samples[" + std::to_string(i) + "]";
+    const json& s = samples[i];
+    if (!s.is_object()) fail(path, shortValue(s), "must be an object");
+    if (!s.contains("patch") || !s.at("patch").is_array() || s.at("patch").size() != 2)
+      fail(path + ".patch", s.contains("patch") ? shortValue(s.at("patch")) : "", "must be [i, j]");
+    if (!s.contains("uv") || !s.at("uv").is_array() || s.at("uv").size() != 2)
+      fail(path + ".uv", s.contains("uv") ? shortValue(s.at("uv")) : "", "must be [u, v]");
+    SurfaceSample q;
+    q.patchU = integerAt(s.at("patch")[0], path + ".patch[0]");
+    q.patchV = integerAt(s.at("patch")[1], path + ".patch[1]");
+    if (q.patchU < patches.u.first || q.patchU > patches.u.last)
+      fail(path + ".patch[0]", std::to_string(q.patchU), "must be in " + range(patches.u));
+    if (q.patchV < patches.v.first || q.patchV > patches.v.last)
+      fail(path + ".patch[1]", std::to_string(q.patchV), "must be in " + range(patches.v));
+    double uv[2];
+    for (std::size_t k = 0; k < 2; ++k) {
+      const json& v = s.at("uv")[k];
+      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0.0 || v.get<double>() > 1.0)
+        fail(path + ".uv[" + std::to_string(k) + "]", shortValue(v), "must be a number in [0, 1]");
+      uv[k] = v.get<double>();
+    }
+    q.u = uv[0];
+    q.v = uv[1];
+    out.push_back(q);
+  }
+  return out;
+}
+
+}  // namespace shapespline::io
