@@ -115,22 +115,89 @@ void interleaveRows(const double* x, const double* y, const double* z, int n, do
   }
 }
 
-// Runs compute(buffer, itemBegin, itemEnd, firstPointInBuffer) for every chunk, each chunk split
-// into one slice per worker, and hands finished chunks to the consumer in order on the calling
-// thread while the workers fill the other buffer. The workers live for the whole job (no thread
-// start per chunk), so chunks can be small enough for their buffers to stay in cache.
+// The chunks of a job over the rows [firstItem * rowsPerItem, (firstItem + itemCount) * rowsPerItem)
+// of the model's items (a row: Sv points of a patch, or one sample of a span). Items that fit the
+// point budget go whole, as many per chunk as fit; a larger item is cut into row ranges of at most
+// max(1, budget / pointsPerRow) rows, so a chunk never holds more than max(budget, pointsPerRow) points.
+struct ChunkPlan {
+  size_t firstItem, itemCount, rowsPerItem, pointsPerRow;
+  size_t itemsPerChunk = 0;  // whole-item chunks (0: items are cut into row ranges)
+  size_t rowsPerChunk = 0;   // row-range chunks
+  size_t chunksPerItem = 1;
+
+  ChunkPlan(size_t first, size_t count, size_t rows, size_t rowPoints, size_t budget)
+      : firstItem(first), itemCount(count), rowsPerItem(rows), pointsPerRow(rowPoints) {
+    const size_t ppi = rows * rowPoints;
+    budget = std::max<size_t>(budget, 1);
+    if (ppi <= budget) {
+      itemsPerChunk = std::clamp<size_t>(budget / std::max<size_t>(ppi, 1), 1, std::max<size_t>(count, 1));
+    } else {
+      rowsPerChunk = std::max<size_t>(1, budget / rowPoints);
+      chunksPerItem = (rows + rowsPerChunk - 1) / rowsPerChunk;
+    }
+  }
+  size_t chunkCount() const {
+    return itemsPerChunk ? (itemCount + itemsPerChunk - 1) / itemsPerChunk : itemCount * chunksPerItem;
+  }
+  size_t capacityPoints() const {
+    return itemsPerChunk ? itemsPerChunk * rowsPerItem * pointsPerRow : rowsPerChunk * pointsPerRow;
+  }
+  // Global rows [begin, end) of chunk c.
+  std::pair<size_t, size_t> rows(size_t c) const {
+    if (itemsPerChunk) {
+      const size_t b = firstItem + c * itemsPerChunk, e = std::min(b + itemsPerChunk, firstItem + itemCount);
+      return {b * rowsPerItem, e * rowsPerItem};
+    }
+    const size_t item = firstItem + c / chunksPerItem, r0 = (c % chunksPerItem) * rowsPerChunk;
+    return {item * rowsPerItem + r0, item * rowsPerItem + std::min(rowsPerItem, r0 + rowsPerChunk)};
+  }
+  GridChunk chunk(size_t c) const {
+    const auto [b, e] = rows(c);
+    GridChunk out;
+    out.firstItem = b / rowsPerItem;
+    out.pointsPerItem = rowsPerItem * pointsPerRow;
+    out.pointsPerRow = pointsPerRow;
+    if (itemsPerChunk) {
+      out.itemCount = (e - b) / rowsPerItem;
+    } else {
+      out.itemCount = 1;
+      out.firstRow = b % rowsPerItem;
+      out.rowCount = e - b;
+    }
+    return out;
+  }
+};
+
+// Calls body(item, a0, a1, point) for the rows a0..a1-1 of each item that global rows [begin, end)
+// touch; `point` is the buffer index of (item, a0), counted from `firstPoint` at row `begin`.
+template <class Body>
+void forEachItemRows(size_t begin, size_t end, size_t rowsPerItem, size_t pointsPerRow, size_t firstPoint,
+                     Body body) {
+  size_t point = firstPoint;
+  for (size_t r = begin; r < end;) {
+    const size_t item = r / rowsPerItem, a0 = r % rowsPerItem, a1 = std::min(rowsPerItem, a0 + (end - r));
+    body(item, static_cast<int>(a0), static_cast<int>(a1), point);
+    point += (a1 - a0) * pointsPerRow;
+    r += a1 - a0;
+  }
+}
+
+// Runs compute(buffer, rowBegin, rowEnd, firstPointInBuffer) over every chunk of `plan`, each chunk's
+// rows split into one slice per worker (threads share the rows of one patch just as they share
+// whole patches), and hands finished chunks to the consumer in order on the calling thread while
+// the workers fill the other buffer. The workers live for the whole job (no thread start per
+// chunk), so chunks can be small enough for their buffers to stay in cache.
 template <class Compute>
-void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldMask fields,
-                const SamplerOptions& options, const ChunkConsumer& consumer, Compute compute) {
-  if (itemCount == 0) return;
+void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& options, const ChunkConsumer& consumer,
+                Compute compute) {
+  if (plan.itemCount == 0) return;
   const int threads = options.threads > 0 ? options.threads
                                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const size_t itemsPerChunk =
-      std::clamp<size_t>(options.maxChunkPoints / std::max<size_t>(pointsPerItem, 1), 1, itemCount);
-  const size_t chunkCount = (itemCount + itemsPerChunk - 1) / itemsPerChunk;
-  const size_t workers = std::min<size_t>(static_cast<size_t>(threads), itemsPerChunk);
+  const size_t chunkCount = plan.chunkCount();
+  const size_t maxRows = plan.itemsPerChunk ? plan.itemsPerChunk * plan.rowsPerItem : plan.rowsPerChunk;
+  const size_t workers = std::min<size_t>(static_cast<size_t>(threads), maxRows);
   ChunkBuffer buffers[2];
-  for (auto& b : buffers) b.allocate(fields, itemsPerChunk * pointsPerItem);
+  for (auto& b : buffers) b.allocate(fields, plan.capacityPoints());
 
   // Shared state: slices finished per chunk, chunks consumed, and the first failure.
   std::mutex mutex;
@@ -148,11 +215,11 @@ void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldM
         changed.wait(lock, [&] { return stop || consumed + 2 > chunk; });
         if (stop) return;
       }
-      const size_t begin = firstItem + chunk * itemsPerChunk;
-      const size_t n = std::min(itemsPerChunk, firstItem + itemCount - begin);
+      const auto [begin, end] = plan.rows(chunk);
+      const size_t n = end - begin;
       const size_t b = begin + n * w / workers, e = begin + n * (w + 1) / workers;
       try {
-        if (b < e) compute(buffers[chunk % 2], b, e, (b - begin) * pointsPerItem);
+        if (b < e) compute(buffers[chunk % 2], b, e, (b - begin) * plan.pointsPerRow);
       } catch (...) {
         std::lock_guard lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -186,10 +253,7 @@ void runChunked(size_t firstItem, size_t itemCount, size_t pointsPerItem, FieldM
       changed.wait(lock, [&] { return failure || slicesDone[chunk] == workers; });
       if (failure) break;
     }
-    GridChunk out;
-    out.firstItem = firstItem + chunk * itemsPerChunk;
-    out.itemCount = std::min(itemsPerChunk, firstItem + itemCount - out.firstItem);
-    out.pointsPerItem = pointsPerItem;
+    GridChunk out = plan.chunk(chunk);
     out.precision = Precision::Double;
     for (int f = 0; f < kFieldCount; ++f) out.planes[f] = buffers[chunk % 2].plane(static_cast<Field>(f));
     try {
@@ -262,49 +326,52 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
   const int firstSpan = curve.spans().first;
   const int n = static_cast<int>(curve.model().points.size());
 
-  auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
+  auto computeItem = [&](ChunkBuffer& buffer, size_t item, int aBegin, int aEnd, size_t point) {
     double* outP = buffer.plane(Field::Point);
     double* outD1 = buffer.plane(Field::D1);
     double* outD2 = buffer.plane(Field::D2);
-    size_t point = firstPoint;
-    for (size_t item = begin; item < end; ++item) {
-      const int span = items[item];
-      if (curve.usesKnotVector()) {
-        for (int a = 0; a < S; ++a, ++point) {
-          const CurvePoint cp = curve.evaluate(span, gridParameter(a, S));
-          put(outP, point, cp.point), put(outD1, point, cp.d1), put(outD2, point, cp.d2);
-        }
-        continue;
+    const int span = items[item];
+    if (curve.usesKnotVector()) {
+      for (int a = aBegin; a < aEnd; ++a, ++point) {
+        const CurvePoint cp = curve.evaluate(span, gridParameter(a, S));
+        put(outP, point, cp.point), put(outD1, point, cp.d1), put(outD2, point, cp.d2);
       }
-      const glm::dvec3* P = curve.spanPoints().data() + span + curve.spanPointOffset();
-      const double invH = knots.empty() ? 1.0 : 1.0 / (knots[span - firstSpan + 1] - knots[span - firstSpan]);
-      glm::dvec3 v0{0.0}, v1{0.0};
-      double a0 = 0.0, a1 = 0.0;
-      if (alphaEB) {
-        const int j1 = (span + 1) % n;
-        v0 = curve.alphaV()[span], v1 = curve.alphaV()[j1];
-        a0 = curve.alphas()[span], a1 = curve.alphas()[j1];
+      return;
+    }
+    const glm::dvec3* P = curve.spanPoints().data() + span + curve.spanPointOffset();
+    const double invH = knots.empty() ? 1.0 : 1.0 / (knots[span - firstSpan + 1] - knots[span - firstSpan]);
+    glm::dvec3 v0{0.0}, v1{0.0};
+    double a0 = 0.0, a1 = 0.0;
+    if (alphaEB) {
+      const int j1 = (span + 1) % n;
+      v0 = curve.alphaV()[span], v1 = curve.alphaV()[j1];
+      a0 = curve.alphas()[span], a1 = curve.alphas()[j1];
+    }
+    for (int a = aBegin; a < aEnd; ++a, ++point) {
+      glm::dvec3 c[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+      for (int r = 0; r < tab.count; ++r)
+        for (int d = 0; d < 3; ++d) c[d] += tab.b[d][static_cast<size_t>(r) * S + a] * P[r];
+      if (alphaEB) {  // MATH.md §4.2
+        const BlendValue s = tab.blend[a];
+        const double al = (1 - s.s) * a0 + s.s * a1, al1 = s.d1 * (a1 - a0), al2 = s.d2 * (a1 - a0);
+        const glm::dvec3 L = (1 - s.s) * v0 + s.s * v1, L1 = s.d1 * (v1 - v0), L2 = s.d2 * (v1 - v0);
+        const glm::dvec3 M = L - c[0], M1 = L1 - c[1], M2 = L2 - c[2];
+        c[2] = c[2] + al * M2 + 2 * al1 * M1 + al2 * M;
+        c[1] = c[1] + al * M1 + al1 * M;
+        c[0] = c[0] + al * M;
       }
-      for (int a = 0; a < S; ++a, ++point) {
-        glm::dvec3 c[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
-        for (int r = 0; r < tab.count; ++r)
-          for (int d = 0; d < 3; ++d) c[d] += tab.b[d][static_cast<size_t>(r) * S + a] * P[r];
-        if (alphaEB) {  // MATH.md §4.2
-          const BlendValue s = tab.blend[a];
-          const double al = (1 - s.s) * a0 + s.s * a1, al1 = s.d1 * (a1 - a0), al2 = s.d2 * (a1 - a0);
-          const glm::dvec3 L = (1 - s.s) * v0 + s.s * v1, L1 = s.d1 * (v1 - v0), L2 = s.d2 * (v1 - v0);
-          const glm::dvec3 M = L - c[0], M1 = L1 - c[1], M2 = L2 - c[2];
-          c[2] = c[2] + al * M2 + 2 * al1 * M1 + al2 * M;
-          c[1] = c[1] + al * M1 + al1 * M;
-          c[0] = c[0] + al * M;
-        }
-        put(outP, point, c[0]);
-        put(outD1, point, c[1] * invH);
-        put(outD2, point, c[2] * (invH * invH));
-      }
+      put(outP, point, c[0]);
+      put(outD1, point, c[1] * invH);
+      put(outD2, point, c[2] * (invH * invH));
     }
   };
-  runChunked(first, count, static_cast<size_t>(S), fields, options, consumer, compute);
+  auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
+    forEachItemRows(begin, end, static_cast<size_t>(S), 1, firstPoint, [&](size_t item, int a0, int a1, size_t point) {
+      computeItem(buffer, item, a0, a1, point);
+    });
+  };
+  runChunked(ChunkPlan(first, count, static_cast<size_t>(S), 1, options.maxChunkPoints), fields, options, consumer,
+             compute);
 }
 
 void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask fields,
@@ -331,24 +398,24 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
                                           int(Field::Duu),   int(Field::Duv), int(Field::Dvv)};
   const bool need[6] = {true, needU, needV, needUU, needUV, needVV};
 
-  auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
+  auto compute = [&](ChunkBuffer& buffer, size_t rowBegin, size_t rowEnd, size_t firstPoint) {
     double* out[kFieldCount];
     for (int f = 0; f < kFieldCount; ++f) out[f] = buffer.plane(static_cast<Field>(f));
     // Row buffers (structure of arrays over v samples): C, Cu, Cv, Cuu, Cuv, Cvv per coordinate.
     std::vector<double> rows(static_cast<size_t>(6 * 3) * Sv);
     auto row = [&](int k, int c) { return rows.data() + static_cast<size_t>(k * 3 + c) * Sv; };
-    size_t point = firstPoint;
-    for (size_t item = begin; item < end; ++item) {
+    forEachItemRows(rowBegin, rowEnd, static_cast<size_t>(Su), static_cast<size_t>(Sv), firstPoint,
+                    [&](size_t item, int aBegin, int aEnd, size_t point) {
       const auto [i, j] = items[item];
       if (surface.usesKnotVector()) {
-        for (int a = 0; a < Su; ++a)
+        for (int a = aBegin; a < aEnd; ++a)
           for (int b = 0; b < Sv; ++b, ++point) {
             const SurfacePoint sp = surface.evaluate(i, j, gridParameter(a, Su), gridParameter(b, Sv));
             put(out[0], point, sp.point), put(out[int(Field::Du)], point, sp.du), put(out[int(Field::Dv)], point, sp.dv);
             put(out[int(Field::Duu)], point, sp.duu), put(out[int(Field::Duv)], point, sp.duv);
             put(out[int(Field::Dvv)], point, sp.dvv), put(out[int(Field::Normal)], point, sp.normal);
           }
-        continue;
+        return;
       }
       const int stride = surface.netCols();
       const glm::dvec3* P = surface.patchNet().data() + static_cast<size_t>(i + surface.netOffsetU()) * stride +
@@ -360,7 +427,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
         const int idx[4] = {i * model.cols + j, i * model.cols + j1, i1 * model.cols + j, i1 * model.cols + j1};
         for (int k = 0; k < 4; ++k) alpha[k] = surface.alphas()[idx[k]], V[k] = surface.alphaV()[idx[k]];
       }
-      for (int a = 0; a < Su; ++a) {
+      for (int a = aBegin; a < aEnd; ++a) {
         // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
         glm::dvec3 T[3][kMaxBasisCount];
         for (int s = 0; s < mv; ++s) {
@@ -448,9 +515,10 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           }
         }
       }
-    }
+    });
   };
-  runChunked(first, count, static_cast<size_t>(Su) * Sv, fields, options, consumer, compute);
+  runChunked(ChunkPlan(first, count, static_cast<size_t>(Su), static_cast<size_t>(Sv), options.maxChunkPoints), fields,
+             options, consumer, compute);
 }
 
 }  // namespace shapespline

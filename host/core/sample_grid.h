@@ -4,7 +4,8 @@
 // A grid places S samples on each curve span (t_s = s/(S-1), both ends included) or Su x Sv samples
 // on each surface patch (u_a = a/(Su-1), v_b = b/(Sv-1)), so neighbouring spans/patches repeat
 // their shared edge samples: every span/patch is a self-contained block, which is what lets a job be
-// split into chunks and shards of whole items and lets a mesh writer emit each patch on its own.
+// split into shards of whole items and lets a mesh writer emit each patch on its own (its faces
+// are index arithmetic, so they need no points of an earlier chunk when a patch spans several).
 // Items are spans (curves) or patches (surfaces, row-major over the patch range, u outer).
 #include <array>
 #include <cstddef>
@@ -28,16 +29,30 @@ struct GridSpec {
   size_t pointsPerItem() const { return static_cast<size_t>(samplesU) * static_cast<size_t>(samplesV); }
 };
 
-// One block of consecutive items. Each requested field is a tightly packed xyz plane
-// (3 values per point, point index = item-in-chunk * pointsPerItem + a * samplesV + b).
+// One block of consecutive points of a job: whole items, or a range of rows of one item when the
+// item alone exceeds the chunk budget (so memory stays bounded whatever the grid). A row is sample
+// a of a patch (its Sv points b = 0..Sv-1) or one sample of a span (pointsPerRow = 1). Chunks come
+// in item order and, within an item, in row order; the points of a job are the same sequence
+// however it is cut. Each requested field is a tightly packed xyz plane (3 values per point; point
+// p of the chunk is point pointInItem(p) = a * samplesV + b of item itemOf(p)).
 struct GridChunk {
   size_t firstItem = 0;
-  size_t itemCount = 0;
+  size_t itemCount = 0;       // items the chunk touches (1 for a row range)
   size_t pointsPerItem = 0;
+  size_t firstRow = 0;        // row range [firstRow, firstRow + rowCount) of item firstItem ...
+  size_t rowCount = 0;        // ... or 0: itemCount whole items
+  size_t pointsPerRow = 1;    // samplesV (curves: 1)
   Precision precision = Precision::Double;
   std::array<const void*, kFieldCount> planes{};  // nullptr where the field was not requested
 
-  size_t pointCount() const { return itemCount * pointsPerItem; }
+  bool partial() const { return rowCount != 0; }
+  size_t pointCount() const { return partial() ? rowCount * pointsPerRow : itemCount * pointsPerItem; }
+  // Index inside item firstItem of the chunk's first point (0 for whole items).
+  size_t firstItemPoint() const { return partial() ? firstRow * pointsPerRow : 0; }
+  size_t itemOf(size_t p) const { return firstItem + (firstItemPoint() + p) / pointsPerItem; }
+  size_t pointInItem(size_t p) const { return (firstItemPoint() + p) % pointsPerItem; }
+  // True when the chunk's last point is the last point of its item (always for whole items).
+  bool endsItem() const { return !partial() || firstItemPoint() + pointCount() == pointsPerItem; }
   bool has(Field f) const { return planes[static_cast<size_t>(f)] != nullptr; }
   double coord(Field f, size_t point, int axis) const {
     const void* p = planes[static_cast<size_t>(f)];

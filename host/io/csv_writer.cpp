@@ -31,46 +31,43 @@ class CsvWriter final : public SampleWriter {
   }
 
   void consume(const GridChunk& chunk) override {
-    const size_t ppi = chunk.pointsPerItem;
     const int sv = layout_.samplesV, su = layout_.samplesU;
-    for (size_t it = 0; it < chunk.itemCount; ++it) {
-      const size_t item = chunk.firstItem + it;
+    const size_t n = chunk.pointCount();  // whole items or a row range of one
+    for (size_t p = 0; p < n; ++p) {
+      const size_t item = chunk.itemOf(p), q = chunk.pointInItem(p);
       const auto [iu, iv] = layout_.itemIndex(item);
-      for (size_t q = 0; q < ppi; ++q) {
-        const size_t p = it * ppi + q;
-        const int a = static_cast<int>(q) / sv, b = static_cast<int>(q) % sv;
-        char* s = out_.space(64 + fields_.size() * 3 * 26);
-        char* e = s;
-        const auto [gu, gv] = layout_.parameter(item, a, b);
-        const double lu = su > 1 ? static_cast<double>(a) / (su - 1) : 0.0;
-        e = writeInteger(e, static_cast<long long>(iu));
+      const int a = static_cast<int>(q / static_cast<size_t>(sv)), b = static_cast<int>(q % static_cast<size_t>(sv));
+      char* s = out_.space(64 + fields_.size() * 3 * 26);
+      char* e = s;
+      const auto [gu, gv] = layout_.parameter(item, a, b);
+      const double lu = su > 1 ? static_cast<double>(a) / (su - 1) : 0.0;
+      e = writeInteger(e, static_cast<long long>(iu));
+      *e++ = ',';
+      if (layout_.surface) {
+        const double lv = sv > 1 ? static_cast<double>(b) / (sv - 1) : 0.0;
+        e = writeInteger(e, static_cast<long long>(iv));
         *e++ = ',';
-        if (layout_.surface) {
-          const double lv = sv > 1 ? static_cast<double>(b) / (sv - 1) : 0.0;
-          e = writeInteger(e, static_cast<long long>(iv));
-          *e++ = ',';
-          e = writeNumber(e, lu);
-          *e++ = ',';
-          e = writeNumber(e, lv);
-          *e++ = ',';
-          e = writeNumber(e, gu);
-          *e++ = ',';
-          e = writeNumber(e, gv);
-        } else {
-          e = writeNumber(e, lu);
-          *e++ = ',';
-          e = writeNumber(e, gu);
-        }
-        for (Field f : fields_) {
-          for (int ax = 0; ax < dim_; ++ax) {
-            *e++ = ',';
-            e = layout_.precision == Precision::Double ? writeNumber(e, chunk.coord(f, p, ax))
-                                                     : writeNumber(e, static_cast<float>(chunk.coord(f, p, ax)));
-          }
-        }
-        *e++ = '\n';
-        out_.advance(static_cast<size_t>(e - s));
+        e = writeNumber(e, lu);
+        *e++ = ',';
+        e = writeNumber(e, lv);
+        *e++ = ',';
+        e = writeNumber(e, gu);
+        *e++ = ',';
+        e = writeNumber(e, gv);
+      } else {
+        e = writeNumber(e, lu);
+        *e++ = ',';
+        e = writeNumber(e, gu);
       }
+      for (Field f : fields_) {
+        for (int ax = 0; ax < dim_; ++ax) {
+          *e++ = ',';
+          e = layout_.precision == Precision::Double ? writeNumber(e, chunk.coord(f, p, ax))
+                                                   : writeNumber(e, static_cast<float>(chunk.coord(f, p, ax)));
+        }
+      }
+      *e++ = '\n';
+      out_.advance(static_cast<size_t>(e - s));
     }
   }
 

@@ -57,11 +57,17 @@ double boxDiagonal(const std::vector<dvec3>& pts) {
 // Collects every chunk's doubles, field by field, for byte comparisons.
 struct Collected {
   std::vector<double> data[kFieldCount];
-  size_t items = 0;
+  size_t items = 0;      // items completed
+  size_t itemPoint = 0;  // next point of item `items` (an item larger than a chunk comes in rows)
   ChunkConsumer consumer() {
     return [this](const GridChunk& c) {
       EXPECT_EQ(c.firstItem, items) << "chunks must arrive in item order";
-      items += c.itemCount;
+      EXPECT_EQ(c.firstItemPoint(), itemPoint) << "row ranges must arrive in row order";
+      if (c.endsItem()) {
+        items += c.itemCount, itemPoint = 0;
+      } else {
+        itemPoint = c.firstItemPoint() + c.pointCount();
+      }
       for (int f = 0; f < kFieldCount; ++f)
         if (c.planes[f]) {
           const auto* p = static_cast<const double*>(c.planes[f]);
