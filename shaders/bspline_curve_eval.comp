@@ -31,7 +31,8 @@ CurvePoint evalSample(uint k) {
     span = int(s.i);
     x = s.u;
   } else {
-    uint item = k / pc.samplesU, a = k - item * pc.samplesU;
+    uint g = pc.firstRow + k;  // rows of a curve chunk are samples
+    uint item = g / pc.samplesU, a = g - item * pc.samplesU;
     REAL local;
     gridKnotParameter(pc.knotOffsetU, pc.intervalOffsetU + (pc.firstItem + item) * kIntervalStride, a, pc.samplesU,
                       span, x, local);
@@ -56,7 +57,7 @@ CurvePoint evalSample(uint k) {
 // code, and four inlined copies (the uniform kernels' vec4 path) multiply llvmpipe compile time.
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
-  uint total = pc.listMode != 0u ? pc.itemCount : pc.itemCount * pc.samplesU;
+  uint total = pc.listMode != 0u ? pc.itemCount : pc.rowCount;
   uint k0 = q * kPointsPerInvocation;
   if (k0 >= total) return;
   uint n = min(kPointsPerInvocation, total - k0);

@@ -87,9 +87,10 @@ Sample evalSample(uint k) {
     lu = s.pad2;
     lv = s.pad3;
   } else {
-    uint per = pc.samplesU * pc.samplesV;
-    uint item = k / per, rem = k - item * per;
-    uint a = rem / pc.samplesV, b = rem - a * pc.samplesV;
+    // Row of the chunk, then row counted from the start of item firstItem (surface_eval.comp).
+    uint row = k / pc.samplesV, b = k - row * pc.samplesV;
+    uint g = pc.firstRow + row;
+    uint item = g / pc.samplesU, a = g - item * pc.samplesU;
     uint lin = pc.firstItem + item;
     uint pu = lin / pc.itemsV, pv = lin - pu * pc.itemsV;
     uint recU = pc.intervalOffsetU + pu * kIntervalStride, recV = pc.intervalOffsetV + pv * kIntervalStride;
@@ -129,7 +130,7 @@ Sample evalSample(uint k) {
 // code, and four inlined copies (the uniform kernels' vec4 path) multiply llvmpipe compile time.
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
-  uint total = pc.listMode != 0u ? pc.itemCount : pc.itemCount * pc.samplesU * pc.samplesV;
+  uint total = pc.listMode != 0u ? pc.itemCount : pc.rowCount * pc.samplesV;
   uint k0 = q * kPointsPerInvocation;
   if (k0 >= total) return;
   uint n = min(kPointsPerInvocation, total - k0);

@@ -67,7 +67,8 @@ CurvePoint evalSample(uint k) {
     t = s.u;
     evalSpanBasis(kParamCoefU, BASIS_COUNT_U, POLY_DEGREE_U, t, b, d1, d2);
   } else {
-    uint item = k / pc.samplesU, a = k - item * pc.samplesU;
+    uint g = pc.firstRow + k;  // rows of a curve chunk are samples
+    uint item = g / pc.samplesU, a = g - item * pc.samplesU;
     span = pc.firstItem + item + pc.firstSpanU;
     t = pc.samplesU > 1u ? REAL(a) / REAL(pc.samplesU - 1u) : REAL(0);
     uint tu = a * 3u * BASIS_COUNT_U;
@@ -98,7 +99,7 @@ CurvePoint evalSample(uint k) {
 
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
-  uint total = LIST_MODE != 0u ? pc.itemCount : pc.itemCount * pc.samplesU;
+  uint total = LIST_MODE != 0u ? pc.itemCount : pc.rowCount;
   uint k0 = q * kPointsPerInvocation;
   if (k0 >= total) return;
   uint n = min(kPointsPerInvocation, total - k0);

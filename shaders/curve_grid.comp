@@ -32,10 +32,13 @@ void main() {
   uint spansPer = max(1u, RUN_LENGTH / pc.samplesU);  // spans of this invocation
   uint runLen = min(RUN_LENGTH, pc.samplesU);          // samples of each of its spans
   uint runs = pc.samplesU / runLen;
-  uint block = q / runs;
-  uint item0 = block * spansPer;
-  if (item0 >= pc.itemCount) return;
-  uint aRun = (q - block * runs) * runLen;
+  // The chunk's samples are rows firstRow .. firstRow + rowCount - 1 counted from the start of span
+  // firstItem (a span larger than a chunk comes in sample ranges, whole runs each).
+  uint local0 = q * runLen * spansPer;
+  if (local0 >= pc.rowCount) return;
+  uint g0 = pc.firstRow + local0;
+  uint item0 = g0 / pc.samplesU;
+  uint aRun = g0 - item0 * pc.samplesU;
   uint spanCount = min(spansPer, pc.itemCount - item0);
 
   REAL cu[MU][DU + 1u];
@@ -101,7 +104,7 @@ void main() {
           d2[e] = c2 * (invH * invH);
         }
       }
-      uint o = (item * pc.samplesU + a0s) >> 2;
+      uint o = (item * pc.samplesU + a0s - pc.firstRow) >> 2;
       if (kWantPoint) STORE_XYZ4_PLANE(outPoint, o, p[0], p[1], p[2], p[3])
       if (kWantD1) STORE_XYZ4_PLANE(outD1, o, d1[0], d1[1], d1[2], d1[3])
       if (kWantD2) STORE_XYZ4_PLANE(outD2, o, d2[0], d2[1], d2[2], d2[3])

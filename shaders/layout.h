@@ -28,7 +28,8 @@
 //                   tightly packed xyz, point k at REAL offsets 3k..3k+2 of the plane; the plane is
 //                   addressed as REAL4 so that one invocation stores 4 consecutive points as three
 //                   vec4 (x0y0z0x1 y1z1x2y2 z2x3y3z3). Point index inside a chunk: grid =
-//                   item * Su*Sv + a*Sv + b (item = span or patch, row-major u outer); list = sample.
+//                   item * Su*Sv + a*Sv + b (item = span or patch, row-major u outer) minus
+//                   firstRow * Sv (a chunk of rows of one item); list = sample.
 #ifndef SHAPESPLINE_SHADERS_LAYOUT_H
 #define SHAPESPLINE_SHADERS_LAYOUT_H
 
@@ -111,7 +112,12 @@ struct EvalPush {
   SS_UINT alphaOffset;   // PARAMS index of α_00
   SS_UINT invHOffset;    // PARAMS index of 1/h of the first span, or kNoOffset
   SS_UINT tableOffsetV;  // TABLE index of the v table (u table at 0)
-  SS_UINT pad0;
+  // Grid: the chunk is rows [firstRow, firstRow + rowCount) counted from the first row of item
+  // firstItem (a row: the Sv samples of one u sample of a patch, or one sample of a span), so an
+  // item larger than a chunk goes in row ranges; whole items: firstRow 0, rowCount itemCount * Su.
+  SS_UINT firstRow;
+  SS_UINT rowCount;
+  SS_UINT pad0, pad1, pad2;
 };
 
 // Push constants of bspline_curve_eval / bspline_surface_eval (knot-vector B-splines, MATH.md
@@ -128,7 +134,9 @@ struct KnotEvalPush {
   SS_UINT intervalOffsetU;  // PARAMS index of the first interval record of u
   SS_UINT intervalOffsetV;
   SS_UINT listMode;         // 1: SAMPLES list (a push constant here, so grid and list share a pipeline)
-  SS_UINT pad0, pad1, pad2, pad3, pad4;
+  SS_UINT firstRow;         // grid: row range of the chunk, as EvalPush
+  SS_UINT rowCount;
+  SS_UINT pad2, pad3, pad4;
 };
 
 // Push constants of alpha_eb_vertices.
@@ -168,7 +176,7 @@ struct ListSampleD {
   uint32_t i, j, pad0, pad1;
   double u, v, pad2, pad3;
 };
-static_assert(sizeof(EvalPush) == 64 && offsetof(EvalPush, tableOffsetV) == 56);
+static_assert(sizeof(EvalPush) == 80 && offsetof(EvalPush, tableOffsetV) == 56 && offsetof(EvalPush, rowCount) == 64);
 static_assert(sizeof(KnotEvalPush) == 64 && offsetof(KnotEvalPush, samplesV) == offsetof(EvalPush, samplesV) &&
               offsetof(KnotEvalPush, itemsV) == offsetof(EvalPush, itemsV));
 static_assert(sizeof(VertexPush) == 16 && sizeof(TablePush) == 16);

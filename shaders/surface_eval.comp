@@ -46,9 +46,11 @@ Sample evalSample(uint k) {
     v = s.v;
     hornerBasis(u, v, B);
   } else {
-    uint per = pc.samplesU * pc.samplesV;
-    uint item = k / per, rem = k - item * per;
-    uint a = rem / pc.samplesV, b = rem - a * pc.samplesV;
+    // Row of the chunk, then row counted from the start of item firstItem (no Su*Sv product:
+    // 65536 x 65536 overflows 32 bits).
+    uint row = k / pc.samplesV, b = k - row * pc.samplesV;
+    uint g = pc.firstRow + row;
+    uint item = g / pc.samplesU, a = g - item * pc.samplesU;
     uint lin = pc.firstItem + item;
     uint pi = lin / pc.itemsV;
     i = pi + pc.firstSpanU;
@@ -86,7 +88,7 @@ Sample evalSample(uint k) {
 
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
-  uint total = LIST_MODE != 0u ? pc.itemCount : pc.itemCount * pc.samplesU * pc.samplesV;
+  uint total = LIST_MODE != 0u ? pc.itemCount : pc.rowCount * pc.samplesV;
   uint k0 = q * kPointsPerInvocation;
   if (k0 >= total) return;
   uint n = min(kPointsPerInvocation, total - k0);

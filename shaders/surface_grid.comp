@@ -71,9 +71,11 @@ void main() {
   uint runs = pc.samplesV / runLen;
   uint block = q / runs;                              // row block: rows block*rowsPer ..
   uint row0 = block * rowsPer;
-  if (row0 >= pc.itemCount * pc.samplesU) return;
+  if (row0 >= pc.rowCount) return;
   uint bRun = (q - block * runs) * runLen;
-  uint item = row0 / pc.samplesU, a0 = row0 - item * pc.samplesU;
+  // row0 counts from the chunk's first row, firstRow rows into item firstItem (a multiple of
+  // rowsPer: a patch larger than a chunk comes in row ranges).
+  uint item = (pc.firstRow + row0) / pc.samplesU, a0 = pc.firstRow + row0 - item * pc.samplesU;
   uint lin = pc.firstItem + item;
   uint pi = lin / pc.itemsV;
   uint i = pi + pc.firstSpanU, j = lin - pi * pc.itemsV + pc.firstSpanV;
@@ -235,7 +237,7 @@ void main() {
         uint kk = f / runLen;
         pt = (row0 + kk) * pc.samplesV + bRun + (f - kk * runLen);
       }
-      uint row = pt / pc.samplesV, b = pt - row * pc.samplesV, a = row - item * pc.samplesU;
+      uint row = pt / pc.samplesV, b = pt - row * pc.samplesV, a = pc.firstRow + row - item * pc.samplesU;
       REAL u = pc.samplesU > 1u ? REAL(a) / denU : REAL(0);
       REAL v = pc.samplesV > 1u ? REAL(b) / denV : REAL(0);
       Basis2 B;

@@ -196,16 +196,6 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
 
   const size_t rs = realSize(k.precision());
   const size_t ppi = grid.pointsPerItem();
-  const size_t itemPlaneBytes = ppi * 3 * rs;
-  // maxPlaneBytes is a preference (a chunk always holds at least one whole item); only the device's
-  // maxStorageBufferRange is a hard limit.
-  const size_t limit = std::min<size_t>(std::max(maxPlaneBytes, itemPlaneBytes + 4 * rs),
-                                        k.context().limits().maxStorageBufferRange);
-  if (itemPlaneBytes + 4 * rs > limit)
-    throw std::length_error("evaluateGrid: one item's plane (" + std::to_string(itemPlaneBytes) +
-                            " bytes) exceeds the device's maxStorageBufferRange " + std::to_string(limit));
-  const size_t perChunk = std::min(count, std::max<size_t>(1, (limit - 4 * rs) / itemPlaneBytes));
-  const size_t chunkCount = (count + perChunk - 1) / perChunk;
 
   const SpanBasis& bu = m.basisU();
   const SpanBasis& bv = m.basisV();
@@ -245,10 +235,52 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
                                 fields,           m.alphaEB() ? 1u : 0u, 0u, job.surface ? 1u : 0u};
   if (gridKernel) spec.push_back(run);
   const auto& pipe = k.pipeline(job.kernel, spec);
+
+  // The chunks, in rows (a row: the Sv samples of one u sample of a patch, or one sample of a
+  // span). Items whose planes fit maxPlaneBytes go whole, as many per chunk as fit; a larger item
+  // goes in row ranges of a whole number of the grid kernel's invocations (rowsPer rows of a patch,
+  // a run of a span), so device and host memory are bounded by the plane budget and not by the
+  // grid. Only the device's maxStorageBufferRange is a hard limit (one granule of rows must fit).
+  const size_t rowsPerItem = su, rowPoints = job.surface ? sv : 1u;
+  const size_t rowBytes = rowPoints * 3 * rs, itemPlaneBytes = ppi * 3 * rs;
+  const size_t hardLimit = k.context().limits().maxStorageBufferRange;
+  const size_t cap = std::min(maxPlaneBytes, hardLimit), usable = cap > 4 * rs ? cap - 4 * rs : 0;
+  const size_t granule = !gridKernel ? 1u : job.surface ? std::max<size_t>(1, run / sv) : run < su ? run : su;
+  size_t perChunk = 0, rowsPerChunk = 0;  // whole items per chunk, or rows per row-range chunk
+  if (itemPlaneBytes <= usable) {
+    perChunk = std::min(count, usable / itemPlaneBytes);
+  } else {
+    rowsPerChunk = std::max(granule, usable / rowBytes / granule * granule);
+    if (rowsPerChunk >= rowsPerItem) perChunk = 1, rowsPerChunk = 0;  // the kernel takes it whole
+  }
+  const size_t chunkPoints = perChunk ? perChunk * ppi : rowsPerChunk * rowPoints;
+  if (chunkPoints * 3 * rs + 4 * rs > hardLimit)
+    throw std::length_error("evaluateGrid: a chunk's plane (" + std::to_string(chunkPoints * 3 * rs) +
+                            " bytes) exceeds the device's maxStorageBufferRange " + std::to_string(hardLimit));
+  const size_t chunksPerItem = rowsPerChunk ? (rowsPerItem + rowsPerChunk - 1) / rowsPerChunk : 1;
+  const size_t chunkCount = perChunk ? (count + perChunk - 1) / perChunk : count * chunksPerItem;
+  // Chunk c as delivered (firstItem, itemCount, firstRow, rowCount; rowCount 0 for whole items).
+  auto chunkAt = [&](size_t c) {
+    GridChunk out;
+    out.pointsPerItem = ppi;
+    out.pointsPerRow = rowPoints;
+    out.precision = k.precision();
+    if (perChunk) {
+      out.firstItem = grid.firstItem + c * perChunk;
+      out.itemCount = std::min(perChunk, grid.firstItem + count - out.firstItem);
+    } else {
+      out.firstItem = grid.firstItem + c / chunksPerItem;
+      out.itemCount = 1;
+      out.firstRow = (c % chunksPerItem) * rowsPerChunk;
+      out.rowCount = std::min(rowsPerChunk, rowsPerItem - out.firstRow);
+    }
+    return out;
+  };
+
   std::vector<vk::DescriptorSet> keep;  // vertex pass / tables
   const int slots = chunkCount > 1 ? ChunkRing::kSlots : 1;
   static_assert(PlanePool::kSlots == ChunkRing::kSlots);
-  const VkDeviceSize planeBytes = realBufferBytes(k, perChunk * ppi * 3);
+  const VkDeviceSize planeBytes = realBufferBytes(k, chunkPoints * 3);
   std::array<std::array<const vk::Buffer*, kFieldCount>, ChunkRing::kSlots> planes{};
   vk::DescriptorSet sets[ChunkRing::kSlots];
   for (int s = 0; s < slots; ++s) {
@@ -264,11 +296,12 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
 
   auto record = [&](size_t chunk) {
     const int slot = int(chunk % slots);
-    const size_t first = grid.firstItem + chunk * perChunk;
-    const size_t n = std::min(perChunk, grid.firstItem + count - first);
+    const GridChunk c = chunkAt(chunk);
     Push pc = job.push;
-    pc.firstItem = uint32_t(first);
-    pc.itemCount = uint32_t(n);
+    pc.firstItem = uint32_t(c.firstItem);
+    pc.itemCount = uint32_t(c.itemCount);
+    pc.firstRow = uint32_t(c.firstRow);
+    pc.rowCount = uint32_t(c.partial() ? c.rowCount : c.itemCount * rowsPerItem);
     pc.samplesU = su;
     pc.samplesV = sv;
     if constexpr (std::is_same_v<Push, layout::EvalPush>) pc.tableOffsetV = tableV;
@@ -288,7 +321,7 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     // Grid kernels: `run` samples per invocation (whole rows or spans, or runs dividing a row; the
     // last invocation of a curve chunk may hold fewer spans).
     const uint64_t perInvocation = gridKernel ? run : layout::kPointsPerInvocation;
-    k.dispatch(cmd, (uint64_t(n) * ppi + perInvocation - 1) / perInvocation);
+    k.dispatch(cmd, (uint64_t(c.pointCount()) + perInvocation - 1) / perInvocation);
     ring.submit(slot);
   };
 
@@ -299,15 +332,11 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     if (chunk + 1 < chunkCount) record(chunk + 1);
     ring.wait(slot);
     if (chunk == 0 && m.alphaEB() && m.verticesDirty()) m.markVerticesClean();
-    GridChunk out;
-    out.firstItem = grid.firstItem + chunk * perChunk;
-    out.itemCount = std::min(perChunk, grid.firstItem + count - out.firstItem);
-    out.pointsPerItem = ppi;
-    out.precision = k.precision();
+    GridChunk out = chunkAt(chunk);
     for (int f : active) out.planes[f] = planes[slot][f]->mapped();
     consumer(out);
   }
-  pool.trim(limit);
+  pool.trim(std::min<size_t>(maxPlaneBytes, hardLimit));
 }
 
 // List mode: samples (host ListSample bytes) -> planes of every allowed field, read back as doubles.
