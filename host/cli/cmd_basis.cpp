@@ -6,8 +6,10 @@
 #include "core/validate.h"
 #include "io/atomic_file.h"
 #include "io/number_text.h"
+#include "io/output_set.h"
 #include "io/svg_writer.h"
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -104,15 +106,25 @@ std::string csv(const Table& tab) {
   for (const auto& n : tab.names) s += ",d2_" + n;
   s += "\n";
   char buf[io::kMaxNumberChars];
-  auto add = [&](double v) {
-    s += ',';
+  // Every number written is checked (a basis of a validated family is finite; this is the guard).
+  auto put = [&](double v, size_t column, size_t row) {
+    if (!std::isfinite(v)) {
+      const size_t n = tab.names.size(), r = (column - 1) % n;
+      const std::string name = column == 0 ? "t" : column <= n ? tab.names[r] : (column <= 2 * n ? "d1_" : "d2_") + tab.names[r];
+      throw RuntimeError(name, number17(v) + " at row " + std::to_string(row),
+                         "the basis table value is not finite; nothing was written");
+    }
     s.append(buf, io::writeNumber17(buf, v));
   };
   for (size_t i = 0; i < tab.t.size(); ++i) {
-    s.append(buf, io::writeNumber17(buf, tab.t[i]));
-    for (const auto& c : tab.v) add(c[i]);
-    for (const auto& c : tab.d1) add(c[i]);
-    for (const auto& c : tab.d2) add(c[i]);
+    size_t column = 0;
+    put(tab.t[i], column++, i);
+    for (const auto* block : {&tab.v, &tab.d1, &tab.d2}) {
+      for (const auto& c : *block) {
+        s += ',';
+        put(c[i], column++, i);
+      }
+    }
     s += "\n";
   }
   return s;
@@ -134,7 +146,12 @@ std::string svg(const Table& tab, const std::string& title) {
       for (size_t i = 0; i < tab.t.size(); ++i) line.points.emplace_back(tab.t[i], (*data[k])[r][i]);
       plot.add(std::move(line));
     }
-    std::string body = plot.render(w, h);
+    std::string body;
+    try {
+      body = plot.render(w, h);
+    } catch (const io::SvgValueError& e) {
+      throw RuntimeError("--svg", "", e.what());
+    }
     body.erase(0, body.find("<svg"));  // drop the XML declaration of the nested document
     s += "<g transform=\"translate(0," + std::to_string(k * h) + ")\">\n" + body + "</g>\n";
   }
@@ -148,20 +165,19 @@ void runBasis(const BasisArgs& a) {
   if (a.order) title += " order " + std::to_string(a.order);
   if (a.family != "bspline" && a.family != "gubp" && a.family != "singular_blend") title += " lambda " + number17(a.lambda);
   if (!a.mu.empty()) title += " mu " + a.mu;
-  std::optional<io::AtomicFile> out, plot;
-  if (!a.out.empty()) out.emplace(a.out, "-o");
-  if (!a.svg.empty()) plot.emplace(a.svg, "--svg");
+  // One set: the table and the plot appear together or not at all; the same path twice is refused.
+  io::OutputSet outputs;
+  io::AtomicFile* out = a.out.empty() ? nullptr : &outputs.add(a.out, "-o");
+  io::AtomicFile* plot = a.svg.empty() ? nullptr : &outputs.add(a.svg, "--svg");
   const std::string table = csv(tab);
   if (out) {
     out->write(table);
-    out->commit();
   } else {
-    std::fwrite(table.data(), 1, table.size(), stdout);
+    io::writeStdout(table);
   }
-  if (plot) {
-    plot->write(svg(tab, title));
-    plot->commit();
-  }
+  if (plot) plot->write(svg(tab, title));
+  io::flushStdout();  // stdout failed: exit 3 and no file
+  outputs.commit();
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "core/gb_tools.h"
 #include "core/validate.h"
 #include "io/atomic_file.h"
+#include "io/output_set.h"
 
 #include <cstdio>
 #include <memory>
@@ -28,9 +29,9 @@ void runGbFit(const GbFitArgs& a) {
   if (dims != 2) throw InputError("--through", a.through, "the GB modification takes a 2-D target X,Y");
   CurveModel curve = std::get<CurveModel>(m);
   if (curve.dimension != 2) throw InputError("MODEL", a.model, "gb-fit needs a 2-D curve");
-  std::optional<io::AtomicFile> out, svg;
-  if (!a.out.empty()) out.emplace(a.out, "-o");
-  if (!a.svg.empty()) svg.emplace(a.svg, "--svg");
+  io::OutputSet outputs;  // the model and the plot appear together or not at all
+  io::AtomicFile* out = a.out.empty() ? nullptr : &outputs.add(a.out, "-o");
+  io::AtomicFile* svg = a.svg.empty() ? nullptr : &outputs.add(a.svg, "--svg");
   GbFitResult r;
   try {
     r = gbConstrainedModify(curve, a.span, {target.x, target.y});
@@ -47,18 +48,16 @@ void runGbFit(const GbFitArgs& a) {
          number17(r.all[i].lambda0) + ", \"w\": " + number17(r.all[i].w) + "}";
   }
   s += "]}\n";
-  std::fwrite(s.data(), 1, s.size(), stdout);
   curve.family.lambda = r.bisection.lambda0;
   validateCurve(curve);
-  if (out) {
-    out->write(io::toJson(curve).dump(2) + "\n");
-    out->commit();
-  }
+  if (out) out->write(io::toJson(curve).dump(2) + "\n");
   if (svg) {
     const Curve c = Curve::create(curve);
     svg->write(curveSvg(c, {target}, "gb-fit span " + std::to_string(a.span) + ", lambda0 = " + number17(r.bisection.lambda0)));
-    svg->commit();
   }
+  io::writeStdout(s);
+  io::flushStdout();  // stdout failed: exit 3 and no file
+  outputs.commit();
 }
 
 }  // namespace

@@ -111,6 +111,9 @@ void runRender(const RenderArgs& a) {
     el = v[1];
   }
   if (!io::pngSupported()) throw std::runtime_error("this build has no libpng; render cannot write PNG files");
+  // Opened before any rendering: a bad -o is bad input (exit 2), and the old PNG is replaced only
+  // by a complete new one.
+  io::AtomicFile png(a.output, "-o");
 
   std::shared_ptr<vk::Context> ctx;
   try {
@@ -215,7 +218,8 @@ void runRender(const RenderArgs& a) {
     }
   }
   // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).
-  io::writePng(a.output, sheet.cols * w, sheet.rows * h, sheet.rgba, false);
+  io::writePng(png, sheet.cols * w, sheet.rows * h, sheet.rgba, false);
+  png.commit();
   if (!a.quiet) std::fprintf(stderr, "shapespline: wrote %s (%d x %d)\n", a.output.c_str(), sheet.cols * w, sheet.rows * h);
 }
 

@@ -1,6 +1,6 @@
 #include "io/png_writer.h"
 
-#include <cstdio>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -14,16 +14,39 @@
 namespace shapespline::io {
 
 #ifdef SHAPESPLINE_HAVE_PNG
+namespace {
+
+// libpng's I/O goes through these callbacks into the AtomicFile. libpng reports errors by longjmp
+// and is C: an exception must not unwind through it, so a failed write is kept here and libpng
+// is stopped with png_error (nothing with a destructor is alive in the callback at that point).
+struct Sink {
+  AtomicFile* out = nullptr;
+  std::exception_ptr error;
+};
+
+void writeData(png_structp png, png_bytep data, size_t size) {
+  auto* sink = static_cast<Sink*>(png_get_io_ptr(png));
+  bool failed = false;
+  try {
+    sink->out->write(data, size);
+  } catch (...) {
+    sink->error = std::current_exception();
+    failed = true;
+  }
+  if (failed) png_error(png, "write failed");
+}
+
+void flushData(png_structp) {}  // AtomicFile::commit flushes and fsyncs
+
+}  // namespace
+
 bool pngSupported() { return true; }
 
-void writePng(const std::filesystem::path& path, int width, int height, std::span<const uint8_t> rgba,
-              bool withAlpha) {
+void writePng(AtomicFile& out, int width, int height, std::span<const uint8_t> rgba, bool withAlpha) {
   if (width <= 0 || height <= 0 || rgba.size() != size_t(width) * size_t(height) * 4)
     throw std::invalid_argument("writePng: " + std::to_string(width) + " x " + std::to_string(height) +
                                 " image needs " + std::to_string(size_t(width) * height * 4) + " bytes, got " +
                                 std::to_string(rgba.size()));
-  std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "wb"), &std::fclose);
-  if (!file) throw std::runtime_error("cannot open '" + path.string() + "' for writing");
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
@@ -32,12 +55,16 @@ void writePng(const std::filesystem::path& path, int width, int height, std::spa
   }
   const int channels = withAlpha ? 4 : 3;
   std::vector<uint8_t> row(size_t(width) * channels);
-  // libpng reports errors by longjmp; nothing with a destructor lives between here and the calls.
+  // On the heap: a local modified between setjmp and longjmp would be indeterminate afterwards.
+  const auto sink = std::make_unique<Sink>();
+  sink->out = &out;
+  // libpng reports errors by longjmp back here; the objects above live in this frame and survive it.
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    throw std::runtime_error("libpng failed while writing '" + path.string() + "'");
+    if (sink->error) std::rethrow_exception(sink->error);
+    throw std::runtime_error("libpng failed while writing '" + out.target().string() + "'");
   }
-  png_init_io(png, file.get());
+  png_set_write_fn(png, sink.get(), &writeData, &flushData);
   png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8,
                withAlpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -50,13 +77,20 @@ void writePng(const std::filesystem::path& path, int width, int height, std::spa
   }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0) throw std::runtime_error("writing '" + path.string() + "' failed");
 }
 #else
 bool pngSupported() { return false; }
-void writePng(const std::filesystem::path&, int, int, std::span<const uint8_t>, bool) {
+void writePng(AtomicFile&, int, int, std::span<const uint8_t>, bool) {
   throw std::runtime_error("this build has no libpng: PNG output is unavailable");
 }
 #endif
+
+void writePng(const std::filesystem::path& path, int width, int height, std::span<const uint8_t> rgba,
+              bool withAlpha) {
+  if (!pngSupported()) throw std::runtime_error("this build has no libpng: PNG output is unavailable");
+  AtomicFile out(path, "-o");
+  writePng(out, width, height, rgba, withAlpha);
+  out.commit();
+}
 
 }  // namespace shapespline::io
