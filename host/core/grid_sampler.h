@@ -3,7 +3,7 @@
 //
 // On a regular grid the basis values depend only on the sample position, not on the span or
 // patch, so they are tabulated once per grid and every patch is a small tensor contraction
-// (v first, then u). Items are split among threads; each point is computed by the same code
+// (v first, then u). A chunk's rows are split among threads; each point is computed by the same code
 // whatever the thread count or chunk size, so the output is byte-identical across both.
 // Points where the fast path does not apply (knot-vector B-splines, α-EB corner samples, and
 // degenerate normals) go through Curve::evaluate / Surface::evaluate.
@@ -17,8 +17,10 @@ namespace shapespline {
 
 struct SamplerOptions {
   int threads = 0;                      // 0 = all hardware threads
-  // Points per delivered chunk (rounded to whole items). Small enough that both chunk buffers
-  // stay in cache: at 2^20 the sampler becomes bound by memory writes (24 vs 61 Mpts/s measured).
+  // Points per delivered chunk: whole items while they fit, else rows of one item (at least one
+  // row of Sv points), so memory is 2 buffers x fields x 24 bytes x max(maxChunkPoints, Sv) for any
+  // grid. Small enough that both chunk buffers stay in cache: at 2^20 the sampler becomes bound by
+  // memory writes (24 vs 61 Mpts/s measured).
   size_t maxChunkPoints = size_t{1} << 15;
 };
 

@@ -4,9 +4,10 @@
 // buffer layouts: shaders/layout.h, math: MATH.md §1–§6 mirrored from host/core.
 //
 // Grid jobs (core/sample_grid.h) run chunk by chunk: a chunk is a whole number of spans/patches
-// whose output planes each fit in EvaluatorOptions::maxPlaneBytes (and maxStorageBufferRange), so
-// device and host memory stay bounded whatever the job size; the consumer sees each chunk once,
-// in order, while the output buffers are mapped. Two output slots stream: the GPU computes chunk
+// whose output planes each fit in EvaluatorOptions::maxPlaneBytes, or, for an item larger than
+// that, a range of its rows (whole kernel invocations: a span of up to 256 samples is never cut),
+// so device and host memory stay bounded whatever the job or grid size; the consumer sees each
+// chunk once, in order, while the output buffers are mapped. Two output slots stream: the GPU computes chunk
 // k+1 while the consumer reads chunk k, so device + host memory stay at 2 chunks of planes
 // (2 x fields x maxPlaneBytes) however many points the job has. The evaluator keeps those planes
 // for its next grid job (gpu/plane_pool.h); an evaluator is used by one thread at a time.
@@ -29,7 +30,8 @@ class PlanePool;
 
 struct EvaluatorOptions {
   uint32_t workgroupSize = 64;                 // spec constant of every kernel
-  // Preferred bytes per output plane and chunk (a chunk holds at least one item). Small planes stay
+  // Bytes per output plane and chunk (items larger than this go in row ranges; only one granule
+  // of rows, at most 16 rows of a patch or 64 samples of a span, may exceed it). Small planes stay
   // resident between chunks: 64 MiB planes cost ~1e5 first-touch page faults per 15 M-point job on
   // lavapipe and halved its throughput (measured 2–4 MiB: 113–124 vs 27–59 Mpts/s fp32).
   size_t maxPlaneBytes = size_t(4) << 20;
