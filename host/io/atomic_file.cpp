@@ -27,7 +27,9 @@ namespace {
 constexpr size_t kBufferSize = size_t{1} << 20;
 constexpr size_t kMaxTempPath = 4096;       // bytes of one registry entry, NUL included
 constexpr size_t kMaxNameInTemp = 200;      // `.NAME.tmp-XXXXXXXXXXXXXXXX` stays below NAME_MAX
-constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP};
+// SIGPIPE too: `shapespline gb-fit ... -o X | head` must not leave X's temporary file behind when
+// the reader goes away (the process still ends by SIGPIPE, as a filter should).
+constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
 
 std::string errnoText(int err) { return std::generic_category().message(err); }
 

@@ -103,12 +103,12 @@ class AtomicFile {
 // Commits `count` prepared-or-not files as one set (see OutputSet::commit). Internal to io.
 void commitFiles(AtomicFile* const* files, size_t count);
 
-// Installs SIGINT, SIGTERM and SIGHUP handlers (those not ignored at start) that unlink every live
-// temporary file, then restore the default action and re-raise the signal, so the process still
-// ends by that signal. The handler is async-signal-safe: it reads a fixed-size static registry of
-// C strings (at most kMaxLiveTempFiles paths of up to 4095 bytes; a file beyond that is still
-// removed on every error path, only not on a signal). During the renames of a commit the signal is
-// held back and raised when the commit has finished, so a set is never left half renamed by it.
+// Installs SIGINT, SIGTERM, SIGHUP and SIGPIPE handlers (those not ignored at start) that unlink
+// every live temporary file, then restore the default action and re-raise the signal, so the
+// process still ends by that signal. The handler is async-signal-safe: it reads a fixed-size static
+// registry of C strings (at most kMaxLiveTempFiles paths of up to 4095 bytes; a file beyond that is
+// still removed on every error path, only not on a signal). During the renames of a commit the
+// signal is held back and raised when the commit has finished, so a set is never left half renamed.
 inline constexpr int kMaxLiveTempFiles = 32;
 void installTempFileCleanup();
 

@@ -1,8 +1,8 @@
 // Issue 12 at the command line, outputs: the files of one job appear together or not at all (raw
 // data + sidecar, -o + --svg, a PNG), also when two processes write the same -o at once; the same
-// path twice is refused; temporary files are unpredictable, never follow a planted symlink, keep the
-// replaced file's mode and are removed on SIGINT/SIGTERM/SIGHUP; `render` writes atomically and
-// refuses a bad -o as bad input; a failed write to stdout is exit 3 for every subcommand.
+// path twice is refused; temporary files are unpredictable, never follow a planted symlink, keep
+// the replaced file's mode and are removed on SIGINT/SIGTERM/SIGHUP (and SIGPIPE); `render` writes
+// atomically and refuses a bad -o as bad input; a failed write to stdout is exit 3 everywhere.
 //
 // SHAPESPLINE_TEST_CLI=/path/to/shapespline runs these tests against another binary (e.g. one
 // built before the fixes, to see them fail).
@@ -200,7 +200,7 @@ TEST(OutputSetCli, ReplacedOutputKeepsItsMode) {
 }
 
 // Starts `shapespline args...` without a shell (a shell's background job would ignore SIGINT).
-pid_t spawnCli(const std::vector<std::string>& args, const fs::path& err) {
+pid_t spawnCli(const std::vector<std::string>& args, const fs::path& err, int stdoutFd = -1) {
   std::vector<std::string> argv = {cli()};
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> cargv;
@@ -208,14 +208,18 @@ pid_t spawnCli(const std::vector<std::string>& args, const fs::path& err) {
   cargv.push_back(nullptr);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  if (stdoutFd >= 0) {
+    posix_spawn_file_actions_adddup2(&fa, stdoutFd, 1);
+  } else {
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  }
   posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
   sigset_t none, dfl;
   sigemptyset(&none);
   sigemptyset(&dfl);
-  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&dfl, s);
+  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaddset(&dfl, s);
   posix_spawnattr_setsigmask(&attr, &none);
   posix_spawnattr_setsigdefault(&attr, &dfl);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
@@ -248,6 +252,26 @@ TEST(OutputSetCli, SignalsRemoveTheTemporaryFiles) {
         << "signal " << sig << ": status " << status << " " << readText(dir / "err.txt");
     EXPECT_TRUE(entries(dir / "out").empty()) << "signal " << sig << " left " << joined(entries(dir / "out"));
   }
+}
+
+// stdout is a pipe whose reader has gone: the job ends by SIGPIPE (as a filter should) and leaves
+// neither its outputs nor their temporary files.
+TEST(OutputSetCli, BrokenStdoutPipeLeavesNoFile) {
+  ScratchDir dir("outset_pipe");
+  fs::create_directories(dir / "out");
+  writeText(dir / "gb.json", kGbModel);
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  ::close(fds[0]);  // no reader
+  const pid_t pid = spawnCli({"gb-fit", (dir / "gb.json").string(), "--span", "1", "--through", kGbThrough, "-o",
+                              (dir / "out" / "fit.json").string(), "--svg", (dir / "out" / "fit.svg").string()},
+                             dir / "err.txt", fds[1]);
+  ::close(fds[1]);
+  ASSERT_GT(pid, 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGPIPE) << "status " << status;
+  EXPECT_TRUE(entries(dir / "out").empty()) << "left " << joined(entries(dir / "out"));
 }
 
 // ---- render ------------------------------------------------------------------------------------
