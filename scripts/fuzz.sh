@@ -18,12 +18,14 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DSHAPESPLINE_FUZZ=ON -DSHAPESPLINE_BUILD_BENCH=OFF >/dev/null
 
 # The fuzz targets and seed writers this tree defines (tolerant of targets added or not yet there).
-targets=$(ninja -C build-fuzz -t targets all | sed -n 's/^\([A-Za-z0-9_]*\)_fuzzer: phony$/\1/p' | sort -u)
+# (Ninja also lists CMake's own cmake_object_order_depends_target_* phonies: skipped.)
+phonies=$(ninja -C build-fuzz -t targets all | sed -n 's/^\([A-Za-z0-9_]*\): phony$/\1/p' | grep -v '^cmake_' | sort -u)
+targets=$(sed -n 's/^\([A-Za-z0-9_]*\)_fuzzer$/\1/p' <<<"$phonies")
 if [[ -z $targets ]]; then
   echo "fuzz: no *_fuzzer target in build-fuzz" >&2
   exit 1
 fi
-seeders=$(ninja -C build-fuzz -t targets all | sed -n 's/^\([A-Za-z0-9_]*_fuzz_seeds\): phony$/\1/p' | sort -u)
+seeders=$(grep '_fuzz_seeds$' <<<"$phonies" || true)
 build=()
 for name in $targets; do build+=("${name}_fuzzer"); done
 for s in $seeders; do build+=("$s"); done
@@ -41,9 +43,10 @@ for name in $targets; do
   out=build-fuzz/fuzz/$name
   mkdir -p "$out/corpus" "$out/artifacts"
   folders=("$out/corpus")
-  if grep -qx "${name}_fuzz_seeds" <<<"$seeders"; then
+  seeder=$(find build-fuzz/tests -name "${name}_fuzz_seeds" -type f -perm -u+x | head -n 1)
+  if [[ -n $seeder ]]; then
     rm -rf "$out/seeds"
-    "$(find build-fuzz/tests -name "${name}_fuzz_seeds" -type f -perm -u+x | head -n 1)" "$out/seeds"
+    "$seeder" "$out/seeds"
     folders+=("$out/seeds")
   elif [[ -d build-fuzz/fuzz/${name}_seeds ]]; then
     folders+=("build-fuzz/fuzz/${name}_seeds")

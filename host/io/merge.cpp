@@ -1,6 +1,7 @@
 #include "io/merge.h"
 
 #include "io/atomic_file.h"
+#include "io/output_set.h"
 #include "io/sample_writer.h"
 #include "io/shard_info.h"
 
@@ -14,6 +15,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -96,7 +98,6 @@ class ShardFile {
     const int flags = ::fcntl(fd_, F_GETFL);
     if (flags >= 0) ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
     size_ = static_cast<uint64_t>(st.st_size);
-    buffer_.resize(kMergeBufferBytes);
   }
   ~ShardFile() {
     if (fd_ >= 0) ::close(fd_);
@@ -110,7 +111,7 @@ class ShardFile {
   // Up to `n` bytes (fewer only at the end of the file).
   size_t read(char* dst, size_t n) {
     size_t got = std::min(n, end_ - pos_);
-    std::memcpy(dst, buffer_.data() + pos_, got);
+    if (got) std::memcpy(dst, buffer_.get() + pos_, got);
     pos_ += got;
     while (got < n) {
       const ssize_t r = ::read(fd_, dst + got, n - got);
@@ -142,7 +143,7 @@ class ShardFile {
         *complete = false;
         return !out.empty();
       }
-      const char* start = buffer_.data() + pos_;
+      const char* start = buffer_.get() + pos_;
       const void* nl = std::memchr(start, '\n', end_ - pos_);
       const size_t take = nl ? static_cast<size_t>(static_cast<const char*>(nl) - start) : end_ - pos_;
       if (out.size() + take > maxBytes) refuse(w_, "has a line longer than " + std::to_string(maxBytes) + " bytes");
@@ -158,8 +159,9 @@ class ShardFile {
 
  private:
   bool fill() {
+    if (!buffer_) buffer_ = std::make_unique_for_overwrite<char[]>(kMergeBufferBytes);
     while (true) {
-      const ssize_t r = ::read(fd_, buffer_.data(), buffer_.size());
+      const ssize_t r = ::read(fd_, buffer_.get(), kMergeBufferBytes);
       if (r < 0 && errno == EINTR) continue;
       if (r < 0) fail("cannot read the file");
       pos_ = 0;
@@ -174,7 +176,7 @@ class ShardFile {
   Where w_;
   int fd_ = -1;
   uint64_t size_ = 0;
-  std::vector<char> buffer_;
+  std::unique_ptr<char[]> buffer_;  // allocated on the first buffered read (line())
   size_t pos_ = 0, end_ = 0;
 };
 
@@ -852,23 +854,21 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
                                                  std::string(outputFormatName(format)) + ")");
     }
   }
-  AtomicFile out(output, "-o");
+  // Data and sidecar are one output set: both appear, or neither changes (io/output_set.h).
+  OutputSet files;
+  AtomicFile& out = files.add(output, "-o");
   MergeResult result;
   switch (format) {
     case OutputFormat::Obj: result = mergeObj(shards, out); break;
     case OutputFormat::Ply: result = mergePly(shards, out); break;
     case OutputFormat::Csv: result = mergeCsv(shards, out); break;
     case OutputFormat::RawF32:
-    case OutputFormat::RawF64: {
-      AtomicFile sidecar(output + ".json", "-o");
-      result = mergeRaw(shards, format == OutputFormat::RawF64, out, sidecar);
-      out.commit();
-      sidecar.commit();
-      return result;
-    }
+    case OutputFormat::RawF64:
+      result = mergeRaw(shards, format == OutputFormat::RawF64, out, files.add(output + ".json", "-o"));
+      break;
     case OutputFormat::Svg: break;
   }
-  out.commit();
+  files.commit();
   return result;
 }
 
