@@ -319,8 +319,10 @@ PlyShard readPlyHeader(ShardFile& f) {
                   (f.size() < p.fileBytes ? " (truncated?)" : ""));
   }
   const ShardInfo& s = p.info;
-  if (s.surface != p.faces) refuse(w, "has " + std::string(p.faces ? "faces" : "edges") + " but its job line says " +
-                                      (s.surface ? "surface" : "curve"));
+  if (s.surface != p.faces) {
+    refuse(w, "has " + std::string(p.faces ? "faces" : "edges") + " but its job line says " +
+                  (s.surface ? "surface" : "curve"));
+  }
   const uint64_t su = static_cast<uint64_t>(s.samplesU), sv = static_cast<uint64_t>(s.samplesV);
   const uint64_t v = perItem(s, s.pointsPerItem(), w, "vertices");
   const uint64_t r = perItem(s, s.surface ? 2 * (su - 1) * (sv - 1) : su - 1, w, s.surface ? "faces" : "edges");
@@ -347,7 +349,8 @@ MergeResult mergePly(const std::vector<std::string>& shards, AtomicFile& out) {
     vertices += p.vertices;  // each < 2^62 / 12 by the size check, and their sum is bounded below
     records += p.records;
     if (vertices > std::numeric_limits<uint32_t>::max()) {
-      refuse(f.where(), "brings the merged PLY above 2^32-1 vertices (PLY stores 32-bit indices; merge to a raw format)");
+      refuse(f.where(),
+             "brings the merged PLY above 2^32-1 vertices (PLY stores 32-bit indices; merge to a raw format)");
     }
   }
   const PlyShard& first = headers.front();
@@ -383,7 +386,8 @@ MergeResult mergePly(const std::vector<std::string>& shards, AtomicFile& out) {
         char* rec = buffer.data() + r * p.recordBytes;
         if (p.faces && rec[0] != 3) {
           refuse(f.where(), "face " + std::to_string(done + r) + " has " +
-                                std::to_string(static_cast<unsigned char>(rec[0])) + " vertices (shapespline writes triangles)");
+                                std::to_string(static_cast<unsigned char>(rec[0])) +
+                                " vertices (shapespline writes triangles)");
         }
         for (size_t i = 0; i < indices; ++i) {
           uint32_t idx;
@@ -450,7 +454,9 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
     auto absolute = [&](std::string_view s, int slot) {
       const bool negative = !s.empty() && s[0] == '-';
       const auto v = parseCount(negative ? s.substr(1) : s, kMaxItems);
-      if (!v || *v == 0) refuse(w, at() + "has the index " + snippet(s) + " (expected a nonzero integer within the file)");
+      if (!v || *v == 0) {
+        refuse(w, at() + "has the index " + snippet(s) + " (expected a nonzero integer within the file)");
+      }
       const uint64_t have = total[slot] - start[slot];
       if (*v > have) {
         refuse(w, at() + "refers to vertex " + snippet(s) + " outside the " + std::to_string(have) +
@@ -592,9 +598,9 @@ MergeResult mergeCsv(const std::vector<std::string>& shards, AtomicFile& out) {
       if (!inGroup || key[0] != cur[0] || key[1] != cur[1]) {
         if (inGroup) endGroup();
         if (haveKey && !(key[0] > prev[0] || (key[0] == prev[0] && key[1] > prev[1]))) {
-          refuse(w, at + "has " + item + " " + std::to_string(key[0]) + (keys == 2 ? "," + std::to_string(key[1]) : "") +
-                        " after " + item + " " + std::to_string(prev[0]) +
-                        (keys == 2 ? "," + std::to_string(prev[1]) : "") +
+          refuse(w, at + "has " + item + " " + std::to_string(key[0]) +
+                        (keys == 2 ? "," + std::to_string(key[1]) : "") + " after " + item + " " +
+                        std::to_string(prev[0]) + (keys == 2 ? "," + std::to_string(prev[1]) : "") +
                         " (items out of order: give the shards in order 1..N, each once)");
         }
         cur[0] = prev[0] = key[0];
@@ -640,7 +646,9 @@ class SidecarReader {
   SidecarReader(const nlohmann::json& doc, const Where& w) : doc_(doc), w_(w) {}
 
   const nlohmann::json& at(const nlohmann::json& obj, const char* key, const std::string& path) const {
-    if (!obj.is_object() || !obj.contains(key)) refuse(w_, "sidecar lacks \"" + path + "\" (not a shapespline raw sidecar)");
+    if (!obj.is_object() || !obj.contains(key)) {
+      refuse(w_, "sidecar lacks \"" + path + "\" (not a shapespline raw sidecar)");
+    }
     return obj[key];
   }
   const nlohmann::json& at(const std::string& path) const {
@@ -697,7 +705,9 @@ class SidecarReader {
 
 RawSidecar readSidecar(const Where& w, bool float64) {
   ShardFile f(w);
-  if (f.size() > kMaxSidecarBytes) refuse(w, "sidecar is larger than " + std::to_string(kMaxSidecarBytes >> 20) + " MiB");
+  if (f.size() > kMaxSidecarBytes) {
+    refuse(w, "sidecar is larger than " + std::to_string(kMaxSidecarBytes >> 20) + " MiB");
+  }
   std::string text(static_cast<size_t>(f.size()), '\0');
   f.readExact(text.data(), text.size());
   f.expectEnd();
@@ -730,7 +740,9 @@ RawSidecar readSidecar(const Where& w, bool float64) {
   }
   for (const auto& f : fields) {
     bool known = false;
-    for (int k = 0; k < kFieldCount && f.is_string(); ++k) known |= f.get<std::string>() == fieldName(static_cast<Field>(k));
+    for (int k = 0; k < kFieldCount && f.is_string(); ++k) {
+      known |= f.get<std::string>() == fieldName(static_cast<Field>(k));
+    }
     if (!known) refuse(w, "sidecar \"fields\" holds something that is not a field name");
     s.fields.push_back(f.get<std::string>());
   }
@@ -738,7 +750,9 @@ RawSidecar readSidecar(const Where& w, bool float64) {
   if (r.u64("values_per_record", 0, 1000) != s.valuesPerRecord()) r.inconsistent("\"values_per_record\"");
   i.samplesU = static_cast<int>(r.u64("grid.samples_u", 2, 65536));
   i.samplesV = static_cast<int>(r.u64("grid.samples_v", i.surface ? 2 : 1, i.surface ? 65536 : 1));
-  if (r.u64("grid.points_per_item", 0, uint64_t{1} << 40) != i.pointsPerItem()) r.inconsistent("\"grid.points_per_item\"");
+  if (r.u64("grid.points_per_item", 0, uint64_t{1} << 40) != i.pointsPerItem()) {
+    r.inconsistent("\"grid.points_per_item\"");
+  }
   i.totalItems = r.u64("items.total", 0, kMaxItems);
   i.firstItem = r.u64("items.first", 0, i.totalItems);
   i.itemCount = r.u64("items.count", 0, i.totalItems - i.firstItem);
@@ -759,8 +773,9 @@ RawSidecar readSidecar(const Where& w, bool float64) {
       !mulOk(values, s.valueSize(), &bytes)) {
     refuse(w, "sidecar counts overflow 64 bits");
   }
-  if (r.u64("counts.items", 0, std::numeric_limits<uint64_t>::max()) != i.itemCount || r.u64("counts.points", 0, std::numeric_limits<uint64_t>::max()) != points ||
-      r.u64("counts.values", 0, std::numeric_limits<uint64_t>::max()) != values || r.u64("counts.bytes", 0, std::numeric_limits<uint64_t>::max()) != bytes) {
+  constexpr uint64_t kAny = std::numeric_limits<uint64_t>::max();
+  if (r.u64("counts.items", 0, kAny) != i.itemCount || r.u64("counts.points", 0, kAny) != points ||
+      r.u64("counts.values", 0, kAny) != values || r.u64("counts.bytes", 0, kAny) != bytes) {
     r.inconsistent("\"counts\" do not follow from the item range, grid and fields");
   }
   const SpanWindow win = spanWindow(i.firstItem, i.itemCount, s.itemsV);
@@ -822,7 +837,8 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, Atomi
     sides[k - 1].spansU.clear();
     sides[k - 1].spansV.clear();
   }
-  if (std::find(seenU.begin(), seenU.end(), 0) != seenU.end() || std::find(seenV.begin(), seenV.end(), 0) != seenV.end()) {
+  if (std::find(seenU.begin(), seenU.end(), 0) != seenU.end() ||
+      std::find(seenV.begin(), seenV.end(), 0) != seenV.end()) {
     refuse({shardField(1), shards[0] + ".json"}, "the shards' span lists leave rows or columns of the model out");
   }
   std::vector<char> buffer(kMergeBufferBytes);

@@ -340,8 +340,8 @@ void writeRawSidecar(AtomicFile& out, const RawSidecar& s) {
                   ", \"points_per_item\": " + std::to_string(i.pointsPerItem()) +
                   ", \"local_parameters\": \"s/(S-1), both ends included\"}");
   key("counts", "{\"items\": " + std::to_string(i.itemCount) + ", \"points\": " + std::to_string(points) +
-                    ", \"values\": " + std::to_string(values) + ", \"bytes\": " + std::to_string(values * s.valueSize()) +
-                    "}");
+                    ", \"values\": " + std::to_string(values) +
+                    ", \"bytes\": " + std::to_string(values * s.valueSize()) + "}");
   t += "  \"items\": {\n    \"first\": " + std::to_string(i.firstItem) + ",\n    \"count\": " +
        std::to_string(i.itemCount) + ",\n    \"total\": " + std::to_string(i.totalItems) + ",\n    \"items_v\": " +
        std::to_string(s.itemsV) + ",\n    \"spans_u_offset\": " + std::to_string(s.spansUOffset) +

@@ -51,7 +51,8 @@ inline MergeFuzzInput decodeMergeFuzzInput(std::string_view bytes) {
       in.shards.push_back(std::move(s));
     }
   } else {
-    for (size_t i = 0; i < parts.size() && i < kMergeFuzzMaxShards; ++i) in.shards.push_back({std::string(parts[i]), "", false});
+    for (size_t i = 0; i < parts.size() && i < kMergeFuzzMaxShards; ++i)
+      in.shards.push_back({std::string(parts[i]), "", false});
   }
   return in;
 }
