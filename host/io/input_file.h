@@ -20,7 +20,7 @@
 
 namespace shapespline::io {
 
-inline constexpr std::uint64_t kMaxInputFileBytes = 64ull << 20;  // 64 MiB
+inline constexpr std::uint64_t kMaxInputFileBytes = 32ull << 20;  // 32 MiB
 inline constexpr int kMaxJsonDepth = 64;                          // nested arrays/objects
 inline constexpr std::size_t kMaxJsonObjectKeys = 1024;
 inline constexpr std::size_t kMaxJsonArrayLength = std::size_t{1} << 22;  // 4,194,304 elements
