@@ -46,7 +46,7 @@ int reportParseError(const CLI::ParseError& e) {
                                                       msg.compare(msg.size() - req.size(), req.size(), req) == 0 &&
                                                       isName(msg.substr(0, msg.size() - req.size()))) {
     field = msg.substr(0, msg.size() - req.size());
-    reason = "is required";
+    reason = "required, but not given";
   }
   report(field, shapespline::io::shortText(reason, kMaxMessageChars), shapespline::cli::kExitBadInput);
   std::fprintf(stderr, "Run with --help for more information.\n");
