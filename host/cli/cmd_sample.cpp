@@ -3,7 +3,9 @@
 #include "cli/cmd_sample.h"
 #include "cli/common.h"
 #include "cli/sampling.h"
+#include "io/output_set.h"
 #include "io/sample_writer.h"
+#include "io/shard_info.h"
 
 #include <cmath>
 #include <cstdio>
@@ -62,12 +64,16 @@ void requireFiniteChunk(const GridChunk& c, bool fileFloat) {
                                                         : static_cast<double>(static_cast<const float*>(p)[i]);
       if (!(std::abs(v) <= limit)) {
         const std::string field(io::fieldName(static_cast<Field>(f)));
-        const std::string item = std::to_string(c.firstItem + i / 3 / c.pointsPerItem);
+        const std::string item = std::to_string(c.itemOf(i / 3));
+        // ±inf from a sound evaluation is a value beyond the precision (derivatives of knot
+        // intervals near 1e-310 grow like 1/h^r); NaN is an internal error.
         throw RuntimeError(field, number17(v) + " at item " + item,
-                           std::isfinite(v) ? "exceeds the fp32 range of the output (use --precision double); "
-                                              "nothing was written"
-                                            : "evaluation produced a non-finite value (internal error); nothing "
-                                              "was written");
+                           std::isfinite(v) || (std::isinf(v) && c.precision == Precision::Float)
+                               ? "exceeds the fp32 range of the output (use --precision double); nothing was written"
+                           : std::isinf(v) ? "exceeds the fp64 range of the output (derivatives scale with 1/h^r for "
+                                             "knot intervals h); nothing was written"
+                                           : "evaluation produced a non-finite value (internal error); nothing "
+                                             "was written");
       }
     }
   }
@@ -191,8 +197,16 @@ void runSample(const SampleArgs& args) {
                      "the job would produce " + std::to_string(static_cast<long long>(totalPoints)) +
                          " points; at most 1e12 are allowed");
   }
-  layout.firstItem = layout.totalItems * static_cast<size_t>(shardK - 1) / static_cast<size_t>(shardN);
-  layout.itemCount = layout.totalItems * static_cast<size_t>(shardK) / static_cast<size_t>(shardN) - layout.firstItem;
+  // floor(k T / N) as (T / N) k + floor((T % N) k / N): T (<= 5e11) times k (<= 1e9) would overflow.
+  auto shardBound = [&](int k) {
+    const size_t n = static_cast<size_t>(shardN), kk = static_cast<size_t>(k);
+    return layout.totalItems / n * kk + layout.totalItems % n * kk / n;
+  };
+  layout.firstItem = shardBound(shardK - 1);
+  layout.itemCount = shardBound(shardK) - layout.firstItem;
+  // Every shard of this job (and the unsharded job) carries the same fingerprint; `merge` checks it.
+  layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
+                     : io::jobFingerprint(surface->model(), layout, format);
   if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max()) {
     throw InputError(countField, std::to_string(layout.pointCount()) + " vertices",
                      "PLY holds at most 2^32-1 vertices; use --shard or a raw format");
@@ -202,10 +216,12 @@ void runSample(const SampleArgs& args) {
                      "SVG output holds at most " + std::to_string(kMaxSvgPoints) + " points");
   }
 
-  io::AtomicFile out(args.out, "-o");
-  std::optional<io::AtomicFile> sidecar;
+  // One set: the data and its sidecar appear together or not at all (io/output_set.h).
+  io::OutputSet outputs;
+  io::AtomicFile& out = outputs.add(args.out, "-o");
+  io::AtomicFile* sidecar = nullptr;
   if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64) {
-    sidecar.emplace(args.out + ".json", "-o");
+    sidecar = &outputs.add(args.out + ".json", "-o");
   }
   Device device = resolveDevice(requested, precision, args.quiet, args.requireDevice);
   if (device == Device::Vulkan &&
@@ -247,8 +263,7 @@ void runSample(const SampleArgs& args) {
     });
   }
   writer->finish();
-  out.commit();
-  if (sidecar) sidecar->commit();
+  outputs.commit();
   if (!args.quiet) {
     std::fprintf(stderr, "shapespline: wrote %s (%zu %s, %zu points%s)\n", args.out.c_str(), layout.itemCount,
                  isSurface ? "patches" : "spans", layout.pointCount(),
@@ -273,8 +288,8 @@ void registerSample(CLI::App& app) {
                   "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches; see README for merging");
   sub->add_option("--threads", args->threads, "CPU sampler threads (0 = all hardware threads; output is identical)");
   sub->add_option("--chunk-points", args->chunkPoints,
-                  "points per streamed chunk, rounded to whole spans/patches (default 262144 on the CPU, 64 MiB "
-                  "planes on the GPU; output is identical)");
+                  "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 262144 "
+                  "on the CPU, 4 MiB planes on the GPU; output is identical)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");

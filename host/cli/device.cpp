@@ -52,18 +52,20 @@ Device fallBack(bool require, bool quiet, const std::string& why) {
   throw RuntimeError("vulkan", "", std::string(e.what()) + "; " + hint + " (no output written)");
 }
 
-std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, double s) {
-  for (auto& p : points) p *= s;
+glm::dvec3 ldexp3(const glm::dvec3& p, int k) { return {std::ldexp(p.x, k), std::ldexp(p.y, k), std::ldexp(p.z, k)}; }
+
+std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, int k) {
+  for (auto& p : points) p = ldexp3(p, k);
   return points;
 }
 
-// The GPU sees s * net; every field but the unit normal is linear in the net, so it is scaled back
-// by 1/s (a power of two: exact unless the value leaves the precision's range).
+// The GPU sees 2^k * net; every field but the unit normal is linear in the net, so it is scaled
+// back by 2^-k (exact unless the value leaves the precision's range, where it rounds once).
 class Rescale {
  public:
-  explicit Rescale(double inverse) : inverse_(inverse) {}
+  explicit Rescale(int exponent) : k_(-exponent) {}
   void operator()(const GridChunk& chunk, const ChunkConsumer& consumer) {
-    if (inverse_ == 1.0) return consumer(chunk);
+    if (k_ == 0) return consumer(chunk);
     GridChunk out = chunk;
     const size_t n = chunk.pointCount() * 3;
     for (int f = 0; f < kFieldCount; ++f) {
@@ -72,13 +74,13 @@ class Rescale {
       if (chunk.precision == Precision::Double) {
         auto& buf = doubles_[static_cast<size_t>(f)];
         buf.resize(n);
-        for (size_t i = 0; i < n; ++i) buf[i] = static_cast<const double*>(src)[i] * inverse_;
+        for (size_t i = 0; i < n; ++i) buf[i] = std::ldexp(static_cast<const double*>(src)[i], k_);
         out.planes[static_cast<size_t>(f)] = buf.data();
       } else {
         auto& buf = floats_[static_cast<size_t>(f)];
         buf.resize(n);
         for (size_t i = 0; i < n; ++i) {
-          buf[i] = static_cast<float>(static_cast<double>(static_cast<const float*>(src)[i]) * inverse_);
+          buf[i] = static_cast<float>(std::ldexp(static_cast<double>(static_cast<const float*>(src)[i]), k_));
         }
         out.planes[static_cast<size_t>(f)] = buf.data();
       }
@@ -87,18 +89,18 @@ class Rescale {
   }
 
  private:
-  double inverse_;
+  int k_;
   std::array<std::vector<double>, kFieldCount> doubles_;
   std::array<std::vector<float>, kFieldCount> floats_;
 };
 
-Curve scaledCurve(const Curve& curve, double s) {
+Curve scaledCurve(const Curve& curve, int s) {
   CurveModel m = curve.model();
   m.points = scaled(std::move(m.points), s);
   return Curve::create(std::move(m));
 }
 
-Surface scaledSurface(const Surface& surface, double s) {
+Surface scaledSurface(const Surface& surface, int s) {
   SurfaceModel m = surface.model();
   m.points = scaled(std::move(m.points), s);
   return Surface::create(std::move(m));
@@ -106,13 +108,13 @@ Surface scaledSurface(const Surface& surface, double s) {
 
 }  // namespace
 
-double netScale(const std::vector<glm::dvec3>& points, Precision precision) {
+int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
   double m = 0.0;
   for (const auto& p : points) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  if (!(m > 0.0) || !std::isfinite(m)) return 1.0;
-  const int e = std::ilogb(m);  // m in [2^e, 2^(e+1))
+  if (!(m > 0.0) || !std::isfinite(m)) return 0;
+  const int e = std::ilogb(m);  // m in [2^e, 2^(e+1)), also for subnormal m (e down to -1074)
   const int band = precision == Precision::Float ? 20 : 200;
-  return e >= -band && e < band ? 1.0 : std::ldexp(1.0, -e);
+  return e >= -band && e < band ? 0 : -e;
 }
 
 Device resolveDevice(Device requested, Precision precision, bool quiet, bool require) {
@@ -153,6 +155,19 @@ bool gpuHandles(const Curve* curve, const Surface* surface, Precision precision,
                  "lose more than 3 of 7 digits)");
     return false;
   }
+  if (family.construction == Construction::AlphaEB) {
+    const std::vector<double>& alpha = curve ? curve->model().alpha : surface->model().alpha;
+    const double limit = precision == Precision::Float ? kMinAlphaGpuFloat : kMinAlphaGpuDouble;
+    const auto lowest = std::min_element(alpha.begin(), alpha.end());
+    if (lowest != alpha.end() && *lowest < limit) {
+      char text[64];
+      std::snprintf(text, sizeof text, "alpha = %.3g is below %.0e", *lowest, limit);
+      fallBack(require, quiet,
+               std::string(text) + ", the smallest the " + (precision == Precision::Float ? "fp32" : "fp64") +
+                   " GPU kernels represent in V = P + ((1-alpha)/alpha)(P - node)");
+      return false;
+    }
+  }
   return true;
 }
 
@@ -160,21 +175,21 @@ void runGrid(const GridJob& job, const ChunkConsumer& consumer) {
   if (job.device == Device::Vulkan && gpuContext()) {
     gpu::EvaluatorOptions options;
     if (job.chunkPoints > 0) {
-      // Planes of max(chunkPoints, one item) points: the evaluator fits whole items into a chunk.
+      // Planes of chunkPoints points: the evaluator cuts an item larger than that into row ranges.
       const size_t real = job.precision == Precision::Double ? 8 : 4;
-      options.maxPlaneBytes = (std::max(job.chunkPoints, job.grid.pointsPerItem()) * 3 + 4) * real;
+      options.maxPlaneBytes = (job.chunkPoints * 3 + 4) * real;
     }
-    const double s = netScale(job.curve ? job.curve->model().points : job.surface->model().points, job.precision);
-    Rescale rescale(1.0 / s);
+    const int s = netScale(job.curve ? job.curve->model().points : job.surface->model().points, job.precision);
+    Rescale rescale(s);
     const ChunkConsumer deliver = [&](const GridChunk& chunk) { rescale(chunk, consumer); };
     try {
       if (job.curve) {
-        const std::optional<Curve> copy = s != 1.0 ? std::optional(scaledCurve(*job.curve, s)) : std::nullopt;
+        const std::optional<Curve> copy = s != 0 ? std::optional(scaledCurve(*job.curve, s)) : std::nullopt;
         gpu::CurveEvaluator evaluator(gpuContext(), job.precision, options);
         gpu::GpuCurve model(gpuContext(), copy ? *copy : *job.curve, job.precision);
         evaluator.evaluateGrid(model, job.grid, job.fields, deliver);
       } else {
-        const std::optional<Surface> copy = s != 1.0 ? std::optional(scaledSurface(*job.surface, s)) : std::nullopt;
+        const std::optional<Surface> copy = s != 0 ? std::optional(scaledSurface(*job.surface, s)) : std::nullopt;
         gpu::SurfaceEvaluator evaluator(gpuContext(), job.precision, options);
         gpu::GpuSurface model(gpuContext(), copy ? *copy : *job.surface, job.precision);
         evaluator.evaluateGrid(model, job.grid, job.fields, deliver);
@@ -199,18 +214,18 @@ std::vector<CurvePoint> gpuEvaluateCurve(const Curve& curve, const std::vector<s
   std::vector<gpu::CurveSample> list;
   list.reserve(samples.size());
   for (const auto& [s, t] : samples) list.push_back({s, t});
-  const double s = netScale(curve.model().points, precision);
+  const int s = netScale(curve.model().points, precision);
   std::vector<CurvePoint> out;
   try {
-    const std::optional<Curve> copy = s != 1.0 ? std::optional(scaledCurve(curve, s)) : std::nullopt;
+    const std::optional<Curve> copy = s != 0 ? std::optional(scaledCurve(curve, s)) : std::nullopt;
     gpu::CurveEvaluator evaluator(gpuContext(), precision);
     gpu::GpuCurve model(gpuContext(), copy ? *copy : curve, precision);
     out = evaluator.evaluateList(model, list);
   } catch (const vk::VulkanError& e) {
     rethrowVulkan(e);
   }
-  if (s != 1.0) {
-    for (auto& p : out) p.point /= s, p.d1 /= s, p.d2 /= s;
+  if (s != 0) {
+    for (auto& p : out) p.point = ldexp3(p.point, -s), p.d1 = ldexp3(p.d1, -s), p.d2 = ldexp3(p.d2, -s);
   }
   return out;
 }
@@ -220,18 +235,21 @@ std::vector<SurfacePoint> gpuEvaluateSurface(const Surface& surface, const std::
   std::vector<gpu::SurfaceSample> list;
   list.reserve(samples.size());
   for (const auto& q : samples) list.push_back({static_cast<int>(q[0]), static_cast<int>(q[1]), q[2], q[3]});
-  const double s = netScale(surface.model().points, precision);
+  const int s = netScale(surface.model().points, precision);
   std::vector<SurfacePoint> out;
   try {
-    const std::optional<Surface> copy = s != 1.0 ? std::optional(scaledSurface(surface, s)) : std::nullopt;
+    const std::optional<Surface> copy = s != 0 ? std::optional(scaledSurface(surface, s)) : std::nullopt;
     gpu::SurfaceEvaluator evaluator(gpuContext(), precision);
     gpu::GpuSurface model(gpuContext(), copy ? *copy : surface, precision);
     out = evaluator.evaluateList(model, list);
   } catch (const vk::VulkanError& e) {
     rethrowVulkan(e);
   }
-  if (s != 1.0) {
-    for (auto& p : out) p.point /= s, p.du /= s, p.dv /= s, p.duu /= s, p.duv /= s, p.dvv /= s;  // normal: unit
+  if (s != 0) {
+    for (auto& p : out) {
+      p.point = ldexp3(p.point, -s), p.du = ldexp3(p.du, -s), p.dv = ldexp3(p.dv, -s);  // normal: unit
+      p.duu = ldexp3(p.duu, -s), p.duv = ldexp3(p.duv, -s), p.dvv = ldexp3(p.dvv, -s);
+    }
   }
   return out;
 }

@@ -26,19 +26,28 @@ struct GridJob {
 // handle without overflow/underflow (netScale), and the results are scaled back.
 void runGrid(const GridJob& job, const ChunkConsumer& consumer);
 
-// Power of two s such that the GPU evaluates s * net: 1 for nets of ordinary magnitude; for nets
-// whose largest coordinate M lies outside [2^-20, 2^20] (fp32) or [2^-200, 2^200] (fp64), the s
+// Exponent k such that the GPU evaluates 2^k * net: 0 for nets of ordinary magnitude; for nets
+// whose largest coordinate M lies outside [2^-20, 2^20] (fp32) or [2^-200, 2^200] (fp64), the k
 // that brings M into [1, 2). Products of coordinates inside the kernels (normals, squared lengths)
-// then stay in range.
-double netScale(const std::vector<glm::dvec3>& points, Precision precision);
+// then stay in range. An exponent, not the factor: for a subnormal net (M down to 2^-1074) 2^k is
+// beyond the fp64 range, while std::ldexp(x, k) scales every coordinate exactly.
+int netScale(const std::vector<glm::dvec3>& points, Precision precision);
 
-// False (with a notice) for models the GPU evaluators do not handle: knot-vector B-splines, and in
-// fp32 GB λ above kMaxGBLambdaFloat; with `require` (--require-device) a RuntimeError instead.
+// False (with a notice) for models the GPU evaluators do not handle: knot-vector B-splines, in
+// fp32 GB λ above kMaxGBLambdaFloat, and α-EB models with α below kMinAlphaGpuFloat / Double; with
+// `require` (--require-device) a RuntimeError instead.
 bool gpuHandles(const Curve* curve, const Surface* surface, Precision precision, bool quiet, bool require = false);
 
 // Beyond this GB λ the fp32 kernels lose more than 3 of 7 digits of the normals (and produce NaN
 // normals for degenerate nets from about 1e12); fp64 kernels are unaffected.
 inline constexpr double kMaxGBLambdaFloat = 1e4;
+
+// The kernels compute V = P + ((1-α)/α)(P - node) in their own precision on a net scaled into
+// [2^-20, 2^20] (fp32) / [2^-200, 2^200] (fp64): below these α the factor 1/α leaves the fp32 range
+// (V up to 2^21 / α must stay below 3.4e38), or α itself is near the subnormals that GPUs may flush
+// to zero. The CPU fp64 path evaluates such models (it refuses only an α whose V exceeds fp64).
+inline constexpr double kMinAlphaGpuFloat = 1e-30;
+inline constexpr double kMinAlphaGpuDouble = 1e-300;
 
 // GPU list evaluation (device must be Device::Vulkan from resolveDevice): (span, t) / (i, j, u, v).
 std::vector<CurvePoint> gpuEvaluateCurve(const Curve& curve, const std::vector<std::pair<int, double>>& samples,

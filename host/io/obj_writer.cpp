@@ -5,6 +5,7 @@
 // on their own and `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh.
 #include "io/number_text.h"
 #include "io/sample_writer.h"
+#include "io/shard_info.h"
 
 #include <cstring>
 #include <string>
@@ -19,54 +20,49 @@ class ObjWriter final : public SampleWriter {
   void begin(const SampleLayout& layout) override {
     layout_ = layout;
     relative_ = layout.sharded();
-    std::string h = "# shapespline sample of " + layout.source + "\n# " +
-                    std::string(layout.surface ? "patches " : "spans ") + std::to_string(layout.firstItem) + ".." +
-                    std::to_string(layout.firstItem + layout.itemCount) + " of " + std::to_string(layout.totalItems) +
-                    ", grid " + std::to_string(layout.samplesU) +
-                    (layout.surface ? "x" + std::to_string(layout.samplesV) : std::string()) +
-                    (relative_ ? ", shard " + std::to_string(layout.shardIndex) + "/" +
-                                     std::to_string(layout.shardCount) + " (relative indices: concatenate shards)"
-                               : std::string()) +
-                    "\n";
+    // Source, item range and the job line `merge` verifies (io/shard_info.h); the path escaped so
+    // that it stays one comment line.
+    const std::string h = objHeader(shardInfoOf(layout), escapeText(layout.source));
     out_.write(h);
   }
 
+  // A patch larger than a chunk arrives as row ranges: its vertices stream chunk by chunk and its
+  // faces (index arithmetic only) follow its last vertex, so the bytes do not depend on the chunking.
   void consume(const GridChunk& chunk) override {
-    const size_t ppi = chunk.pointsPerItem;
-    for (size_t it = 0; it < chunk.itemCount; ++it) {
-      const size_t item = chunk.firstItem + it;
-      for (size_t q = 0; q < ppi; ++q) {
-        const size_t p = it * ppi + q;
-        char* s = out_.space(256);
-        char* e = s;
+    const size_t ppi = chunk.pointsPerItem, sv = static_cast<size_t>(layout_.samplesV);
+    const size_t n = chunk.pointCount();
+    for (size_t p = 0; p < n; ++p) {
+      const size_t item = chunk.itemOf(p), q = chunk.pointInItem(p);
+      char* s = out_.space(256);
+      char* e = s;
+      *e++ = 'v';
+      for (int ax = 0; ax < 3; ++ax) {
+        *e++ = ' ';
+        e = writeNumber(e, chunk.coord(Field::Point, p, ax));
+      }
+      *e++ = '\n';
+      if (layout_.surface) {
+        const auto [tu, tv] = layout_.texCoord(item, static_cast<int>(q / sv), static_cast<int>(q % sv));
         *e++ = 'v';
+        *e++ = 't';
+        *e++ = ' ';
+        e = writeNumber(e, tu);
+        *e++ = ' ';
+        e = writeNumber(e, tv);
+        *e++ = '\n';
+        *e++ = 'v';
+        *e++ = 'n';
         for (int ax = 0; ax < 3; ++ax) {
           *e++ = ' ';
-          e = writeNumber(e, chunk.coord(Field::Point, p, ax));
+          e = writeNumber(e, chunk.coord(Field::Normal, p, ax));
         }
         *e++ = '\n';
-        if (layout_.surface) {
-          const int a = static_cast<int>(q) / layout_.samplesV, b = static_cast<int>(q) % layout_.samplesV;
-          const auto [tu, tv] = layout_.texCoord(item, a, b);
-          *e++ = 'v';
-          *e++ = 't';
-          *e++ = ' ';
-          e = writeNumber(e, tu);
-          *e++ = ' ';
-          e = writeNumber(e, tv);
-          *e++ = '\n';
-          *e++ = 'v';
-          *e++ = 'n';
-          for (int ax = 0; ax < 3; ++ax) {
-            *e++ = ' ';
-            e = writeNumber(e, chunk.coord(Field::Normal, p, ax));
-          }
-          *e++ = '\n';
-        }
-        out_.advance(static_cast<size_t>(e - s));
       }
-      if (layout_.surface) writeFaces(); else writePolyline();
-      vertices_ += ppi;
+      out_.advance(static_cast<size_t>(e - s));
+      if (q + 1 == ppi) {
+        if (layout_.surface) writeFaces(); else writePolyline();
+        vertices_ += ppi;
+      }
     }
   }
 

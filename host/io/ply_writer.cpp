@@ -5,6 +5,7 @@
 // model), then <field>_x/_y/_z for every other requested field, in the precision of the samples.
 // Shards merge with `shapespline merge` (vertex blocks concatenated, indices offset).
 #include "io/sample_writer.h"
+#include "io/shard_info.h"
 
 #include <bit>
 #include <cstring>
@@ -29,12 +30,9 @@ class PlyWriter final : public SampleWriter {
     }
     const bool dbl = layout.precision == Precision::Double;
     const char* type = dbl ? "double" : "float";
-    std::string h = "ply\nformat binary_little_endian 1.0\ncomment shapespline sample of " + layout.source + "\n";
-    if (layout.sharded()) {
-      h += "comment shard " + std::to_string(layout.shardIndex) + "/" + std::to_string(layout.shardCount) +
-           " items " + std::to_string(layout.firstItem) + ".." + std::to_string(layout.firstItem + layout.itemCount) +
-           " of " + std::to_string(layout.totalItems) + "\n";
-    }
+    // Source (escaped: one comment line) and the job line `merge` verifies (io/shard_info.h).
+    std::string h = "ply\nformat binary_little_endian 1.0\n" +
+                    plyInfoComments(shardInfoOf(layout), escapeText(layout.source));
     h += "element vertex " + std::to_string(vertices) + "\n";
     fields_.clear();
     for (const char* a : {"x", "y", "z"}) h += std::string("property ") + type + " " + a + "\n";
@@ -66,36 +64,34 @@ class PlyWriter final : public SampleWriter {
 
   void consume(const GridChunk& chunk) override {
     const bool dbl = layout_.precision == Precision::Double;
-    const size_t ppi = chunk.pointsPerItem;
-    for (size_t it = 0; it < chunk.itemCount; ++it) {
-      for (size_t q = 0; q < ppi; ++q) {
-        const size_t p = it * ppi + q;
-        char* s = out_.space(512);
-        char* e = s;
-        auto put = [&](double v) {
-          if (dbl) {
-            std::memcpy(e, &v, 8);
-            e += 8;
-          } else {
-            const float f = static_cast<float>(v);
-            std::memcpy(e, &f, 4);
-            e += 4;
-          }
-        };
-        for (Field f : fields_) {
-          for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
+    const size_t sv = static_cast<size_t>(layout_.samplesV);
+    const size_t n = chunk.pointCount();  // whole items or a row range of one (the faces come in finish())
+    for (size_t p = 0; p < n; ++p) {
+      char* s = out_.space(512);
+      char* e = s;
+      auto put = [&](double v) {
+        if (dbl) {
+          std::memcpy(e, &v, 8);
+          e += 8;
+        } else {
+          const float f = static_cast<float>(v);
+          std::memcpy(e, &f, 4);
+          e += 4;
         }
-        if (layout_.surface) {
-          const auto [tu, tv] = layout_.texCoord(chunk.firstItem + it, static_cast<int>(q) / layout_.samplesV,
-                                                 static_cast<int>(q) % layout_.samplesV);
-          put(tu);
-          put(tv);
-        }
-        for (Field f : extra_) {
-          for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
-        }
-        out_.advance(static_cast<size_t>(e - s));
+      };
+      for (Field f : fields_) {
+        for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
       }
+      if (layout_.surface) {
+        const size_t q = chunk.pointInItem(p);
+        const auto [tu, tv] = layout_.texCoord(chunk.itemOf(p), static_cast<int>(q / sv), static_cast<int>(q % sv));
+        put(tu);
+        put(tv);
+      }
+      for (Field f : extra_) {
+        for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
+      }
+      out_.advance(static_cast<size_t>(e - s));
     }
   }
 

@@ -21,6 +21,10 @@ std::string num(double v) {
   char buf[kMaxNumberChars];
   // Pixel coordinates: 2 decimals are plenty and keep files small.
   const double r = std::round(v * 100.0) / 100.0;
+  // Every number written is checked: the pixel arithmetic below keeps finite input finite, so this
+  // is reached only by a non-finite input point (SvgPlot::write reports it as an output failure).
+  if (!std::isfinite(r)) throw SvgValueError("an SVG coordinate is not finite; nothing was written (got " +
+                                             std::string(buf, writeNumber(buf, v)) + ")");
   return std::string(buf, writeNumber(buf, r == 0.0 ? 0.0 : r));
 }
 
@@ -49,13 +53,14 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
   for (const auto& m : markers_) for (const auto& p : m.points) grow(p);
   if (!(x0 <= x1)) x0 = y0 = 0.0, x1 = y1 = 1.0;
   // Pixel arithmetic on coordinates scaled by a power of two (exact) to magnitude ~1, so that
-  // nets near 1e300 cannot overflow x1 - x0 and nets near 1e-300 cannot underflow it.
+  // nets near 1e300 cannot overflow x1 - x0 and nets near 1e-300 cannot underflow it. The scale is
+  // an exponent: for a subnormal extent (a curve 4e-320 wide) 2^k itself is beyond the fp64 range.
   const double mag = std::max({std::abs(x0), std::abs(x1), std::abs(y0), std::abs(y1)});
-  const double k = mag > 0.0 && std::isfinite(mag) ? std::ldexp(1.0, -std::ilogb(mag)) : 1.0;
-  x0 *= k, x1 *= k, y0 *= k, y1 *= k;
+  const int k = mag > 0.0 && std::isfinite(mag) ? -std::ilogb(mag) : 0;
+  x0 = std::ldexp(x0, k), x1 = std::ldexp(x1, k), y0 = std::ldexp(y0, k), y1 = std::ldexp(y1, k);
   // An extent below rounding noise (coincident points, an axis-parallel line) is widened relative
   // to the other axis or to the magnitude, never by an absolute amount that vanishes next to 1e30.
-  const double noise = 1e-12 * mag * k;
+  const double noise = 1e-12 * std::ldexp(mag, k);
   double e = std::max(x1 - x0, y1 - y0);
   if (!(e > noise)) e = 1.0;  // all points coincide: a unit frame (scaled magnitude is in [1, 2))
   if (!(x1 - x0 > noise)) {
@@ -76,8 +81,8 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
   // XS/YS take scaled coordinates, X/Y model coordinates.
   auto XS = [&](double x) { return ox + (x - x0) * sx; };
   auto YS = [&](double y) { return oy + (y1 - y) * sy; };
-  auto X = [&](double x) { return XS(x * k); };
-  auto Y = [&](double y) { return YS(y * k); };
+  auto X = [&](double x) { return XS(std::ldexp(x, k)); };
+  auto Y = [&](double y) { return YS(std::ldexp(y, k)); };
 
   std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
                   std::to_string(widthPx) + "\" height=\"" + std::to_string(heightPx) + "\" viewBox=\"0 0 " +
@@ -97,11 +102,15 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
            "\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#444\">" + escape(text) + "</text>\n";
     };
     char b[kMaxNumberChars];
-    auto txt = [&](double v) { return std::string(b, std::to_chars(b, b + sizeof b, v, std::chars_format::general, 4).ptr); };
-    label(XS(x0), YS(ay) + 14, txt(x0 / k), "start");
-    label(XS(x1), YS(ay) + 14, txt(x1 / k), "end");
-    label(XS(ax) - 4, YS(y1) + 4, txt(y1 / k), "end");
-    label(XS(ax) - 4, YS(y0) + 4, txt(y0 / k), "end");
+    auto txt = [&](double v) {
+      v = std::ldexp(v, -k);
+      if (!std::isfinite(v)) throw SvgValueError("an SVG axis label is not finite; nothing was written");
+      return std::string(b, std::to_chars(b, b + sizeof b, v, std::chars_format::general, 4).ptr);
+    };
+    label(XS(x0), YS(ay) + 14, txt(x0), "start");
+    label(XS(x1), YS(ay) + 14, txt(x1), "end");
+    label(XS(ax) - 4, YS(y1) + 4, txt(y1), "end");
+    label(XS(ax) - 4, YS(y0) + 4, txt(y0), "end");
   }
   for (const auto& l : lines_) {
     if (l.points.empty()) continue;
@@ -134,6 +143,16 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
   return s;
 }
 
+void SvgPlot::write(AtomicFile& out) const {
+  std::string text;
+  try {
+    text = render();
+  } catch (const SvgValueError& e) {
+    throw OutputWriteError(out.option(), out.target().string(), e.what());
+  }
+  out.write(text);
+}
+
 namespace {
 
 // The `sample` SVG: every span a polyline (x, y projection), the control polygon dashed, the data
@@ -146,14 +165,11 @@ class SvgSampleWriter final : public SampleWriter {
     if (layout.surface) throw std::invalid_argument("SVG output is for curves only (2-D projection)");
   }
   void consume(const GridChunk& chunk) override {
-    const size_t ppi = chunk.pointsPerItem;
-    for (size_t it = 0; it < chunk.itemCount; ++it) {
-      SvgPolyline line;
-      for (size_t q = 0; q < ppi; ++q) {
-        const size_t p = it * ppi + q;
-        line.points.emplace_back(chunk.coord(Field::Point, p, 0), chunk.coord(Field::Point, p, 1));
-      }
-      spans_.push_back(std::move(line));
+    // One polyline per span; a span larger than a chunk arrives in several (its first sample opens it).
+    const size_t n = chunk.pointCount();
+    for (size_t p = 0; p < n; ++p) {
+      if (chunk.pointInItem(p) == 0) spans_.emplace_back();
+      spans_.back().points.emplace_back(chunk.coord(Field::Point, p, 0), chunk.coord(Field::Point, p, 1));
     }
   }
   void finish() override {

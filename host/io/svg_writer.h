@@ -5,10 +5,17 @@
 
 #include <glm/vec2.hpp>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace shapespline::io {
+
+// A number of the plot is not finite (exit 3 at the command line; nothing is written).
+class SvgValueError : public std::range_error {
+ public:
+  using std::range_error::range_error;
+};
 
 struct SvgPolyline {
   std::vector<glm::dvec2> points;
@@ -35,8 +42,10 @@ class SvgPlot {
   void add(SvgMarkers markers) { markers_.push_back(std::move(markers)); }
   // Draw x/y axes with the data range printed at the ends (function plots).
   void setAxes(bool axes) { axes_ = axes; }
+  // Throws SvgValueError if a coordinate or label would not be finite (a non-finite input point).
   std::string render(int widthPx = 800, int heightPx = 600) const;
-  void write(AtomicFile& out) const { out.write(render()); }
+  // render() into `out`; an SvgValueError becomes OutputWriteError(out.option(), out.target(), ...).
+  void write(AtomicFile& out) const;
 
  private:
   bool equal_ = true, axes_ = false;
