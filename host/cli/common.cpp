@@ -1,6 +1,7 @@
 #include "cli/common.h"
 
 #include "core/diagnostics.h"
+#include "io/input_file.h"
 #include "io/number_text.h"
 
 #include <unistd.h>
@@ -16,26 +17,34 @@
 
 namespace shapespline::cli {
 
+namespace {
+// A path from the command line, shown in a message: long enough to recognize, never unbounded.
+constexpr size_t kMaxPathChars = 256;
+}  // namespace
+
 io::Model loadModel(const std::string& path) {
+  std::string text;
   try {
-    return io::loadModelFile(path);
+    text = io::readInputFile(path, "MODEL");
   } catch (const ModelError&) {
-    throw;
+    throw;  // not a regular file, too large
   } catch (const std::exception& e) {
-    throw InputError("MODEL", path, std::string("cannot read the model file: ") + e.what());
+    throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
+  return io::parseModelText(text);
 }
 
 nlohmann::json readJsonFile(const std::string& path, const std::string& field) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(field, path, "cannot open the file");
-  std::stringstream ss;
-  ss << in.rdbuf();
+  std::string text;
   try {
-    return nlohmann::json::parse(ss.str());
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(field, path, std::string("malformed JSON: ") + e.what());
+    text = io::readInputFile(path, field);
+  } catch (const ModelError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(field, io::shortText(path, kMaxPathChars), std::string("cannot open the file: ") + e.what());
   }
+  // Paths inside the file are named under the file's field: "--to-curve[0].points[2]".
+  return io::parseJsonText(text, field, field);
 }
 
 std::vector<double> parseNumbers(const std::string& text, const std::string& field) {
@@ -47,9 +56,9 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& fie
     char* end = nullptr;
     const double v = std::strtod(item.c_str(), &end);
     if (item.empty() || end != item.c_str() + item.size()) {
-      throw InputError(field, text, "expected comma-separated numbers");
+      throw InputError(field, io::shortText(text), "expected comma-separated numbers");
     }
-    if (!std::isfinite(v)) throw InputError(field, text, "numbers must be finite");
+    if (!std::isfinite(v)) throw InputError(field, io::shortText(text), "numbers must be finite");
     out.push_back(v);
     if (comma == std::string::npos) break;
     pos = comma + 1;
@@ -59,7 +68,7 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& fie
 
 glm::dvec3 parsePoint(const std::string& text, const std::string& field, int* dims) {
   const auto v = parseNumbers(text, field);
-  if (v.size() != 2 && v.size() != 3) throw InputError(field, text, "expected X,Y or X,Y,Z");
+  if (v.size() != 2 && v.size() != 3) throw InputError(field, io::shortText(text), "expected X,Y or X,Y,Z");
   if (dims) *dims = static_cast<int>(v.size());
   return {v[0], v[1], v.size() == 3 ? v[2] : 0.0};
 }
@@ -263,7 +272,11 @@ std::string curveSvg(const Curve& curve, const std::vector<glm::dvec3>& dataPoin
   io::SvgMarkers data;
   for (const auto& p : dataPoints) data.points.emplace_back(p.x, p.y);
   plot.add(std::move(data));
-  return plot.render();
+  try {
+    return plot.render();  // checks every number it writes
+  } catch (const io::SvgValueError& e) {
+    throw RuntimeError("--svg", "", e.what());
+  }
 }
 
 void writeModelFile(const io::Model& model, const std::string& path, const std::string& option) {
