@@ -53,6 +53,15 @@ int reportParseError(const CLI::ParseError& e) {
   return shapespline::cli::kExitBadInput;
 }
 
+// "<rule> (got <value>)" with the value cut to a bounded length: values can come from argv (up to
+// 128 KiB each) and must not flood the terminal or a log.
+template <class E>
+std::string ruleAndValue(const E& e) {
+  constexpr size_t kMaxShownValueChars = 200;
+  if (e.value().empty()) return e.rule();
+  return e.rule() + " (got " + shapespline::io::shortText(e.value(), kMaxShownValueChars) + ")";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,9 +101,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return reportParseError(e);  // "shapespline: error: <option>: <reason>" and a usage hint
   } catch (const ModelError& e) {
-    return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitBadInput);
+    return report(e.field(), ruleAndValue(e), kExitBadInput);
   } catch (const InputError& e) {
-    return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitBadInput);
+    return report(e.field(), ruleAndValue(e), kExitBadInput);
   } catch (const io::OutputPathError& e) {
     return report(e.option(), "'" + e.path() + "': " + e.reason(), kExitBadInput);
   } catch (const io::OutputWriteError& e) {
@@ -102,7 +111,7 @@ int main(int argc, char** argv) {
     return report(e.option(), e.path().empty() ? e.reason() : "cannot write '" + e.path() + "': " + e.reason(),
                   kExitRuntime);
   } catch (const RuntimeError& e) {
-    return report(e.field(), e.rule() + (e.value().empty() ? "" : " (got " + e.value() + ")"), kExitRuntime);
+    return report(e.field(), ruleAndValue(e), kExitRuntime);
   } catch (const std::invalid_argument& e) {
     return report("input", e.what(), kExitBadInput);
   } catch (const std::bad_alloc&) {

@@ -126,6 +126,11 @@ TEST(InputLimits, HugeCommandLineValuesAreNotEchoed) {
   expectShortError(
       runBounded("sample " + quote(example("open_aeb.json")) + " -o out.ply --threads x" + junk, dir.path()),
       "--threads", "could not convert");
+  // Values the subcommands check themselves are cut in the one error printer (main.cpp).
+  expectShortError(runBounded("sample " + quote(example("surface_aeb.json")) + " -o out.ply --grid 1" + junk, dir.path()),
+                   "--grid", "expected a positive integer");
+  expectShortError(runBounded("sample " + quote(example("open_aeb.json")) + " -o out.ply --device x" + junk, dir.path()),
+                   "--device", "");
 }
 
 // ---- Files: special files and size --------------------------------------------------------------
