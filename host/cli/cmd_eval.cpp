@@ -6,6 +6,7 @@
 #include "cli/common.h"
 #include "cli/sampling.h"
 #include "io/input_file.h"
+#include "io/output_set.h"
 #include "io/sample_list.h"
 
 #include <glm/geometric.hpp>
@@ -170,8 +171,8 @@ void runEval(const EvalArgs& args) {
     printPrecisionWarnings(surface.model(), gpu && precision == Precision::Float, args.quiet);
     text = evalSurface(surface, at, precision, gpu);
   }
-  std::fwrite(text.data(), 1, text.size(), stdout);
-  if (std::fflush(stdout) != 0) throw std::runtime_error("writing to stdout failed");
+  io::writeStdout(text);
+  io::flushStdout();
 }
 
 }  // namespace
