@@ -5,9 +5,9 @@
 // net upload, pipeline creation (the cross-check before it compiles every pipeline used here).
 #include "workloads.h"
 
-#include "core/grid_sampler.h"
-#include "gpu/evaluator.h"
-#include "gpu/gpu_model.h"
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/gpu/gpu_model.h>
 
 #include <benchmark/benchmark.h>
 

@@ -7,7 +7,7 @@
 // Run: shapespline_bench --benchmark_filter=GpuKernel
 #include "workloads.h"
 
-#include "gpu/evaluator.h"
+#include <shapespline/gpu/evaluator.h>
 
 #include <benchmark/benchmark.h>
 

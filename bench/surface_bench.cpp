@@ -13,9 +13,9 @@
 // table, patch coordinates (OpenSubdiv's input, built once as a user would), net upload, pipelines.
 #include "workloads.h"
 
-#include "core/grid_sampler.h"
-#include "gpu/evaluator.h"
-#include "gpu/gpu_model.h"
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/gpu/gpu_model.h>
 
 #include <benchmark/benchmark.h>
 

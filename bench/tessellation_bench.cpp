@@ -8,12 +8,12 @@
 #include <cmath>
 #include <memory>
 
-#include "core/surface.h"
-#include "gpu/tessellator.h"
-#include "render/renderer.h"
-#include "vk/context.h"
-#include "vk/error.h"
-#include "vk/submit.h"
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/tessellator.h>
+#include <shapespline/render/renderer.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/submit.h>
 
 namespace {
 

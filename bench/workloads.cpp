@@ -1,6 +1,6 @@
 #include "workloads.h"
 
-#include "vk/error.h"
+#include <shapespline/vk/error.h>
 
 #include <benchmark/benchmark.h>
 #include <glm/common.hpp>

@@ -4,10 +4,10 @@
 // pipeline creation and first compile, OpenSubdiv patch table and patch coordinates) happen outside
 // the timed loops; the cross-checks in main() run every evaluator once before any timing, which also
 // warms the GPU pipelines.
-#include "core/curve.h"
-#include "core/sample_grid.h"
-#include "core/surface.h"
-#include "vk/context.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/vk/context.h>
 
 #include <memory>
 #include <string>

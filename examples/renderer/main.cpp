@@ -5,13 +5,13 @@
 // library's OffscreenRenderer on the same adopted device) and written as PNG.
 //
 //   renderer_example [MODEL.json] [out_prefix]     (defaults: examples/models/surface_aeb.json, frame)
-#include "core/surface.h"
-#include "gpu/gpu_model.h"
-#include "gpu/tessellator.h"
-#include "io/model_json.h"
-#include "io/png_writer.h"
-#include "render/renderer.h"
-#include "vk/context.h"
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/gpu/tessellator.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/io/png_writer.h>
+#include <shapespline/render/renderer.h>
+#include <shapespline/vk/context.h>
 
 #include <vulkan/vulkan_core.h>
 

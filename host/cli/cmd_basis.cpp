@@ -1,13 +1,13 @@
 // `shapespline basis --family F ...`: CSV table of a span basis B_0..B_{m-1} and its first two
 // derivatives on t in [0,1] (or the singular blend S), optionally plotted as SVG (three panels).
-#include "cli/common.h"
-#include "core/singular_blend.h"
-#include "core/span_basis.h"
-#include "core/validate.h"
-#include "io/atomic_file.h"
-#include "io/number_text.h"
-#include "io/output_set.h"
-#include "io/svg_writer.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/span_basis.h>
+#include <shapespline/core/validate.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/number_text.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/io/svg_writer.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,8 +1,8 @@
 // `shapespline demo`: no input needed. Writes built-in example models (the same as
 // examples/models/) and their samples as OBJ and SVG into ./shapespline-demo/, and prints the list.
-#include "cli/cmd_sample.h"
-#include "cli/common.h"
-#include "io/atomic_file.h"
+#include <shapespline/cli/cmd_sample.h>
+#include <shapespline/cli/common.h>
+#include <shapespline/io/atomic_file.h>
 
 #include <cstdio>
 #include <filesystem>

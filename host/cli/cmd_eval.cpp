@@ -3,11 +3,11 @@
 // significant digits. Surfaces: `normal` is null where the golden convention calls it undefined
 // (sin of the angle between du and dv below 0.01); `render_normal` then gives the MATH.md §5.3
 // rendering normal.
-#include "cli/common.h"
-#include "cli/sampling.h"
-#include "io/input_file.h"
-#include "io/output_set.h"
-#include "io/sample_list.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/cli/sampling.h>
+#include <shapespline/io/input_file.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/io/sample_list.h>
 
 #include <glm/geometric.hpp>
 

@@ -1,12 +1,12 @@
 // `shapespline extend MODEL --to X,Y[,Z] ... -o OUT`: extension of a right-clamped knot-vector
 // B-spline curve to target points (MATH.md §10.5); surfaces take `--to-curve FILE` target curves
 // (§10.6). --u gives explicit parameters instead of chord length. Writes the extended model.
-#include "cli/common.h"
-#include "core/extension.h"
-#include "core/validate.h"
-#include "io/atomic_file.h"
-#include "io/input_file.h"
-#include "io/output_set.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/core/extension.h>
+#include <shapespline/core/validate.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/input_file.h>
+#include <shapespline/io/output_set.h>
 
 #include <cstdio>
 #include <memory>

@@ -1,11 +1,11 @@
 // `shapespline gb-fit MODEL --span J --through X,Y`: GB constrained modification (MATH.md §7.2).
 // Prints every admissible (t0, λ0) and the bisection's answer as JSON; -o writes the model with
 // λ replaced by the bisection's λ0, --svg plots the modified curve with the target point.
-#include "cli/common.h"
-#include "core/gb_tools.h"
-#include "core/validate.h"
-#include "io/atomic_file.h"
-#include "io/output_set.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/core/gb_tools.h>
+#include <shapespline/core/validate.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/output_set.h>
 
 #include <cstdio>
 #include <memory>

@@ -1,7 +1,7 @@
 // `shapespline info`: Vulkan devices, the one selected, fp64 support and the limits that matter.
-#include "cli/common.h"
-#include "vk/context.h"
-#include "vk/error.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/error.h>
 
 #include <cstdio>
 

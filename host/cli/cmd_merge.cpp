@@ -1,8 +1,8 @@
 // `shapespline merge -o OUT SHARD...`: joins the outputs of `sample --shard K/N` (given in shard
 // order) into the file the unsharded job writes, byte for byte, after verifying that they are the
 // shards 1..N of one job (io/merge.h, which does the work; this file only maps its errors).
-#include "cli/common.h"
-#include "io/merge.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/io/merge.h>
 
 #include <memory>
 

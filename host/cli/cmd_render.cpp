@@ -2,16 +2,16 @@
 // writes a PNG. Surfaces are tessellated on the GPU (gpu/tessellator.h) and shaded with normal-based
 // lighting; curves are drawn as lines with their control polygon and data points. --sweep writes a
 // contact sheet of the same model at several λ or α values, with one camera for every tile.
-#include "cli/common.h"
-#include "core/curve.h"
-#include "core/surface.h"
-#include "gpu/gpu_model.h"
-#include "gpu/tess_topology.h"
-#include "gpu/tessellator.h"
-#include "io/png_writer.h"
-#include "render/renderer.h"
-#include "vk/context.h"
-#include "vk/error.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/gpu/tess_topology.h>
+#include <shapespline/gpu/tessellator.h>
+#include <shapespline/io/png_writer.h>
+#include <shapespline/render/renderer.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/error.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>

@@ -1,11 +1,11 @@
 // `shapespline sample MODEL -o OUT`: a regular grid per span/patch, streamed chunk by chunk into
 // the writer chosen by the output extension, through a temporary file renamed at the end.
-#include "cli/cmd_sample.h"
-#include "cli/common.h"
-#include "cli/sampling.h"
-#include "io/output_set.h"
-#include "io/sample_writer.h"
-#include "io/shard_info.h"
+#include <shapespline/cli/cmd_sample.h>
+#include <shapespline/cli/common.h>
+#include <shapespline/cli/sampling.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
 
 #include <cmath>
 #include <cstdio>

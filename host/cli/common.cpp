@@ -1,8 +1,8 @@
-#include "cli/common.h"
+#include <shapespline/cli/common.h>
 
-#include "core/diagnostics.h"
-#include "io/input_file.h"
-#include "io/number_text.h"
+#include <shapespline/core/diagnostics.h>
+#include <shapespline/io/input_file.h>
+#include <shapespline/io/number_text.h>
 
 #include <unistd.h>
 
@@ -239,9 +239,9 @@ std::string vector17(const glm::dvec3& v, int dims) {
 
 }  // namespace shapespline::cli
 
-#include "core/grid_sampler.h"
-#include "io/atomic_file.h"
-#include "io/svg_writer.h"
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/svg_writer.h>
 
 namespace shapespline::cli {
 

@@ -1,10 +1,10 @@
 #pragma once
 // Helpers shared by the subcommands: model loading, argument parsing, device choice, progress.
-#include "cli/exit_codes.h"
-#include "core/curve.h"
-#include "core/sample_grid.h"
-#include "core/surface.h"
-#include "io/model_json.h"
+#include <shapespline/cli/exit_codes.h>
+#include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/model_json.h>
 
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>

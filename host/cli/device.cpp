@@ -3,12 +3,12 @@
 // Vulkan device exists, when fp64 is asked of a device without shaderFloat64, or for knot-vector
 // B-splines (which the GPU evaluators do not handle); with --require-device each of those is an
 // error instead (exit 3). Any other Vulkan failure is exit code 3 with a hint.
-#include "cli/common.h"
-#include "cli/sampling.h"
-#include "gpu/evaluator.h"
-#include "gpu/gpu_model.h"
-#include "vk/context.h"
-#include "vk/error.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/cli/sampling.h>
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/error.h>
 
 #include <algorithm>
 #include <array>

@@ -1,12 +1,12 @@
 // shapespline: the command line. main catches everything and maps it to the documented exit codes:
 // 0 success, 2 bad input (ModelError, InputError, OutputPathError, argument errors), 3 device or
 // runtime error (RuntimeError, VulkanError, OutputWriteError, internal errors).
-#include "cli/common.h"
-#include "cli/exit_codes.h"
-#include "core/model.h"
-#include "io/atomic_file.h"
-#include "io/input_file.h"
-#include "io/output_set.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/cli/exit_codes.h>
+#include <shapespline/core/model.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/input_file.h>
+#include <shapespline/io/output_set.h>
 
 #include <CLI/CLI.hpp>
 

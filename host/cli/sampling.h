@@ -1,8 +1,8 @@
 #pragma once
 // The one place the CLI chooses between the CPU fp64 grid sampler (core/grid_sampler.h) and the
 // GPU evaluators (host/gpu). Delivers GridChunks in item order either way.
-#include "cli/common.h"
-#include "core/grid_sampler.h"
+#include <shapespline/cli/common.h>
+#include <shapespline/core/grid_sampler.h>
 
 #include <array>
 #include <utility>

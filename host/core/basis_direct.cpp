@@ -1,6 +1,6 @@
-#include "core/basis_direct.h"
+#include <shapespline/core/basis_direct.h>
 
-#include "core/span_basis.h"
+#include <shapespline/core/span_basis.h>
 
 #include <algorithm>
 #include <cmath>

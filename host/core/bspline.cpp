@@ -1,4 +1,4 @@
-#include "core/bspline.h"
+#include <shapespline/core/bspline.h>
 
 #include <algorithm>
 #include <cmath>

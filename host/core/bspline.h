@@ -1,7 +1,7 @@
 #pragma once
 // General B-splines on an arbitrary non-decreasing knot vector (MATH.md §10.1), de Boor–Cox.
 // Order k (degree k-1), control points P_0..P_n, knots t_0..t_{n+k}; domain [t_{k-1}, t_{n+1}].
-#include "core/span_basis.h"
+#include <shapespline/core/span_basis.h>
 
 #include <glm/vec3.hpp>
 

@@ -1,7 +1,7 @@
-#include "core/curve.h"
+#include <shapespline/core/curve.h>
 
-#include "core/singular_blend.h"
-#include "core/validate.h"
+#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/validate.h>
 
 #include <algorithm>
 #include <charconv>

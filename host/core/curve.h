@@ -10,9 +10,9 @@
 // `spanPoints()` such that span j reads the m = basis.count points spanPoints()[j + spanPointOffset()
 // + r], r = 0..m-1, i.e. P_{j-c+r} of MATH.md §1 with closed indices already wrapped (R2) and, for
 // α-EB, the phantom points of §4.1 already in place. The GPU uploads this array and never wraps.
-#include "core/bspline.h"
-#include "core/model.h"
-#include "core/span_basis.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/model.h>
+#include <shapespline/core/span_basis.h>
 
 #include <glm/vec3.hpp>
 

@@ -1,4 +1,4 @@
-#include "core/diagnostics.h"
+#include <shapespline/core/diagnostics.h>
 
 #include <algorithm>
 #include <cmath>

@@ -18,7 +18,7 @@
 //  * GB λ above kGBLambdaWarn: the basis is within rounding of its λ → ∞ limit (MATH.md §7.1).
 // A model with no warning evaluates (CPU sampler, every field) to finite values: the fuzzer
 // (tests/fuzz) checks exactly that.
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 #include <string>
 #include <vector>

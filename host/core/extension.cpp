@@ -1,4 +1,4 @@
-#include "core/extension.h"
+#include <shapespline/core/extension.h>
 
 #include <glm/geometric.hpp>
 

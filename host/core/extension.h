@@ -1,7 +1,7 @@
 #pragma once
 // Extending B-splines to target points by unclamping and inverse de Boor (MATH.md §10.2–§10.6,
 // [EXT] Hu, Tai & Zhang, with the corrections C32/C33 and the generalisations R11/R12).
-#include "core/bspline.h"
+#include <shapespline/core/bspline.h>
 
 #include <optional>
 #include <span>

@@ -1,6 +1,6 @@
-#include "core/gb_tools.h"
+#include <shapespline/core/gb_tools.h>
 
-#include "core/span_basis.h"
+#include <shapespline/core/span_basis.h>
 
 #include <glm/geometric.hpp>
 

@@ -1,7 +1,7 @@
 #pragma once
 // GB-spline tools (MATH.md §7, [GB] Li, Hoffmann & Wang §2–3): λ-paths and the constrained
 // modification that makes a span pass through a 2-D target point (§7.2).
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 #include <glm/vec2.hpp>
 

@@ -1,6 +1,6 @@
-#include "core/grid_sampler.h"
+#include <shapespline/core/grid_sampler.h>
 
-#include "core/singular_blend.h"
+#include <shapespline/core/singular_blend.h>
 
 #include <glm/geometric.hpp>
 

@@ -7,9 +7,9 @@
 // whatever the thread count or chunk size, so the output is byte-identical across both.
 // Points where the fast path does not apply (knot-vector B-splines, α-EB corner samples, and
 // degenerate normals) go through Curve::evaluate / Surface::evaluate.
-#include "core/curve.h"
-#include "core/sample_grid.h"
-#include "core/surface.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/core/surface.h>
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 namespace shapespline {
 

@@ -1,4 +1,4 @@
-#include "core/singular_blend.h"
+#include <shapespline/core/singular_blend.h>
 
 namespace shapespline {
 

@@ -1,4 +1,4 @@
-#include "core/span_basis.h"
+#include <shapespline/core/span_basis.h>
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 // C_j(t) = sum_r B_r(t) P_{j-c+r} with c = floor((m-1)/2) (MATH.md §1). SpanBasis stores the power-basis
 // coefficients of the B_r, computed in fp64 from the family's parameters. This is the form the GPU
 // consumes (uploaded as a small parameter buffer) and the form the CPU hot loops evaluate by Horner.
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 #include <span>
 #include <vector>

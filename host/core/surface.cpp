@@ -1,7 +1,7 @@
-#include "core/surface.h"
+#include <shapespline/core/surface.h>
 
-#include "core/singular_blend.h"
-#include "core/validate.h"
+#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/validate.h>
 
 #include <glm/geometric.hpp>
 

@@ -15,10 +15,10 @@
 //     already at 1/2 stays); if still degenerate use the base surface's C_u x C_v at the original
 //     point (for plain surfaces C = Q); last resort the fixed axis +z.
 // Every step normalises; `normalRule` in SurfacePoint reports which step produced the normal.
-#include "core/bspline.h"
-#include "core/curve.h"
-#include "core/model.h"
-#include "core/span_basis.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/curve.h>
+#include <shapespline/core/model.h>
+#include <shapespline/core/span_basis.h>
 
 #include <glm/vec3.hpp>
 

@@ -1,4 +1,4 @@
-#include "core/validate.h"
+#include <shapespline/core/validate.h>
 
 #include <charconv>
 #include <cmath>

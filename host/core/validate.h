@@ -16,7 +16,7 @@
 //
 // Errors are ModelError(field, value, rule) with JSON-path field names as written in a model file:
 // "lambda", "mu[1]", "alpha[3]", "alpha[1][2]", "points[2][1]", "knots[4]", "knots[1][0]", "order[0]".
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 namespace shapespline {
 

@@ -1,14 +1,14 @@
-#include "gpu/evaluator.h"
-#include "vk/fault.h"
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/vk/fault.h>
 
-#include "core/bspline.h"
-#include "gpu/kernels.h"
-#include "gpu/plane_pool.h"
-#include "layout.h"
-#include "vk/buffer.h"
-#include "vk/error.h"
-#include "vk/pipeline.h"
-#include "vk/submit.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/gpu/kernels.h>
+#include <shapespline/gpu/plane_pool.h>
+#include <shapespline/shaders/layout.h>
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/pipeline.h>
+#include <shapespline/vk/submit.h>
 
 #include <algorithm>
 #include <array>

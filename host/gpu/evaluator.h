@@ -11,12 +11,12 @@
 // k+1 while the consumer reads chunk k, so device + host memory stay at 2 chunks of planes
 // (2 x fields x maxPlaneBytes) however many points the job has. The evaluator keeps those planes
 // for its next grid job (gpu/plane_pool.h); an evaluator is used by one thread at a time.
-#include "core/curve.h"
-#include "core/sample_grid.h"
-#include "core/span_basis.h"
-#include "core/surface.h"
-#include "gpu/gpu_model.h"
-#include "vk/context.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/core/span_basis.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/vk/context.h>
 
 #include <memory>
 #include <span>

@@ -1,9 +1,9 @@
-#include "gpu/gpu_model.h"
+#include <shapespline/gpu/gpu_model.h>
 
-#include "core/bspline.h"
-#include "core/validate.h"
-#include "gpu/kernels.h"
-#include "layout.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/validate.h>
+#include <shapespline/gpu/kernels.h>
+#include <shapespline/shaders/layout.h>
 
 #include <algorithm>
 #include <cstring>

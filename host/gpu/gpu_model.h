@@ -4,11 +4,11 @@
 // uploaded once; λ/μ/α changes rewrite only the small PARAMS buffer (basis coefficients + α) and
 // mark the α-EB vertex pass (alpha_eb_vertices.comp, run by the next evaluation) dirty, so nodes and
 // V are recomputed on the GPU without touching the net. Buffer layouts: shaders/layout.h.
-#include "core/curve.h"
-#include "core/sample_grid.h"
-#include "core/surface.h"
-#include "vk/buffer.h"
-#include "vk/context.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/context.h>
 
 #include <cstdint>
 #include <memory>

@@ -1,6 +1,6 @@
-#include "gpu/kernels.h"
+#include <shapespline/gpu/kernels.h>
 
-#include "layout.h"
+#include <shapespline/shaders/layout.h>
 #include "shaders/alpha_eb_vertices_comp.h"
 #include "shaders/alpha_eb_vertices_comp_f64.h"
 #include "shaders/basis_table_comp.h"
@@ -25,7 +25,7 @@
 #include "shaders/tessellate_grid_comp_f64.h"
 #include "shaders/tessellate_grid_comp_f64_pk.h"
 #include "shaders/tessellate_grid_comp_pk.h"
-#include "tess_layout.h"
+#include <shapespline/shaders/tess_layout.h>
 
 #include <algorithm>
 #include <cstring>

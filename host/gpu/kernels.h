@@ -3,14 +3,14 @@
 // pipeline table keyed by (kernel, specialization constants) so that each degree/mask combination
 // is compiled once per evaluator, and the helpers every evaluator shares (REAL conversion, dispatch
 // sizing, a dummy buffer for bindings a variant does not use).
-#include "core/sample_grid.h"
-#include "gpu/gpu_model.h"
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/gpu/gpu_model.h>
 
 #include <glm/vec3.hpp>
-#include "vk/buffer.h"
-#include "vk/context.h"
-#include "vk/pipeline.h"
-#include "layout.h"
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/pipeline.h>
+#include <shapespline/shaders/layout.h>
 
 #include <cstdint>
 #include <map>

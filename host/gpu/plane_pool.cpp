@@ -1,4 +1,4 @@
-#include "gpu/plane_pool.h"
+#include <shapespline/gpu/plane_pool.h>
 
 namespace shapespline::gpu {
 

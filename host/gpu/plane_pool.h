@@ -5,8 +5,8 @@
 // chunk ring therefore takes its planes from here, reallocating only a plane that is too small,
 // and trim() drops any plane over the job's plane budget, so what stays held is bounded by
 // slots x fields x maxPlaneBytes.
-#include "core/sample_grid.h"
-#include "vk/buffer.h"
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/vk/buffer.h>
 
 #include <array>
 

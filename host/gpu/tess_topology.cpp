@@ -1,4 +1,4 @@
-#include "gpu/tess_topology.h"
+#include <shapespline/gpu/tess_topology.h>
 
 #include <algorithm>
 #include <stdexcept>

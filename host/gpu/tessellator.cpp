@@ -1,15 +1,15 @@
-#include "gpu/tessellator.h"
+#include <shapespline/gpu/tessellator.h>
 
-#include "gpu/kernels.h"
-#include "layout.h"
+#include <shapespline/gpu/kernels.h>
+#include <shapespline/shaders/layout.h>
 #include "shaders/tessellate_pack_comp.h"
 #include "shaders/tessellate_pack_comp_f64.h"
 #include "shaders/tessellate_pack_comp_f64_pk.h"
 #include "shaders/tessellate_pack_comp_pk.h"
-#include "tess_layout.h"
-#include "vk/error.h"
-#include "vk/pipeline.h"
-#include "vk/submit.h"
+#include <shapespline/shaders/tess_layout.h>
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/pipeline.h>
+#include <shapespline/vk/submit.h>
 
 #include <algorithm>
 #include <cmath>

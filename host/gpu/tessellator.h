@@ -27,12 +27,12 @@
 // them only when no submitted command buffer that uses this surface is still executing.
 // Limits: the vertex buffer must fit in maxStorageBufferRange (lavapipe: 128 MiB, about 4 M
 // vertices); target vertexOffset must be a multiple of minStorageBufferOffsetAlignment.
-#include "gpu/gpu_model.h"
-#include "gpu/tess_topology.h"
-#include "vk/buffer.h"
-#include "vk/context.h"
-#include "vk/pipeline.h"
-#include "tess_layout.h"
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/gpu/tess_topology.h>
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/pipeline.h>
+#include <shapespline/shaders/tess_layout.h>
 
 #include <vulkan/vulkan_core.h>
 

@@ -1,4 +1,4 @@
-#include "io/atomic_file.h"
+#include <shapespline/io/atomic_file.h>
 
 #include <fcntl.h>
 #include <pthread.h>

@@ -1,8 +1,8 @@
 // CSV with one header line. Curves: span,t,u,<fields>; surfaces: patch_i,patch_j,u,v,U,V,<fields>
 // (u,v local, U,V global). Each field is written as <name>_x,<name>_y[,<name>_z] (2-D curves have
 // no z column). Numbers in the shortest form that reads back exactly.
-#include "io/number_text.h"
-#include "io/sample_writer.h"
+#include <shapespline/io/number_text.h>
+#include <shapespline/io/sample_writer.h>
 
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "io/input_file.h"
+#include <shapespline/io/input_file.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -10,7 +10,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 namespace shapespline::io {
 

@@ -1,9 +1,9 @@
-#include "io/merge.h"
+#include <shapespline/io/merge.h>
 
-#include "io/atomic_file.h"
-#include "io/output_set.h"
-#include "io/sample_writer.h"
-#include "io/shard_info.h"
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
 
 #include <nlohmann/json.hpp>
 

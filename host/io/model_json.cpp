@@ -1,4 +1,4 @@
-#include "io/model_json.h"
+#include <shapespline/io/model_json.h>
 
 #include <array>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/validate.h"
-#include "io/input_file.h"
+#include <shapespline/core/validate.h>
+#include <shapespline/io/input_file.h>
 
 namespace shapespline::io {
 

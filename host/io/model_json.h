@@ -15,7 +15,7 @@
 #include <string_view>
 #include <variant>
 
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 namespace shapespline::io {
 

@@ -3,9 +3,9 @@
 // Unsharded files use absolute (1-based) indices for the widest reader support; a shard uses
 // relative (negative) indices, which the OBJ specification allows, so that shard files are valid
 // on their own and `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh.
-#include "io/number_text.h"
-#include "io/sample_writer.h"
-#include "io/shard_info.h"
+#include <shapespline/io/number_text.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
 
 #include <cstring>
 #include <string>

@@ -1,4 +1,4 @@
-#include "io/output_set.h"
+#include <shapespline/io/output_set.h>
 
 #include <cerrno>
 #include <cstdio>

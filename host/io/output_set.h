@@ -8,7 +8,7 @@
 // failed rename puts every target back as it was; then the backups are removed and the folders
 // fsynced. The one window that cannot be closed: a power loss or SIGKILL between the renames
 // leaves the set mixed (and a `.NAME.bak-*` file beside a target).
-#include "io/atomic_file.h"
+#include <shapespline/io/atomic_file.h>
 
 #include <deque>
 #include <filesystem>

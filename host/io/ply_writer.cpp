@@ -4,8 +4,8 @@
 // Vertex properties: x y z, nx ny nz (surfaces and --normals), s t (surfaces: uv in [0,1] over the
 // model), then <field>_x/_y/_z for every other requested field, in the precision of the samples.
 // Shards merge with `shapespline merge` (vertex blocks concatenated, indices offset).
-#include "io/sample_writer.h"
-#include "io/shard_info.h"
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
 
 #include <bit>
 #include <cstring>

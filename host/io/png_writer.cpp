@@ -1,4 +1,4 @@
-#include "io/png_writer.h"
+#include <shapespline/io/png_writer.h>
 
 #include <exception>
 #include <memory>

@@ -1,7 +1,7 @@
 #pragma once
 // PNG output through libpng: 8-bit RGB or RGBA, rows top to bottom, written through an
 // io::AtomicFile (so an old file is replaced only by a complete new one).
-#include "io/atomic_file.h"
+#include <shapespline/io/atomic_file.h>
 
 #include <cstdint>
 #include <filesystem>

@@ -3,8 +3,8 @@
 // sidecar's "fields" order, 3 components each (2-D curves carry z = 0). Shards of one job
 // concatenate byte for byte into the unsharded file (their sidecars give each item range, and list
 // the spans of their own items only).
-#include "io/sample_writer.h"
-#include "io/shard_info.h"
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
 
 #include <bit>
 #include <cstring>

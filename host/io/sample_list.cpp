@@ -1,8 +1,8 @@
-#include "io/sample_list.h"
+#include <shapespline/io/sample_list.h>
 
 #include <cmath>
 
-#include "io/input_file.h"
+#include <shapespline/io/input_file.h>
 
 namespace shapespline::io {
 

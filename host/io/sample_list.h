@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/curve.h"
-#include "core/surface.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
 
 namespace shapespline::io {
 

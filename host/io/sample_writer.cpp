@@ -1,6 +1,6 @@
-#include "io/sample_writer.h"
+#include <shapespline/io/sample_writer.h>
 
-#include "io/number_text.h"
+#include <shapespline/io/number_text.h>
 
 #include <algorithm>
 #include <cctype>

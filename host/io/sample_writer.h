@@ -4,8 +4,8 @@
 // in bounded memory. Formats: OBJ (surfaces: two triangles per grid cell with normals and uv;
 // curves: one polyline per span), PLY (binary little endian), CSV, raw f32/f64 with a JSON sidecar,
 // and SVG (curves only, 2-D projection; buffers its points, so the caller caps the count).
-#include "core/sample_grid.h"
-#include "io/atomic_file.h"
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/io/atomic_file.h>
 
 #include <glm/vec3.hpp>
 

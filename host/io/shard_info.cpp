@@ -1,4 +1,4 @@
-#include "io/shard_info.h"
+#include <shapespline/io/shard_info.h>
 
 #include <algorithm>
 #include <bit>

@@ -4,9 +4,9 @@
 // comp/fnv/, over the sampled model's data, the grid, the fields, the precision and the format),
 // the shard K of N and its item range. Written as one text line into PLY `comment` and OBJ `#`
 // headers, and as JSON keys into the raw sidecar; CSV stays plain (see io/merge.h).
-#include "core/model.h"
-#include "io/atomic_file.h"
-#include "io/sample_writer.h"
+#include <shapespline/core/model.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/sample_writer.h>
 
 #include <cstdint>
 #include <optional>

@@ -1,7 +1,7 @@
-#include "io/svg_writer.h"
+#include <shapespline/io/svg_writer.h>
 
-#include "io/number_text.h"
-#include "io/sample_writer.h"
+#include <shapespline/io/number_text.h>
+#include <shapespline/io/sample_writer.h>
 
 #include <algorithm>
 #include <cmath>

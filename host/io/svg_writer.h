@@ -1,7 +1,7 @@
 #pragma once
 // Small SVG plots: curves in 2-D projection (x, y; equal aspect, y up) with their control polygon
 // and data points, and function plots (basis functions and derivatives, free aspect, axes, legend).
-#include "io/atomic_file.h"
+#include <shapespline/io/atomic_file.h>
 
 #include <glm/vec2.hpp>
 

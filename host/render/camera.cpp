@@ -1,4 +1,4 @@
-#include "render/camera.h"
+#include <shapespline/render/camera.h>
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>

@@ -1,14 +1,14 @@
-#include "render/renderer.h"
+#include <shapespline/render/renderer.h>
 
-#include "gpu/tessellator.h"
+#include <shapespline/gpu/tessellator.h>
 #include "shaders/render_overlay_frag.h"
 #include "shaders/render_overlay_vert.h"
 #include "shaders/render_surface_frag.h"
 #include "shaders/render_surface_vert.h"
-#include "vk/error.h"
-#include "vk/handle.h"
-#include "vk/pipeline_cache.h"
-#include "vk/submit.h"
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/handle.h>
+#include <shapespline/vk/pipeline_cache.h>
+#include <shapespline/vk/submit.h>
 
 #include <glm/gtc/type_ptr.hpp>
 

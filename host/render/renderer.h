@@ -3,10 +3,10 @@
 // surfaces (gpu/tessellator.h vertex layout) with two-sided headlight shading, optional wireframe
 // over them, and overlay lines / markers (curves, control nets, data points) into an RGBA8 image
 // read back to the host. Needs a Context whose queue family supports graphics.
-#include "render/camera.h"
-#include "tess_layout.h"
-#include "vk/buffer.h"
-#include "vk/context.h"
+#include <shapespline/render/camera.h>
+#include <shapespline/shaders/tess_layout.h>
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/context.h>
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>

@@ -1,8 +1,8 @@
-#include "vk/buffer.h"
+#include <shapespline/vk/buffer.h>
 
-#include "vk/error.h"
-#include "vk/fault.h"
-#include "vk/submit.h"
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/fault.h>
+#include <shapespline/vk/submit.h>
 
 #include <algorithm>
 #include <cstring>

@@ -3,8 +3,8 @@
 // device: on unified-memory devices (integrated GPUs, lavapipe) every buffer is host-visible and
 // coherent and is mapped for its whole life; on discrete GPUs DeviceLocal buffers live in VRAM and
 // upload()/download() go through a temporary staging buffer and a OneShot.
-#include "vk/context.h"
-#include "vk/handle.h"
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/handle.h>
 
 #include <vulkan/vulkan_core.h>
 

@@ -1,8 +1,8 @@
-#include "vk/context.h"
+#include <shapespline/vk/context.h>
 
-#include "vk/error.h"
-#include "vk/fault.h"
-#include "vk/pipeline_cache.h"
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/fault.h>
+#include <shapespline/vk/pipeline_cache.h>
 
 #include <algorithm>
 #include <cctype>

@@ -3,7 +3,7 @@
 // pipeline cache and the command pool every other object in vk/ is created from. Knows nothing of
 // splines. Objects created from a Context (Buffer, ComputePipeline, DescriptorSet, OneShot) keep a
 // reference to it: the Context must outlive them.
-#include "vk/handle.h"
+#include <shapespline/vk/handle.h>
 
 #include <vulkan/vulkan_core.h>
 

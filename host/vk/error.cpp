@@ -1,4 +1,4 @@
-#include "vk/error.h"
+#include <shapespline/vk/error.h>
 
 namespace shapespline::vk {
 

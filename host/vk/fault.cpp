@@ -1,4 +1,4 @@
-#include "vk/fault.h"
+#include <shapespline/vk/fault.h>
 
 #include <atomic>
 #include <charconv>

@@ -1,8 +1,8 @@
-#include "vk/pipeline.h"
+#include <shapespline/vk/pipeline.h>
 
-#include "vk/buffer.h"
-#include "vk/error.h"
-#include "vk/pipeline_cache.h"
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/pipeline_cache.h>
 
 #include <stdexcept>
 

@@ -3,8 +3,8 @@
 // push-constant block and N storage buffers at bindings 0..N-1 of set 0. DescriptorSet: one set of
 // that layout, binding whole buffers or sub-ranges (offset + range) so callers can chunk buffers
 // larger than maxStorageBufferRange.
-#include "vk/context.h"
-#include "vk/handle.h"
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/handle.h>
 
 #include <vulkan/vulkan_core.h>
 

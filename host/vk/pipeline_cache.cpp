@@ -1,6 +1,6 @@
-#include "vk/pipeline_cache.h"
+#include <shapespline/vk/pipeline_cache.h>
 
-#include "vk/error.h"
+#include <shapespline/vk/error.h>
 
 #include <cstdio>
 #include <cstdlib>

@@ -2,7 +2,7 @@
 // PipelineCache: the one VkPipelineCache of a Context, persisted on disk so that the second run of
 // a shader skips the driver's compiler. Reading or writing the file is never fatal: a missing,
 // corrupt or foreign file means an empty cache, a failed save is reported by save() and lastError().
-#include "vk/handle.h"
+#include <shapespline/vk/handle.h>
 
 #include <vulkan/vulkan_core.h>
 

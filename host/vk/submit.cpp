@@ -1,8 +1,8 @@
-#include "vk/submit.h"
+#include <shapespline/vk/submit.h>
 
-#include "vk/error.h"
-#include "vk/fault.h"
-#include "vk/pipeline.h"
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/fault.h>
+#include <shapespline/vk/pipeline.h>
 
 #include <algorithm>
 #include <stdexcept>

@@ -2,8 +2,8 @@
 // Recording and submitting work: OneShot (one primary command buffer, submit, wait on a fence),
 // the barrier used between dependent dispatches, and chunked 1-D dispatch that respects
 // maxComputeWorkGroupCount.
-#include "vk/context.h"
-#include "vk/handle.h"
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/handle.h>
 
 #include <vulkan/vulkan_core.h>
 

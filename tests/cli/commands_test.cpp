@@ -1,11 +1,11 @@
 // Every other subcommand end to end on the example models: eval, basis (+ SVG), gb-fit, extend
 // (curve and surface), info, demo.
 #include "cli_runner.h"
-#include "core/curve.h"
-#include "core/gb_tools.h"
-#include "core/span_basis.h"
-#include "core/surface.h"
-#include "io/model_json.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/gb_tools.h>
+#include <shapespline/core/span_basis.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/model_json.h>
 #include "support/golden.h"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 // `sample` end to end: every output format parsed back and compared with the core evaluators,
 // atomic output, shards that concatenate/merge into the whole job.
 #include "cli_runner.h"
-#include "core/curve.h"
-#include "core/grid_sampler.h"
-#include "core/surface.h"
-#include "io/model_json.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/model_json.h>
 #include "support/tolerances.h"
 
 #include <glm/common.hpp>

@@ -6,9 +6,9 @@
 #include <random>
 #include <vector>
 
-#include "core/basis_direct.h"
-#include "core/bspline.h"
-#include "core/span_basis.h"
+#include <shapespline/core/basis_direct.h>
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/span_basis.h>
 
 namespace shapespline {
 namespace {

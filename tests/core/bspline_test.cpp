@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "core/bspline.h"
+#include <shapespline/core/bspline.h>
 
 namespace shapespline {
 namespace {

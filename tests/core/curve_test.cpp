@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "core/curve.h"
-#include "core/singular_blend.h"
-#include "core/span_basis.h"
-#include "core/validate.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/span_basis.h>
+#include <shapespline/core/validate.h>
 #include "support/tolerances.h"
 
 namespace shapespline {

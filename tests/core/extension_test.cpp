@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "core/extension.h"
+#include <shapespline/core/extension.h>
 
 namespace shapespline {
 namespace {

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/diagnostics.h"
-#include "core/grid_sampler.h"
-#include "core/validate.h"
+#include <shapespline/core/diagnostics.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/validate.h>
 
 #include <glm/geometric.hpp>
 

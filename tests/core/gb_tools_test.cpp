@@ -8,8 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/bspline.h"
-#include "core/gb_tools.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/gb_tools.h>
 
 namespace shapespline {
 namespace {

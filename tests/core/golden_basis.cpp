@@ -6,8 +6,8 @@
 #include <string>
 
 #include "core/golden_registry.h"
-#include "core/singular_blend.h"
-#include "core/span_basis.h"
+#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/span_basis.h>
 
 namespace shapespline::test {
 namespace {

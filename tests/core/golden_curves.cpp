@@ -20,10 +20,10 @@
 #include <string>
 #include <variant>
 
-#include "core/bspline.h"
-#include "core/curve.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/curve.h>
 #include "core/golden_registry.h"
-#include "io/model_json.h"
+#include <shapespline/io/model_json.h>
 #include "support/tolerances.h"
 
 namespace shapespline::test {

@@ -16,9 +16,9 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "core/extension.h"
+#include <shapespline/core/extension.h>
 #include "core/golden_registry.h"
-#include "io/model_json.h"
+#include <shapespline/io/model_json.h>
 #include "support/tolerances.h"
 
 namespace shapespline::test {

@@ -3,9 +3,9 @@
 #include <string>
 #include <variant>
 
-#include "core/gb_tools.h"
+#include <shapespline/core/gb_tools.h>
 #include "core/golden_registry.h"
-#include "io/model_json.h"
+#include <shapespline/io/model_json.h>
 
 namespace shapespline::test {
 namespace {

@@ -24,8 +24,8 @@
 #include <glm/geometric.hpp>
 
 #include "core/golden_registry.h"
-#include "core/surface.h"
-#include "io/model_json.h"
+#include <shapespline/core/surface.h>
+#include <shapespline/io/model_json.h>
 #include "support/tolerances.h"
 
 namespace shapespline::test {

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/golden_registry.h"
-#include "core/model.h"
-#include "io/model_json.h"
+#include <shapespline/core/model.h>
+#include <shapespline/io/model_json.h>
 
 namespace shapespline::test {
 namespace {

@@ -10,7 +10,7 @@
 #include <random>
 #include <string>
 
-#include "core/grid_sampler.h"
+#include <shapespline/core/grid_sampler.h>
 
 namespace shapespline {
 namespace {

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <random>
 
-#include "core/grid_sampler.h"
+#include <shapespline/core/grid_sampler.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>

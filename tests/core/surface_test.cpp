@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/curve.h"
-#include "core/surface.h"
-#include "core/validate.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/core/validate.h>
 #include "support/tolerances.h"
 
 namespace shapespline {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "core/bspline.h"
-#include "core/curve.h"
-#include "core/surface.h"
-#include "core/validate.h"
+#include <shapespline/core/bspline.h>
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/core/validate.h>
 
 namespace shapespline {
 namespace {

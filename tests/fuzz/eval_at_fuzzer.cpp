@@ -19,11 +19,11 @@
 #include <variant>
 #include <vector>
 
-#include "core/curve.h"
-#include "core/surface.h"
-#include "io/input_file.h"
-#include "io/model_json.h"
-#include "io/sample_list.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/input_file.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/io/sample_list.h>
 
 namespace {
 

@@ -5,13 +5,13 @@
 // Usage: merge_fuzz_seeds OUT_DIR.
 #include "merge_fuzz_format.h"
 
-#include "core/curve.h"
-#include "core/grid_sampler.h"
-#include "core/surface.h"
-#include "io/atomic_file.h"
-#include "io/model_json.h"
-#include "io/sample_writer.h"
-#include "io/shard_info.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
 
 #include <cstdio>
 #include <exception>

@@ -13,8 +13,8 @@
 // The same function is linked into `merge_fuzz_replay` (replay_main.cpp) for builds without libFuzzer.
 #include "merge_fuzz_format.h"
 
-#include "io/atomic_file.h"
-#include "io/merge.h"
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/merge.h>
 
 #include <cstdint>
 #include <cstdio>

@@ -21,9 +21,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "core/diagnostics.h"
-#include "core/grid_sampler.h"
-#include "io/model_json.h"
+#include <shapespline/core/diagnostics.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/io/model_json.h>
 
 namespace {
 

@@ -7,14 +7,14 @@
 #include <cmath>
 #include <string>
 
-#include "core/curve.h"
-#include "core/grid_sampler.h"
-#include "gpu/evaluator.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/gpu/evaluator.h>
 #include "support/vk_fixture.h"
-#include "vk/buffer.h"
-#include "vk/error.h"
-#include "vk/fault.h"
-#include "vk/submit.h"
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/fault.h>
+#include <shapespline/vk/submit.h>
 
 namespace shapespline::test {
 namespace {

@@ -22,11 +22,11 @@
 #include <cstdio>
 #include <random>
 
-#include "core/curve.h"
-#include "core/extension.h"
-#include "core/grid_sampler.h"
-#include "core/surface.h"
-#include "gpu/evaluator.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/extension.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 

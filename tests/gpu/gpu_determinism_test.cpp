@@ -6,8 +6,8 @@
 #include <cstring>
 #include <vector>
 
-#include "core/surface.h"
-#include "gpu/evaluator.h"
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
 #include "support/vk_fixture.h"
 
 namespace shapespline::test {

@@ -36,11 +36,11 @@
 #include <set>
 #include <variant>
 
-#include "core/curve.h"
-#include "core/span_basis.h"
-#include "core/surface.h"
-#include "gpu/evaluator.h"
-#include "io/model_json.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/span_basis.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/io/model_json.h>
 #include "support/golden.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"

@@ -10,9 +10,9 @@
 #include <random>
 #include <string>
 
-#include "core/curve.h"
-#include "core/surface.h"
-#include "gpu/evaluator.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
 #include "support/vk_fixture.h"
 
 namespace shapespline::test {

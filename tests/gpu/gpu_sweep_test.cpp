@@ -23,9 +23,9 @@
 #include <cstdio>
 #include <random>
 
-#include "core/curve.h"
-#include "core/surface.h"
-#include "gpu/evaluator.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
 #include "support/tolerances.h"
 #include "support/degenerate_nets.h"
 #include "support/vk_fixture.h"

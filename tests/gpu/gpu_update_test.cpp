@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/curve.h"
-#include "core/surface.h"
-#include "gpu/evaluator.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 

@@ -16,10 +16,10 @@
 #include <filesystem>
 #include <set>
 
-#include "core/surface.h"
-#include "gpu/tessellator.h"
-#include "io/png_writer.h"
-#include "render/renderer.h"
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/tessellator.h>
+#include <shapespline/io/png_writer.h>
+#include <shapespline/render/renderer.h>
 #include "support/vk_fixture.h"
 
 namespace shapespline::test {

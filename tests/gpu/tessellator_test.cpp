@@ -19,13 +19,13 @@
 #include <glm/geometric.hpp>
 #include <glm/common.hpp>
 
-#include "core/surface.h"
-#include "gpu/tessellator.h"
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/tessellator.h>
 #include "support/tolerances.h"
 #include "support/degenerate_nets.h"
 #include "support/vk_fixture.h"
-#include "tess_layout.h"
-#include "vk/submit.h"
+#include <shapespline/shaders/tess_layout.h>
+#include <shapespline/vk/submit.h>
 
 namespace shapespline::test {
 namespace {

@@ -1,12 +1,12 @@
 // Tests of the thin Vulkan layer (host/vk): context, buffers, pipelines + descriptor sets, one-shot
 // submission, chunked dispatch, the on-disk pipeline cache, adopt(), and that validation is live.
 #include "support/vk_fixture.h"
-#include "vk/buffer.h"
-#include "vk/context.h"
-#include "vk/error.h"
-#include "vk/pipeline.h"
-#include "vk/pipeline_cache.h"
-#include "vk/submit.h"
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/context.h>
+#include <shapespline/vk/error.h>
+#include <shapespline/vk/pipeline.h>
+#include <shapespline/vk/pipeline_cache.h>
+#include <shapespline/vk/submit.h>
 
 #include <cstdint>
 // Generated at build time from shaders/*.comp (cmake/EmbedShaders.cmake).

@@ -2,8 +2,8 @@
 // O_EXCL|O_NOFOLLOW and mode 0600, the replaced file's mode kept, a set committed as a whole (a
 // failed rename puts every target back), the same path twice refused, temporary files removed on
 // SIGTERM.
-#include "io/atomic_file.h"
-#include "io/output_set.h"
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/output_set.h>
 
 #include <gtest/gtest.h>
 

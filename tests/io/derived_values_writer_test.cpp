@@ -13,9 +13,9 @@
 #include <string>
 #include <unistd.h>
 
-#include "io/atomic_file.h"
-#include "io/sample_writer.h"
-#include "io/svg_writer.h"
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/svg_writer.h>
 
 namespace shapespline::io {
 namespace {

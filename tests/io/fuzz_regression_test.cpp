@@ -7,9 +7,9 @@
 #include <string>
 #include <variant>
 
-#include "core/curve.h"
-#include "core/surface.h"
-#include "io/model_json.h"
+#include <shapespline/core/curve.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/model_json.h>
 
 namespace shapespline {
 namespace {

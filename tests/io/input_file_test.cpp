@@ -1,5 +1,5 @@
 // io/input_file.h (issue 12): the bounded reader, the JSON limits and the bounded value text.
-#include "io/input_file.h"
+#include <shapespline/io/input_file.h>
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <fstream>
 #include <string>
 
-#include "core/model.h"
-#include "io/model_json.h"
+#include <shapespline/core/model.h>
+#include <shapespline/io/model_json.h>
 
 namespace shapespline {
 namespace {

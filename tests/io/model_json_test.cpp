@@ -11,9 +11,9 @@
 #include <set>
 #include <string>
 
-#include "core/span_basis.h"
-#include "core/validate.h"
-#include "io/model_json.h"
+#include <shapespline/core/span_basis.h>
+#include <shapespline/core/validate.h>
+#include <shapespline/io/model_json.h>
 #include "support/bad_models.h"
 #include "support/golden.h"
 

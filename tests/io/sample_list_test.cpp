@@ -1,13 +1,13 @@
 // io/sample_list.h (issue 12): `eval --at` sample lists read and checked against a curve or surface.
-#include "io/sample_list.h"
+#include <shapespline/io/sample_list.h>
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <variant>
 
-#include "io/input_file.h"
-#include "io/model_json.h"
+#include <shapespline/io/input_file.h>
+#include <shapespline/io/model_json.h>
 
 namespace shapespline {
 namespace {

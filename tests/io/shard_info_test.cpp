@@ -1,6 +1,6 @@
 // io/shard_info.h: the job line round-trips and rejects anything else, the fingerprint separates
 // jobs that differ in any input, the escaping keeps a path on one line, span windows.
-#include "io/shard_info.h"
+#include <shapespline/io/shard_info.h>
 
 #include <gtest/gtest.h>
 

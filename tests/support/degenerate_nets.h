@@ -1,7 +1,7 @@
 #pragma once
 // Test nets whose normals need the MATH.md §5.3 fallbacks, shared by the evaluator and tessellator
 // tests.
-#include "core/model.h"
+#include <shapespline/core/model.h>
 
 namespace shapespline::test {
 

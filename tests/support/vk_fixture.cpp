@@ -1,6 +1,6 @@
 #include "support/vk_fixture.h"
 
-#include "vk/error.h"
+#include <shapespline/vk/error.h>
 
 #include <cstdlib>
 #include <mutex>

@@ -1,7 +1,7 @@
 #pragma once
 // Shared Vulkan context for GPU tests, with validation on, and the VulkanTest fixture that skips
 // when no device exists and fails any test during which the validation layers said something.
-#include "vk/context.h"
+#include <shapespline/vk/context.h>
 
 #include <gtest/gtest.h>
 
