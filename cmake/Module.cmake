@@ -28,7 +28,7 @@ function(shapespline_module)
     set(scope INTERFACE)
   endif()
   target_include_directories(${ARG_NAME} ${scope} $<BUILD_INTERFACE:${SHAPESPLINE_INCLUDE_ROOT}>
-                             $<BUILD_INTERFACE:${CMAKE_SOURCE_DIR}/host> $<INSTALL_INTERFACE:include>)
+                             $<INSTALL_INTERFACE:include>)
   target_link_libraries(${ARG_NAME} ${scope} ${ARG_LINKS})
   set_target_properties(${ARG_NAME} PROPERTIES EXPORT_NAME ${export_name})
   add_library(shapespline::${export_name} ALIAS ${ARG_NAME})
