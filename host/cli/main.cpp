@@ -7,6 +7,7 @@
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/version.h>
 
 #include <CLI/CLI.hpp>
 
@@ -77,6 +78,9 @@ int main(int argc, char** argv) {
                "(CPU fp64 or Vulkan compute)."};
   app.footer(std::string(kExitCodeHelp) +
              "\nRun 'shapespline demo' for example models and outputs in ./shapespline-demo/.");
+  // One line: the version of project(VERSION) and the commit the binary was configured from.
+  app.set_version_flag("--version", "shapespline " SHAPESPLINE_VERSION_STRING " (commit " SHAPESPLINE_GIT_COMMIT ")",
+                       "Print the version and the git commit, then exit");
   app.require_subcommand(1);
   registerSample(app);
   registerEval(app);
