@@ -25,5 +25,6 @@ function(shapespline_embed_shader)
     COMMENT "glslang: ${ARG_OUTPUT_NAME}"
     VERBATIM)
   target_sources(${ARG_TARGET} PRIVATE "${out}")
-  target_include_directories(${ARG_TARGET} PUBLIC "${CMAKE_BINARY_DIR}/gen")
+  # Build tree only: the generated headers are private to the .cpp files of gpu/ and render/.
+  target_include_directories(${ARG_TARGET} PUBLIC "$<BUILD_INTERFACE:${CMAKE_BINARY_DIR}/gen>")
 endfunction()

@@ -16,6 +16,8 @@ endforeach()
 # shapespline_module(NAME target DIR dir LINKS ...): a static library of every *.cpp in DIR, or an
 # INTERFACE library while the module has no sources yet (keeps the tree configurable as it grows).
 # NAME shapespline_X also gets the ALIAS shapespline::X, the name it has in an installed package.
+# Position-independent code, so that a consumer can link the installed static libraries into a
+# shared library (a renderer plugin) as well as into an executable.
 function(shapespline_module)
   cmake_parse_arguments(ARG "" "NAME;DIR" "LINKS" ${ARGN})
   file(GLOB srcs CONFIGURE_DEPENDS ${ARG_DIR}/*.cpp)
@@ -30,6 +32,6 @@ function(shapespline_module)
   target_include_directories(${ARG_NAME} ${scope} $<BUILD_INTERFACE:${SHAPESPLINE_INCLUDE_ROOT}>
                              $<INSTALL_INTERFACE:include>)
   target_link_libraries(${ARG_NAME} ${scope} ${ARG_LINKS})
-  set_target_properties(${ARG_NAME} PROPERTIES EXPORT_NAME ${export_name})
+  set_target_properties(${ARG_NAME} PROPERTIES EXPORT_NAME ${export_name} POSITION_INDEPENDENT_CODE ON)
   add_library(shapespline::${export_name} ALIAS ${ARG_NAME})
 endfunction()

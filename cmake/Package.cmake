@@ -1,0 +1,90 @@
+# Install rules, the CMake package, pkg-config file and the .deb (cpack -G DEB). docs/api.md says
+# what is public and how the version moves; tests/package/ installs, packs and consumes all of it.
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+# The public API: these headers are installed under <prefix>/include/shapespline/ and are all a
+# consumer may include (<shapespline/MODULE/name.h>). Every other header under host/ and shaders/ is
+# private to the build. A public header includes only public ones (tests/package checks it by
+# compiling each installed header on its own against the install prefix).
+set(SHAPESPLINE_PUBLIC_HEADERS
+    core/bspline.h core/curve.h core/diagnostics.h core/extension.h core/gb_tools.h
+    core/grid_sampler.h core/model.h core/sample_grid.h core/span_basis.h core/surface.h
+    core/validate.h
+    io/atomic_file.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
+    vk/buffer.h vk/context.h vk/error.h vk/handle.h vk/pipeline.h vk/pipeline_cache.h vk/submit.h
+    gpu/evaluator.h gpu/gpu_model.h gpu/tess_topology.h gpu/tessellator.h
+    render/camera.h render/renderer.h
+    shaders/tess_layout.h)
+foreach(header IN LISTS SHAPESPLINE_PUBLIC_HEADERS)
+  get_filename_component(dir ${header} DIRECTORY)
+  install(FILES ${SHAPESPLINE_INCLUDE_ROOT}/shapespline/${header}
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/shapespline/${dir})
+endforeach()
+install(FILES ${SHAPESPLINE_INCLUDE_ROOT}/shapespline/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/shapespline)
+
+set(SHAPESPLINE_EXPORTED_TARGETS shapespline_core shapespline_io shapespline_vk shapespline_shaders
+    shapespline_gpu shapespline_render)
+install(TARGETS ${SHAPESPLINE_EXPORTED_TARGETS} EXPORT shapespline-targets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+if(TARGET shapespline)
+  install(TARGETS shapespline RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
+
+set(SHAPESPLINE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/shapespline)
+install(EXPORT shapespline-targets NAMESPACE shapespline:: DESTINATION ${SHAPESPLINE_CMAKE_DIR})
+configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/shapespline-config.cmake.in
+                              ${PROJECT_BINARY_DIR}/package/shapespline-config.cmake
+                              INSTALL_DESTINATION ${SHAPESPLINE_CMAKE_DIR})
+# Semantic versioning: 1.x accepts a request for any 1.y <= x; while the major version is 0, a minor
+# version may break the API, so 0.x only accepts requests for 0.x.
+if(PROJECT_VERSION_MAJOR EQUAL 0)
+  set(compatibility SameMinorVersion)
+else()
+  set(compatibility SameMajorVersion)
+endif()
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/package/shapespline-config-version.cmake
+                                 VERSION ${PROJECT_VERSION} COMPATIBILITY ${compatibility})
+install(FILES ${PROJECT_BINARY_DIR}/package/shapespline-config.cmake
+              ${PROJECT_BINARY_DIR}/package/shapespline-config-version.cmake
+        DESTINATION ${SHAPESPLINE_CMAKE_DIR})
+
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
+    "Shape-parametric spline curves and surfaces: C++20 library (CPU fp64, Vulkan compute) and CLI")
+
+# pkg-config: relocatable (prefix from the .pc file's own folder), so an unpacked .deb works too.
+# The libraries are static, so their dependencies are Requires, not Requires.private.
+set(pc_requires "glm nlohmann_json >= 3.10 vulkan")
+if(PNG_FOUND)
+  string(APPEND pc_requires " libpng16")
+endif()
+file(RELATIVE_PATH pc_prefix_from_pcdir /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
+string(REGEX REPLACE "/$" "" pc_prefix_from_pcdir "${pc_prefix_from_pcdir}")
+configure_file(${CMAKE_CURRENT_LIST_DIR}/shapespline.pc.in ${PROJECT_BINARY_DIR}/package/shapespline.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/package/shapespline.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+# The .deb: everything above in one package (the CLI and the development files). Depends: the
+# shared libraries the CLI links (dpkg-shlibdeps: libvulkan1, libpng16-16, libstdc++6, ...);
+# Recommends: the -dev packages whose CMake/pkg-config files the installed package finds with
+# find_dependency (needed to build against it, not to run the CLI); Suggests: a Vulkan driver.
+set(CPACK_PACKAGE_NAME shapespline)
+set(CPACK_PACKAGE_VENDOR shapespline)
+set(CPACK_PACKAGE_CONTACT "shapespline maintainers <shapespline@localhost>")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION libdevel)
+find_program(DPKG_SHLIBDEPS dpkg-shlibdeps)
+if(DPKG_SHLIBDEPS)
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+else()
+  set(CPACK_DEBIAN_PACKAGE_DEPENDS "libc6, libstdc++6, libgcc-s1, libvulkan1, libpng16-16")
+endif()
+set(deb_recommends "libglm-dev, nlohmann-json3-dev (>= 3.10), libvulkan-dev")
+if(PNG_FOUND)
+  string(APPEND deb_recommends ", libpng-dev")
+endif()
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "${deb_recommends}")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "mesa-vulkan-drivers | vulkan-icd")
+set(CPACK_GENERATOR DEB)
+include(CPack)
