@@ -1,0 +1,49 @@
+# Shared by the package tests: arguments, a scratch folder, the consumer build.
+#   $1 build dir  $2 source dir  $3 project version  $4 git commit  $5 C++ compiler launcher (may be empty)
+set -euo pipefail
+BUILD=$(cd "$1" && pwd)
+SRC=$(cd "$2" && pwd)
+VERSION=$3
+COMMIT=$4
+LAUNCHER=${5:-}
+# Both tests lay out $T/usr (the prefix) and $T/build (the consumer) the same way, so that with
+# CCACHE_BASEDIR=$T the second consumer build is a ccache hit (same relative -I paths).
+T=$(mktemp -d "${TMPDIR:-/tmp}/shapespline-package.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+export CCACHE_BASEDIR=$T
+
+fail() {
+  echo "FAIL: $*" >&2
+  exit 1
+}
+
+# consume PREFIX: configure, build and run tests/consumer against the package under PREFIX.
+consume() {
+  local prefix=$1
+  cmake -S "$SRC/tests/consumer" -B "$T/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
+    -DSHAPESPLINE_REQUIRED_VERSION="$VERSION" ${LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$LAUNCHER} >"$T/configure.log" \
+    || { cat "$T/configure.log"; fail "consumer configure against $prefix"; }
+  grep -q "shapespline $VERSION from $prefix/" "$T/configure.log" \
+    || { cat "$T/configure.log"; fail "consumer did not find shapespline $VERSION under $prefix"; }
+  cmake --build "$T/build" >"$T/build.log" 2>&1 || { cat "$T/build.log"; fail "consumer build against $prefix"; }
+  # The consumer must not reach into the build or source tree for headers or libraries.
+  if grep -F -e "$BUILD/" -e "-I$SRC" "$T/build/build.ninja" >/dev/null; then
+    fail "consumer build uses the shapespline build or source tree"
+  fi
+  (cd "$SRC" && "$T/build/shapespline_consumer" examples/models/surface_aeb.json) | tee "$T/run.log" \
+    || fail "consumer run against $prefix"
+  grep -q "^shapespline $VERSION (commit $COMMIT)" "$T/run.log" || fail "consumer reports another version"
+  grep -qE "^(ok:|gpu: skipped:)" "$T/run.log" || fail "consumer printed no result"
+}
+
+# pkgconfig PREFIX: the relocatable shapespline.pc resolves to PREFIX.
+pkgconfig() {
+  local prefix=$1 pc
+  pc=$(dirname "$(find "$prefix" -name shapespline.pc | head -1)")
+  [ -n "$pc" ] || fail "no shapespline.pc under $prefix"
+  [ "$(PKG_CONFIG_PATH=$pc pkg-config --modversion shapespline)" = "$VERSION" ] || fail "pkg-config version"
+  local inc
+  inc=$(PKG_CONFIG_PATH=$pc pkg-config --cflags-only-I shapespline | tr ' ' '\n' | grep -m1 '^-I' | cut -c3-)
+  [ "$(realpath "$inc")" = "$(realpath "$prefix/include")" ] || fail "pkg-config include dir $inc is not in $prefix"
+  echo "pkg-config: $(PKG_CONFIG_PATH=$pc pkg-config --libs shapespline)"
+}
