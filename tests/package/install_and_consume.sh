@@ -20,6 +20,13 @@ CXX=${CXX:-c++}
 (cd "$T/usr/include" && find shapespline -name '*.h' | sort) >"$T/headers"
 [ -s "$T/headers" ] || fail "no headers installed"
 echo "$(wc -l <"$T/headers") public headers"
+# docs/api.md names every installed header (the statement of the public API stays true).
+while read -r h; do
+  rel=${h#shapespline/}
+  [ "$rel" = version.h ] && continue
+  dir=${rel%/*} name=${rel##*/}
+  grep -E "^\| \`$dir/\` \|" "$SRC/docs/api.md" | grep -qF "\`$name\`" || fail "docs/api.md does not list $rel"
+done <"$T/headers"
 export CXX cflags T
 xargs -P 2 -I{} sh -c 'printf "#include <%s>\n" "$1" | $CXX -std=c++20 -fsyntax-only -Wall -Wextra $cflags -x c++ - \
     >"$T/hdr.$$.log" 2>&1 || { echo "FAIL: <$1> does not compile on its own:"; cat "$T/hdr.$$.log"; exit 255; }' \
