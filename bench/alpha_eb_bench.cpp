@@ -1,4 +1,4 @@
-// α-EB (MATH.md §4, §5), Xu-Wang degree 5: a 64 x 64 open surface net (63 x 63 = 3969 patches,
+// α-EB (docs/math.md §4, §5), Xu-Wang degree 5: a 64 x 64 open surface net (63 x 63 = 3969 patches,
 // S x S samples per patch, point + unit normal by the §5.3 convention) and a closed 10,000-point
 // curve (64 samples per span, point + first derivative), on our CPU fp64 sampler (1 and 2 threads)
 // and Vulkan fp32/fp64. No OpenSubdiv counterpart exists. Excluded from timing: model construction,

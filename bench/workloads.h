@@ -16,7 +16,7 @@
 namespace shapespline::bench {
 
 // 64 x 64 control net, open in both directions: 61 x 61 = 3721 uniform cubic B-spline patches
-// (Xu-Wang degree 4 at λ = 0 is the uniform cubic B-spline, MATH.md §2.1).
+// (Xu-Wang degree 4 at λ = 0 is the uniform cubic B-spline, docs/math.md §2.1).
 inline constexpr int kNetSize = 64;
 inline constexpr int kCurvePoints = 10000;       // closed α-EB curve: 10,000 spans
 inline constexpr int kCurveSamplesPerSpan = 64;

@@ -1,5 +1,5 @@
 #version 450
-// α-EB vertex pass (MATH.md §4.2, §5.2): node = C(0) (curve) or C_ij(0,0) (surface) from the extended
+// α-EB vertex pass (docs/math.md §4.2, §5.2): node = C(0) (curve) or C_ij(0,0) (surface) from the extended
 // polygon/net and the basis coefficients, and V = P + ((1-α)/α)(P - node), one invocation per
 // vertex. Runs on the GPU so that a λ or α change re-uploads only PARAMS, never the net.
 // B_r(0) is the constant coefficient coef[r][0] (Horner at t = 0 returns it exactly). b_3(0) = 0 for

@@ -1,4 +1,4 @@
-// Knot-vector B-spline basis (MATH.md §10.1), included after common.glsl by bspline_*_eval.comp.
+// Knot-vector B-spline basis (docs/math.md §10.1), included after common.glsl by bspline_*_eval.comp.
 // Knots live in PARAMS (layout.h); the order is a specialization constant of the including kernel,
 // so every loop bound below is a compile-time constant after specialization.
 #ifndef SHAPESPLINE_BSPLINE_GLSL

@@ -1,5 +1,5 @@
 #version 450
-// Knot-vector B-spline curves (MATH.md §10.1, core/bspline.h evalBSplineCurve): point, d1, d2 with
+// Knot-vector B-spline curves (docs/math.md §10.1, core/bspline.h evalBSplineCurve): point, d1, d2 with
 // respect to the knot parameter, for a grid of S samples on every non-empty knot interval (items as
 // core/grid_sampler.h curveGridItems) or a list of (span, knot parameter). Order = BASIS_COUNT_U.
 // 4 output points per invocation (layout.h).

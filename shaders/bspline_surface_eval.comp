@@ -1,5 +1,5 @@
 #version 450
-// Knot-vector B-spline surfaces (MATH.md §10.1, core/bspline.h evalBSplineSurface): point, partials
+// Knot-vector B-spline surfaces (docs/math.md §10.1, core/bspline.h evalBSplineSurface): point, partials
 // up to order 2 with respect to the knot parameters and the unit normal (core/surface.h convention
 // for plain surfaces: du x dv; degenerate -> moved 2^-12 towards the interval centre; then +z), for
 // an Su x Sv grid on every non-empty interval pair (core/grid_sampler.h surfaceGridItems order) or
@@ -61,7 +61,7 @@ Sample evalKnotPatch(int spanU, REAL x, int spanV, REAL y) {
   return o;
 }
 
-// core/surface.cpp degenerateCross (MATH.md §5.3 thresholds).
+// core/surface.cpp degenerateCross (docs/math.md §5.3 thresholds).
 bool knotDegenerateCross(REAL3 a, REAL3 b, REAL3 n) {
   if (all(equal(a, REAL3(0))) || all(equal(b, REAL3(0)))) return true;
   REAL l = length(n);

@@ -75,7 +75,7 @@ void evalSpanBasis(uint coefOffset, uint count, uint degree, REAL t,
   }
 }
 
-// core/singular_blend.cpp singularBlend: S, S', S'' (MATH.md §3). The three pieces are all
+// core/singular_blend.cpp singularBlend: S, S', S'' (docs/math.md §3). The three pieces are all
 // evaluated and one selected (same arithmetic as the C++): llvmpipe runs every side of a
 // per-lane branch anyway, and a select saves the mask bookkeeping.
 REAL3 singularBlend(REAL t) {

@@ -1,5 +1,5 @@
 #version 450
-// Curves of the uniform local families (MATH.md §1, with optional span knots: derivatives times
+// Curves of the uniform local families (docs/math.md §1, with optional span knots: derivatives times
 // 1/h^r) and α-EB curves (§4.2): point, d1, d2 for a per-span grid of S samples (basis values from
 // the TABLE of basis_table.comp) or a list of (span, t). 4 output points per invocation, each field
 // stored as three vec4 (layout.h). Mirrors host/core/curve.cpp evalLocalSpan / evalAlphaEBSpan.
@@ -40,7 +40,7 @@ CurvePoint evalLocalSpan(in REAL b[kMaxBasis], in REAL d1[kMaxBasis], in REAL d2
   return o;
 }
 
-// core/curve.cpp evalAlphaEBSpan (MATH.md §4.2).
+// core/curve.cpp evalAlphaEBSpan (docs/math.md §4.2).
 CurvePoint evalAlphaEBSpan(in REAL b[kMaxBasis], in REAL d1[kMaxBasis], in REAL d2[kMaxBasis], uint first,
                            REAL3 v0, REAL3 v1, REAL a0, REAL a1, REAL t) {
   CurvePoint c = evalLocalSpan(b, d1, d2, first, REAL(1));

@@ -1,5 +1,5 @@
 #version 450
-// Fast grid path of curve_eval.comp (MATH.md §1 with optional span knots, α-EB curves §4.2) when
+// Fast grid path of curve_eval.comp (docs/math.md §1 with optional span knots, α-EB curves §4.2) when
 // the samples per span are a multiple of 4: one invocation = RUN_LENGTH consecutive samples of one
 // span (RUN_LENGTH < samplesU, dividing it) or RUN_LENGTH / samplesU whole consecutive spans. The
 // span's points, its α-EB vertex data and 1/h are gathered once per span instead of once per

@@ -14,7 +14,7 @@
 //                   span-knot reciprocals 1/h_s at invHOffset (curves with span knots). λ/μ/α
 //                   changes rewrite only this buffer.
 //  VERTS   (REAL4)  α-EB vertex data written by alpha_eb_vertices.comp: V_ij at i*cols + j and
-//                   node_ij at rows*cols + i*cols + j (MATH.md §4.2, §5.2).
+//                   node_ij at rows*cols + i*cols + j (docs/math.md §4.2, §5.2).
 //  TABLE   (REAL)   basis table (basis_table.comp): entry of sample a of a direction at
 //                   tableOffset + a*3*m + d*m + r = B_r^(d)(t_a), d = 0,1,2.
 //  SAMPLES (ListSample) list mode: (span/patch i, patch j, local u, local v) per sample.
@@ -102,7 +102,7 @@ struct EvalPush {
   SS_UINT itemsV;        // patches per row of the patch range (curves: 1)
   SS_UINT samplesU;      // grid samples per span / per patch along u
   SS_UINT samplesV;      // grid samples per patch along v (curves: 1)
-  SS_UINT firstSpanU;    // model index of item row 0 (MATH.md §1: c for open plain curves)
+  SS_UINT firstSpanU;    // model index of item row 0 (docs/math.md §1: c for open plain curves)
   SS_UINT firstSpanV;
   SS_UINT netCols;       // columns of NET (curves: 1 unused)
   SS_UINT netOffsetU;    // patch i reads NET row i + netOffsetU (span point offset for curves)
@@ -120,7 +120,7 @@ struct EvalPush {
   SS_UINT pad0, pad1, pad2;
 };
 
-// Push constants of bspline_curve_eval / bspline_surface_eval (knot-vector B-splines, MATH.md
+// Push constants of bspline_curve_eval / bspline_surface_eval (knot-vector B-splines, docs/math.md
 // §10.1). The first five fields sit where EvalPush has them.
 struct KnotEvalPush {
   SS_UINT firstItem;        // grid: first item (non-empty interval / interval pair); list: first sample

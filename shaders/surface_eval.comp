@@ -1,5 +1,5 @@
 #version 450
-// Tensor-product surfaces of the uniform families (MATH.md §6) and α-EB surfaces (§5.2, §5.3):
+// Tensor-product surfaces of the uniform families (docs/math.md §6) and α-EB surfaces (§5.2, §5.3):
 // point, first and second partials and the unit normal of the §5.3 convention, for a per-patch
 // Su x Sv grid (basis values read from the TABLE written by basis_table.comp) or a list of
 // (patch, u, v). Each invocation evaluates 4 consecutive output points and stores each field as

@@ -1,5 +1,5 @@
 #version 450
-// Fast grid path of surface_eval.comp for tensor surfaces (MATH.md §1, §6) and α-EB surfaces
+// Fast grid path of surface_eval.comp for tensor surfaces (docs/math.md §1, §6) and α-EB surfaces
 // (§5.2, §5.3: Q = C + a (L - C) with the bilinear singular-blend weights of the 4 corner α and V,
 // their u half blended once per row, derivatives by the weight rule) when samplesV is a multiple
 // of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one
@@ -176,7 +176,7 @@ void main() {
         uv[e] = kWantDuv ? e1 : REAL3(0);
         vv[e] = kWantDvv ? REAL(2) * c2 : REAL3(0);
         if (kAEB) {
-          // MATH.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q.
+          // docs/math.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q.
           REAL3 sv = singularBlend(t);
           // Only the orders the requested fields need; straight-line code (no arrays indexed by a
           // loop counter, which lavapipe would keep in per-lane scratch memory).

@@ -1,4 +1,4 @@
-// Patch evaluation and the MATH.md §5.3 normal convention shared by surface_eval.comp and
+// Patch evaluation and the docs/math.md §5.3 normal convention shared by surface_eval.comp and
 // surface_grid.comp (the latter for its rare fallback normals). Mirrors host/core/surface.cpp
 // (evalTensorPatch, evalAlphaEBPatch, normals). The includer declares `pc` (EvalPush) and the
 // VertBuf `verts` (binding 2) before including this file (after common.glsl).
@@ -56,7 +56,7 @@ void loadPatchCorners(uint i, uint j, out REAL3 V[4], out REAL al[4]) {
   V[3] = verts[vertexIndex(i + 1, j + 1)].xyz; al[3] = alphaAt(i + 1, j + 1);
 }
 
-// One weight derivative of MATH.md §5.3 (evalAlphaEBPatch order): w = u-factor x v-factor per corner.
+// One weight derivative of docs/math.md §5.3 (evalAlphaEBPatch order): w = u-factor x v-factor per corner.
 void cornerBlend(REAL fu0, REAL fu1, REAL fv0, REAL fv1, in REAL al[4], in REAL3 V[4], out REAL a, out REAL3 L) {
   REAL w00 = fu0 * fv0, w01 = fu0 * fv1, w10 = fu1 * fv0, w11 = fu1 * fv1;
   a = w00 * al[0] + w01 * al[1] + w10 * al[2] + w11 * al[3];
@@ -82,7 +82,7 @@ void cornerBlendV(in CornerHalf h, REAL fv0, REAL fv1, out REAL a, out REAL3 L) 
   L = fv0 * h.L0 + fv1 * h.L1;
 }
 
-// core/surface.cpp evalAlphaEBPatch (MATH.md §5.2, §5.3): Q = C + a M, M = L - C, with the
+// core/surface.cpp evalAlphaEBPatch (docs/math.md §5.2, §5.3): Q = C + a M, M = L - C, with the
 // bilinear weights of the singular blend in u and v. base receives C.
 PatchDerivs evalAlphaEBPatch(in Basis2 B, uint i, uint j, REAL u, REAL v, out PatchDerivs c) {
   c = evalTensorPatch(B, netBase(i, j));
@@ -124,7 +124,7 @@ void hornerBasis(REAL u, REAL v, out Basis2 B) {
   evalSpanBasis(kParamCoefV, BASIS_COUNT_V, POLY_DEGREE_V, v, B.bv, B.dv, B.ddv);
 }
 
-// core/surface.cpp degenerateCross (MATH.md §5.3 thresholds) of a x b = n, |n| = len. No
+// core/surface.cpp degenerateCross (docs/math.md §5.3 thresholds) of a x b = n, |n| = len. No
 // short-circuit: a branch-free expression (llvmpipe would run each side of a per-lane branch with masks).
 bool degenerateCrossLength(REAL3 a, REAL3 b, REAL len) {
   bool zeroA = all(equal(a, REAL3(0))), zeroB = all(equal(b, REAL3(0)));
@@ -134,14 +134,14 @@ bool degenerateCrossLength(REAL3 a, REAL3 b, REAL len) {
 }
 bool degenerateCross(REAL3 a, REAL3 b, REAL3 n) { return degenerateCrossLength(a, b, length(n)); }
 
-// core/surface.cpp alphaEBCornerNormal: diagonal limit at an α = 1 vertex (MATH.md §5.3).
+// core/surface.cpp alphaEBCornerNormal: diagonal limit at an α = 1 vertex (docs/math.md §5.3).
 REAL3 alphaEBCornerNormal(REAL3 p, REAL3 node, REAL3 vU, REAL aU, REAL3 vV, REAL aV, REAL sU, REAL sV) {
   REAL3 Au = vU - p + (REAL(1) - aU) * (node - p);
   REAL3 Av = vV - p + (REAL(1) - aV) * (node - p);
   return cross(sU * Au, sV * Av);
 }
 
-// MATH.md §5.3 at corner (di, dj) of α-EB patch (i, j) (di, dj in {0, 1}): when the vertex has
+// docs/math.md §5.3 at corner (di, dj) of α-EB patch (i, j) (di, dj in {0, 1}): when the vertex has
 // α = 1, its diagonal limit normal (unnormalised) in n and true, unless that is degenerate.
 bool alphaEBVertexNormal(uint i, uint j, uint di, uint dj, out REAL3 n) {
   n = REAL3(0);
@@ -159,7 +159,7 @@ bool alphaEBVertexNormal(uint i, uint j, uint di, uint dj, out REAL3 n) {
   return !degenerateCross(sU * Au, sV * Av, n);
 }
 
-// The MATH.md §5.3 rendering convention, in the order of core/surface.h; never NaN.
+// The docs/math.md §5.3 rendering convention, in the order of core/surface.h; never NaN.
 REAL3 surfaceNormal(uint i, uint j, REAL u, REAL v, in PatchDerivs q, in PatchDerivs c) {
   if (ALPHA_EB != 0u && (u == REAL(0) || u == REAL(1)) && (v == REAL(0) || v == REAL(1))) {
     REAL3 n;

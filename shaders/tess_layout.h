@@ -5,11 +5,11 @@
 // ---- Tessellated vertex (the VERTEX buffer written by SurfaceTessellator::record) ---------------
 //  32 bytes, tightly packed floats, usable as vertex input binding with stride kTessVertexStride:
 //    location 0: position  R32G32B32_SFLOAT at byte 0   (model space)
-//    location 1: normal    R32G32B32_SFLOAT at byte 12  (unit, MATH.md §5.3 + shared-vertex mean)
+//    location 1: normal    R32G32B32_SFLOAT at byte 12  (unit, docs/math.md §5.3 + shared-vertex mean)
 //    location 2: uv        R32G32_SFLOAT    at byte 24  (global (U,V) = (i+u, j+v) of the owner patch)
 // ---- Grid pass (tessellate_grid.comp; descriptor set 0 of the evaluation kernels) -------------
 //  One invocation = one row a (0..n) of one patch's (n+1) x (m+1) grid (u = a/n, v = b/m): point
-//  and MATH.md §5.3 normal. Interior samples (0<a<n, 0<b<m) are final vertices and go straight into
+//  and docs/math.md §5.3 normal. Interior samples (0<a<n, 0<b<m) are final vertices and go straight into
 //  VERTICES; perimeter samples go to BOUNDARY for the pack pass (shared vertices).
 //  0 NET, 1 PARAMS, 2 VERTS as layout.h
 //  3 PATCHES  (uvec4) per patch: n, m, first interior vertex, first BOUNDARY slot

@@ -1,6 +1,6 @@
 #version 450
 // Grid pass of the tessellator (shaders/tess_layout.h): one invocation evaluates one or more rows a
-// of patch p's (n+1) x (m+1) grid, u = a/n, v = b/m: the point and the MATH.md §5.3 unit normal of tensor
+// of patch p's (n+1) x (m+1) grid, u = a/n, v = b/m: the point and the docs/math.md §5.3 unit normal of tensor
 // surfaces (§1, §6) and α-EB surfaces (§5.2). Interior samples are final vertices and are written
 // interleaved straight into the vertex buffer; the perimeter samples go to BOUNDARY, from where
 // tessellate_pack.comp builds the shared corner and edge vertices.
@@ -84,7 +84,7 @@ void evalSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
     du = du * t + gW1[d];
   }
   if (kAEB) {
-    // MATH.md §5.3 (evalAlphaEBPatch): Q = C + A M, Q_u = C_u + A M_u + A_u M, Q_v likewise, with
+    // docs/math.md §5.3 (evalAlphaEBPatch): Q = C + A M, Q_u = C_u + A M_u + A_u M, Q_v likewise, with
     // the corner weights factored: the u factors are blended into gCornerU once per row.
     REAL3 sv = singularBlend(t);
     REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;

@@ -2,7 +2,7 @@
 // Pack pass of the tessellator (shaders/tess_layout.h): the corner and edge vertices, shared by up
 // to four patches. Position from the vertex's canonical source (one evaluation, so both sides of
 // a shared edge reference bitwise the same vertex); normal = normalised mean of the normals of
-// every patch that contains the vertex (canonical + extra sources; the per-patch MATH.md §5.3
+// every patch that contains the vertex (canonical + extra sources; the per-patch docs/math.md §5.3
 // rule, so an α = 1 corner gets the mean of its patches' diagonal limits); uv from the host.
 // Never writes NaN.
 // variant: packed-stores (vertices stored as uint64 pairs of floats; common.glsl)

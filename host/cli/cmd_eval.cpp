@@ -1,7 +1,7 @@
 // `shapespline eval MODEL --at SAMPLES.json`: evaluation at an explicit list of samples, in the
 // shape of a golden case's `inputs`; prints {"samples": [...]} with the golden field names and 17
 // significant digits. Surfaces: `normal` is null where the golden convention calls it undefined
-// (sin of the angle between du and dv below 0.01); `render_normal` then gives the MATH.md §5.3
+// (sin of the angle between du and dv below 0.01); `render_normal` then gives the docs/math.md §5.3
 // rendering normal.
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/sampling.h>
@@ -180,7 +180,7 @@ void runEval(const EvalArgs& args) {
 void registerEval(CLI::App& app) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* sub = app.add_subcommand("eval", "Evaluate a model at an explicit list of samples; prints JSON.");
-  sub->add_option("MODEL", args->model, "model file (FORMAT.md)")->required();
+  sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
   sub->add_option("--at", args->at,
                   "samples file: {\"samples\":[{\"span\":j,\"t\":t}]} (curves), [{\"u\":u}] (knot-vector "
                   "B-splines), [{\"patch\":[i,j],\"uv\":[u,v]}] (surfaces)")

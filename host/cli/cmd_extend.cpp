@@ -1,5 +1,5 @@
 // `shapespline extend MODEL --to X,Y[,Z] ... -o OUT`: extension of a right-clamped knot-vector
-// B-spline curve to target points (MATH.md §10.5); surfaces take `--to-curve FILE` target curves
+// B-spline curve to target points (docs/math.md §10.5); surfaces take `--to-curve FILE` target curves
 // (§10.6). --u gives explicit parameters instead of chord length. Writes the extended model.
 #include <shapespline/cli/common.h>
 #include <shapespline/core/extension.h>

@@ -1,4 +1,4 @@
-// `shapespline gb-fit MODEL --span J --through X,Y`: GB constrained modification (MATH.md §7.2).
+// `shapespline gb-fit MODEL --span J --through X,Y`: GB constrained modification (docs/math.md §7.2).
 // Prints every admissible (t0, λ0) and the bisection's answer as JSON; -o writes the model with
 // λ replaced by the bisection's λ0, --svg plots the modified curve with the target point.
 #include <shapespline/cli/common.h>

@@ -229,7 +229,7 @@ void registerRender(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* sub = app.add_subcommand(
       "render", "Render a model headlessly (Vulkan graphics pipeline) to a PNG: shaded surfaces, curves as lines.");
-  sub->add_option("MODEL", args->model, "model file (FORMAT.md)")->required();
+  sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
   sub->add_option("-o,--output", args->output, "PNG file to write")->required();
   sub->add_option("--size", args->size, "image (tile) size WxH")->capture_default_str();
   sub->add_option("--lambda", args->lambda, "override the model's lambda");

@@ -274,7 +274,7 @@ void runSample(const SampleArgs& args) {
 void registerSample(CLI::App& app) {
   auto args = std::make_shared<SampleArgs>();
   CLI::App* sub = app.add_subcommand("sample", "Sample a model on a regular grid per span/patch and write a file.");
-  sub->add_option("MODEL", args->model, "model file (FORMAT.md)")->required();
+  sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
   sub->add_option("-o,--output", args->out,
                   "output file; format from the extension: .obj .ply .csv .f32 .f64 (+ OUT.json sidecar) .svg")
       ->required();

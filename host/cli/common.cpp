@@ -94,7 +94,7 @@ void requireFinite(const glm::dvec3& v, const char* what) {
 
 namespace {
 
-// fp32 keeps about 7 significant digits: α below this loses more than 2 of them (MATH.md §14:
+// fp32 keeps about 7 significant digits: α below this loses more than 2 of them (docs/math.md §14:
 // rounding errors grow like 1/α), a net resolved with fewer than 3 digits relative to its offset
 // from the origin is shapeless.
 constexpr double kAlphaWarnFloat = 1e-2;

@@ -1,5 +1,5 @@
 #pragma once
-// General B-splines on an arbitrary non-decreasing knot vector (MATH.md §10.1), de Boor–Cox.
+// General B-splines on an arbitrary non-decreasing knot vector (docs/math.md §10.1), de Boor–Cox.
 // Order k (degree k-1), control points P_0..P_n, knots t_0..t_{n+k}; domain [t_{k-1}, t_{n+1}].
 #include <shapespline/core/span_basis.h>
 
@@ -54,10 +54,10 @@ void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, d
 
 // Derivatives 0..derivs (<= order-1) with respect to t of the polynomial piece of `span`, written to
 // out[0..derivs]. With span = findKnotSpan(t) this is the ordinary evaluation; with the span to the
-// left of a knot it gives the left-sided limits there (used to test continuity, MATH.md §10.5).
+// left of a knot it gives the left-sided limits there (used to test continuity, docs/math.md §10.5).
 void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, int derivs, glm::dvec3* out);
 
-// The knot-vector B-spline of a `bspline` model with `knots` (MATH.md §10.1). Throws ModelError when
+// The knot-vector B-spline of a `bspline` model with `knots` (docs/math.md §10.1). Throws ModelError when
 // the model is not a knot-vector B-spline (construction, closed, knot count).
 BSplineCurveData bsplineCurveFromModel(const CurveModel& model);
 BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model);

@@ -83,7 +83,8 @@ glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alp
     const double dist = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
     throw ModelError(field, shortest(alpha),
                      "alpha is so small that V = P + ((1-alpha)/alpha)(P - node) exceeds the fp64 range (|P - node| = " +
-                         shortest(dist) + "; MATH.md section 4.2): alpha must be at least about |P - node| / 1.8e308");
+                         shortest(dist) +
+                         "; docs/math.md section 4.2): alpha must be at least about |P - node| / 1.8e308");
   }
   return v;
 }

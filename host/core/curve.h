@@ -1,5 +1,5 @@
 #pragma once
-// Curve evaluation on the CPU in fp64 (MATH.md §1, §2, §4, §7–§10).
+// Curve evaluation on the CPU in fp64 (docs/math.md §1, §2, §4, §7–§10).
 //
 // Two tiers, as in tinynurbs: raw kernels over plain arrays (no allocation, fixed maximum order)
 // that the GLSL compute shaders mirror line for line, and the typed `Curve`, built once from a
@@ -8,7 +8,7 @@
 //
 // Span point list ("span points"): every uniform construction is stored as one contiguous array
 // `spanPoints()` such that span j reads the m = basis.count points spanPoints()[j + spanPointOffset()
-// + r], r = 0..m-1, i.e. P_{j-c+r} of MATH.md §1 with closed indices already wrapped (R2) and, for
+// + r], r = 0..m-1, i.e. P_{j-c+r} of docs/math.md §1 with closed indices already wrapped (R2) and, for
 // α-EB, the phantom points of §4.1 already in place. The GPU uploads this array and never wraps.
 #include <shapespline/core/bspline.h>
 #include <shapespline/core/model.h>
@@ -22,29 +22,29 @@
 namespace shapespline {
 
 // A point of a curve and its first two derivatives with respect to the GLOBAL parameter u
-// (MATH.md §1 and R16: span knots divide the t-derivatives by h^r; knot-vector B-splines use the
+// (docs/math.md §1 and R16: span knots divide the t-derivatives by h^r; knot-vector B-splines use the
 // knot parameter).
 struct CurvePoint {
   glm::dvec3 point{0.0}, d1{0.0}, d2{0.0};
 };
 
-// Inclusive span index range [first, last] (MATH.md §1 / §4.1).
+// Inclusive span index range [first, last] (docs/math.md §1 / §4.1).
 struct SpanRange {
   int first = 0, last = -1;
 };
 
 // ---- Raw kernels (mirrored by GLSL) -------------------------------------------------------------
 
-// One span of a local family: C(t) = sum_r B_r(t) pts[r], r < basis.count (MATH.md §1), and its
+// One span of a local family: C(t) = sum_r B_r(t) pts[r], r < basis.count (docs/math.md §1), and its
 // derivatives times invH^1 and invH^2 (invH = 1/h_s for span knots, else 1).
 void evalLocalSpan(const SpanBasis& basis, const glm::dvec3* pts, double t, double invH, CurvePoint& out);
 
-// One α-EB span (MATH.md §4.2): pts = P_{j-1..j+2} of the extended polygon (4 points), v0/v1 =
+// One α-EB span (docs/math.md §4.2): pts = P_{j-1..j+2} of the extended polygon (4 points), v0/v1 =
 // V_j/V_{j+1}, a0/a1 = α_j/α_{j+1}. Q = C + a (L - C) with a, L blended by the singular blend S (§3).
 void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::dvec3& v0, const glm::dvec3& v1,
                      double a0, double a1, double t, CurvePoint& out);
 
-// V_j = P_j + ((1-α_j)/α_j)(P_j - node_j) (MATH.md §4.2, §5.2). Throws ModelError(field, α, ...)
+// V_j = P_j + ((1-α_j)/α_j)(P_j - node_j) (docs/math.md §4.2, §5.2). Throws ModelError(field, α, ...)
 // when V_j is beyond the fp64 range (α so small that |P_j - node_j| / α overflows): every point of
 // the two spans at P_j depends on V_j, so such a model cannot be evaluated (it is refused, exit 2).
 glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha, const std::string& field);
@@ -58,11 +58,11 @@ class Curve {
 
   const CurveModel& model() const { return model_; }
   int dimension() const { return model_.dimension; }
-  // True for `bspline` with a knot vector (MATH.md §10.1); evaluation then goes through
+  // True for `bspline` with a knot vector (docs/math.md §10.1); evaluation then goes through
   // core/bspline.h and the parameter is the knot parameter.
   bool usesKnotVector() const { return knotVector_; }
 
-  // Valid spans. Local families: MATH.md §1 (open j = c..N-m+c, closed 0..N-1); α-EB: §4.1 (open
+  // Valid spans. Local families: docs/math.md §1 (open j = c..N-m+c, closed 0..N-1); α-EB: §4.1 (open
   // 0..N-2, closed 0..N-1). Knot-vector B-splines: the knot interval indices k-1..n of §10.1
   // (an empty interval is rejected by evaluate()).
   SpanRange spans() const { return spans_; }

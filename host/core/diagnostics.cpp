@@ -25,7 +25,7 @@ void checkAlpha(const std::vector<double>& alpha, const Namer& name, std::vector
   if (*it < kAlphaWarn)
     out.push_back({name(static_cast<size_t>(it - alpha.begin())),
                    "alpha = " + num(*it) + " is below " + num(kAlphaWarn) +
-                       ": V = P + ((1-alpha)/alpha)(P - node) amplifies rounding errors by 1/alpha (MATH.md "
+                       ": V = P + ((1-alpha)/alpha)(P - node) amplifies rounding errors by 1/alpha (docs/math.md "
                        "section 14), so about " + num(std::floor(-std::log10(*it))) + " digits are lost"});
 }
 
@@ -83,7 +83,7 @@ void checkKnots(const std::vector<double>& knots, const std::string& field, std:
 void checkFamily(const FamilySpec& f, std::vector<Warning>& out) {
   if (f.construction == Construction::GB && f.lambda > kGBLambdaWarn)
     out.push_back({"lambda", "GB lambda = " + num(f.lambda) + " exceeds " + num(kGBLambdaWarn) +
-                                 ": the basis equals its lambda -> infinity limit to within rounding (MATH.md "
+                                 ": the basis equals its lambda -> infinity limit to within rounding (docs/math.md "
                                  "section 7.1)"});
 }
 

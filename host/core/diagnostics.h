@@ -5,7 +5,7 @@
 //
 // Rules (thresholds are named constants below):
 //  * α below kAlphaWarn: V_j = P_j + ((1-α)/α)(P_j - node_j) amplifies rounding errors by 1/α
-//    (MATH.md §14), so about -log10(α) digits are lost.
+//    (docs/math.md §14), so about -log10(α) digits are lost.
 //  * a coordinate of magnitude above kHugeCoordinate: products of two coordinates (cross products,
 //    squared lengths) overflow, derivatives may overflow; normals and lengths lose precision.
 //  * a control net whose extent is nonzero and below kTinyExtent: squares of its differences
@@ -15,7 +15,7 @@
 //  * span knots / knot-vector intervals whose smallest nonzero width is below kKnotRatio times the
 //    parameter range or below kTinyKnot: derivatives are scaled by 1/h^r and lose precision (or
 //    overflow).
-//  * GB λ above kGBLambdaWarn: the basis is within rounding of its λ → ∞ limit (MATH.md §7.1).
+//  * GB λ above kGBLambdaWarn: the basis is within rounding of its λ → ∞ limit (docs/math.md §7.1).
 // A model with no warning evaluates (CPU sampler, every field) to finite values: the fuzzer
 // (tests/fuzz) checks exactly that.
 #include <shapespline/core/model.h>

@@ -18,7 +18,7 @@ std::string text(double v) {
 
 std::string text(const glm::dvec3& p) { return "[" + text(p.x) + ", " + text(p.y) + ", " + text(p.z) + "]"; }
 
-// Shape of a knot-vector curve and right clamping (MATH.md §10.1, §11). Returns b.
+// Shape of a knot-vector curve and right clamping (docs/math.md §10.1, §11). Returns b.
 double checkRightClamped(int order, std::span<const double> knots, int count, const std::string& field) {
   if (order < 2 || order > kMaxBasisCount) throw ModelError("order", std::to_string(order), "order must be 2..10");
   if (count < order)
@@ -34,7 +34,7 @@ double checkRightClamped(int order, std::span<const double> knots, int count, co
     if (knots[static_cast<size_t>(i)] != b)
       throw ModelError(field + "[" + std::to_string(i) + "]", text(knots[static_cast<size_t>(i)]),
                        "the curve must be right-clamped: t_{n+1} = ... = t_{n+k} = " + text(b));
-  // Algorithm U divides by t_{i+r+1} − t_i and needs t_i < b for i <= n (MATH.md §10.2).
+  // Algorithm U divides by t_{i+r+1} − t_i and needs t_i < b for i <= n (docs/math.md §10.2).
   if (!(knots[static_cast<size_t>(n)] < b))
     throw ModelError(field + "[" + std::to_string(n) + "]", text(knots[static_cast<size_t>(n)]),
                      "no interior knot may equal the end parameter b = " + text(b) + " (knot multiplicity above the order)");
@@ -47,7 +47,7 @@ void checkFinite(const glm::dvec3& p, const std::string& field) {
     throw ModelError(field, text(p), "coordinates must be finite");
 }
 
-// Given parameters: m values, strictly increasing, u_1 > b (MATH.md §10.3, §11).
+// Given parameters: m values, strictly increasing, u_1 > b (docs/math.md §10.3, §11).
 void checkGivenU(const std::vector<double>& u, size_t m, double b) {
   if (u.size() != m)
     throw ModelError("parametrization.u", std::to_string(u.size()) + " values",
@@ -63,7 +63,7 @@ void checkGivenU(const std::vector<double>& u, size_t m, double b) {
   }
 }
 
-// MATH.md §10.5 with the parameters already known and checked: K_final, Algorithm U on K_unc,
+// docs/math.md §10.5 with the parameters already known and checked: K_final, Algorithm U on K_unc,
 // Algorithm X for R_1..R_{m−1}, Q_{n+m} = R_m.
 ExtensionResult extendWithParameters(const BSplineCurveData& curve, std::span<const glm::dvec3> targets,
                                      std::vector<double> u) {
@@ -157,7 +157,7 @@ glm::dvec3 inverseDeBoor(int order, std::span<const double> t, std::span<const g
   const int k = order;
   const double tau = t[static_cast<size_t>(j + 1)];
   const int base = j - k + 1;
-  // level[r][i − base] = Q_i^r in the paper's indexing (MATH.md §10.4).
+  // level[r][i − base] = Q_i^r in the paper's indexing (docs/math.md §10.4).
   glm::dvec3 level[kMaxBasisCount][kMaxBasisCount];
   for (int i = base; i <= j - 1; ++i) level[0][i - base] = known[static_cast<size_t>(i)];
   for (int r = 1; r <= k - 2; ++r)
@@ -168,7 +168,7 @@ glm::dvec3 inverseDeBoor(int order, std::span<const double> t, std::span<const g
   level[k - 1][0] = target;
   // Each backward step solves one de Boor step for its unknown right input; the divisor is
   // τ − t_{i+r} = τ − t_j > 0 at every level, which is where the (span ratio)^(k−1) growth of
-  // MATH.md §14 comes from.
+  // docs/math.md §14 comes from.
   for (int r = k - 2; r >= 0; --r) {
     const int i = j - r;
     const double tk1 = t[static_cast<size_t>(i + k - 1)], tr = t[static_cast<size_t>(i + r)];

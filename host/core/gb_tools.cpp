@@ -21,7 +21,7 @@ std::string text(double v) {
   return os.str();
 }
 
-// P_{j-1}, P_j, P_{j+1}, P_{j+2} of span j after validating the model and the span (MATH.md §11).
+// P_{j-1}, P_j, P_{j+1}, P_{j+2} of span j after validating the model and the span (docs/math.md §11).
 struct SpanPoints {
   glm::dvec2 p[4];
 };
@@ -78,7 +78,7 @@ double horner(std::span<const double> c, double t) {
   return v;
 }
 
-// w of MATH.md §7.2 by projection onto the path line; NaN where the path degenerates (C_0 = E).
+// w of docs/math.md §7.2 by projection onto the path line; NaN where the path degenerates (C_0 = E).
 double projectW(const GbLambdaPath& path, glm::dvec2 x, double scale) {
   const glm::dvec2 d = path.c0 - path.e;
   const double len2 = glm::dot(d, d);
@@ -228,7 +228,7 @@ GbFitResult gbConstrainedModify(const CurveModel& gbCurve, int span, glm::dvec2 
     return result;
   }
 
-  // Step 3: bisection on the side of the path line of t* (MATH.md §7.2, R9).
+  // Step 3: bisection on the side of the path line of t* (docs/math.md §7.2, R9).
   double first = 0.0, last = 1.0, t0 = -1.0;
   for (int round = 0; round < 64 && last - first > tolT; ++round) {
     const double mid = 0.5 * (first + last);

@@ -1,5 +1,5 @@
 #pragma once
-// GB-spline tools (MATH.md §7, [GB] Li, Hoffmann & Wang §2–3): λ-paths and the constrained
+// GB-spline tools (docs/math.md §7, [GB] Li, Hoffmann & Wang §2–3): λ-paths and the constrained
 // modification that makes a span pass through a 2-D target point (§7.2).
 #include <shapespline/core/model.h>
 
@@ -12,7 +12,7 @@
 
 namespace shapespline {
 
-// The straight λ-path of span j at local parameter t (MATH.md §7.1, C16): every C_j(λ,t), λ ≥ −8,
+// The straight λ-path of span j at local parameter t (docs/math.md §7.1, C16): every C_j(λ,t), λ ≥ −8,
 // lies on the segment from cMinus8 (λ = −8) through c0 (λ = 0) towards e (λ → ∞), and
 // C_j(λ,t) = w·c0 + (1−w)·e with w = 12/(12+λ).
 struct GbLambdaPath {
@@ -25,10 +25,10 @@ struct GbLambdaPath {
 // Throws ModelError for non-2-D data or a span that does not exist (open: 1..N−3, closed: 0..N−1).
 GbLambdaPath gbLambdaPath(const CurveModel& gbCurve, int span, double t);
 
-// C_j(λ,t) of the span, from the GB basis of MATH.md §7.1 (gbSpanBasis), for any admissible λ.
+// C_j(λ,t) of the span, from the GB basis of docs/math.md §7.1 (gbSpanBasis), for any admissible λ.
 glm::dvec2 gbSpanPoint(const CurveModel& gbCurve, int span, double lambda, double t);
 
-// Power-basis coefficients f[0..6] of F(t) = cross(X − E(t), C_0(t) − E(t)) (MATH.md §7.2): X lies on
+// Power-basis coefficients f[0..6] of F(t) = cross(X − E(t), C_0(t) − E(t)) (docs/math.md §7.2): X lies on
 // the λ-path line of parameter t iff F(t) = 0.
 std::array<double, 7> gbPathPolynomial(const CurveModel& gbCurve, int span, glm::dvec2 target);
 
@@ -51,7 +51,7 @@ struct GbFitResult {
   std::vector<GbSolution> all;    // every admissible solution (t0 ∈ [0,1], 0 < w ≤ 3), by t0
 };
 
-// Constrained modification of MATH.md §7.2: orientation σ, reachability σF(0) ≥ 0 ≥ σF(1), bisection
+// Constrained modification of docs/math.md §7.2: orientation σ, reachability σF(0) ≥ 0 ≥ σF(1), bisection
 // on σF until last − first ≤ tolT (or 64 rounds), w by projection, λ0 = 12(1−w)/w, admissible iff
 // 0 < w ≤ 3. `all` lists every root of F in [0,1] with admissible w. Throws ModelError for non-2-D
 // data, a span that does not exist, or σ = 0 (degenerate span); an unreachable target is reported

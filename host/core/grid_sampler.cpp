@@ -351,7 +351,7 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
       glm::dvec3 c[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
       for (int r = 0; r < tab.count; ++r)
         for (int d = 0; d < 3; ++d) c[d] += tab.b[d][static_cast<size_t>(r) * S + a] * P[r];
-      if (alphaEB) {  // MATH.md §4.2
+      if (alphaEB) {  // docs/math.md §4.2
         const BlendValue s = tab.blend[a];
         const double al = (1 - s.s) * a0 + s.s * a1, al1 = s.d1 * (a1 - a0), al2 = s.d2 * (a1 - a0);
         const glm::dvec3 L = (1 - s.s) * v0 + s.s * v1, L1 = s.d1 * (v1 - v0), L2 = s.d2 * (v1 - v0);
@@ -387,7 +387,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
   const bool alphaEB = model.family.construction == Construction::AlphaEB;
   const bool normal = wants(fields, Field::Normal);
   // Which partials of the base surface the requested fields need (α-EB second partials need the
-  // first ones too, MATH.md §5.3).
+  // first ones too, docs/math.md §5.3).
   const bool needUU = wants(fields, Field::Duu), needVV = wants(fields, Field::Dvv), needUV = wants(fields, Field::Duv);
   const bool needU = wants(fields, Field::Du) || normal || ((needUU || needUV) && alphaEB);
   const bool needV = wants(fields, Field::Dv) || normal || ((needVV || needUV) && alphaEB);
@@ -468,7 +468,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           glm::dvec3 q[6];
           for (int k = 0; k < 6; ++k) q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
           if (alphaEB) {
-            // MATH.md §5.3: weight derivative (r,q) = u-factor of order r times v-factor of order q.
+            // docs/math.md §5.3: weight derivative (r,q) = u-factor of order r times v-factor of order q.
             const BlendValue sv = tv.blend[b];
             const double fu[3][2] = {{1 - su.s, su.s}, {-su.d1, su.d1}, {-su.d2, su.d2}};
             const double fv[3][2] = {{1 - sv.s, sv.s}, {-sv.d1, sv.d1}, {-sv.d2, sv.d2}};

@@ -1,5 +1,5 @@
 #pragma once
-// Plain data describing a curve or surface model (FORMAT.md). No evaluation here:
+// Plain data describing a curve or surface model (docs/format.md). No evaluation here:
 // evaluators (core/curve.h, core/surface.h, gpu/) take these by const reference.
 #include <glm/vec3.hpp>
 
@@ -15,7 +15,7 @@ enum class Construction { ExtendedBSpline, AlphaEB, GB, UBP, GUBP, BSpline };
 // "extended_bspline", "alpha_eb", ... as spelled in model files.
 std::string_view constructionName(Construction c);
 
-// The shape-defining part of a family of local basis functions (MATH.md §1–§9).
+// The shape-defining part of a family of local basis functions (docs/math.md §1–§9).
 struct FamilySpec {
   Construction construction = Construction::ExtendedBSpline;
   int degree = 0;           // Xu-Wang degree 4..6 (ExtendedBSpline, AlphaEB)
@@ -48,7 +48,7 @@ struct SurfaceModel {
   const glm::dvec3& at(int i, int j) const { return points[static_cast<size_t>(i) * cols + j]; }
 };
 
-// A model that breaks a rule of FORMAT.md / MATH.md §11. `field` is a JSON-path-like
+// A model that breaks a rule of docs/format.md / docs/math.md §11. `field` is a JSON-path-like
 // name ("alpha[3]", "points[2][1]"), `value` the offending value as text, `rule` the rule.
 class ModelError : public std::invalid_argument {
  public:

@@ -5,7 +5,7 @@
 namespace shapespline {
 namespace {
 
-// Xu-Wang tables (MATH.md §2.1): coefficient of t^d of b_r is A[r][d] + B[r][d]*lambda.
+// Xu-Wang tables (docs/math.md §2.1): coefficient of t^d of b_r is A[r][d] + B[r][d]*lambda.
 struct XuWangTable {
   double a[4][7];
   double b[4][7];
@@ -137,7 +137,7 @@ SpanBasis gbSpanBasis(double lambda) {
 }
 
 std::vector<double> ubpDoubledKnotCoefficients(int order, double lambda) {
-  // Start at k = 2 and apply the bidiagonal M_k of MATH.md §8.3 for k = 3..order.
+  // Start at k = 2 and apply the bidiagonal M_k of docs/math.md §8.3 for k = 3..order.
   std::vector<double> coeffs = {(1 - lambda) / 2, 1 + lambda / 2, (1 - lambda) / 2};
   for (int k = 3; k <= order; ++k) {
     std::vector<double> next(k + 1, 0.0);
@@ -163,7 +163,7 @@ std::vector<double> gubpFullMu(int order, std::span<const double> muHalf) {
 
 SpanBasis ubpSpanBasis(int order, double lambda) {
   if (order == 2) {
-    // The seed (MATH.md §8.1): (1-lambda)x + (3 lambda/2)x^2 on [0,1), mirrored on [1,2).
+    // The seed (docs/math.md §8.1): (1-lambda)x + (3 lambda/2)x^2 on [0,1), mirrored on [1,2).
     SpanBasis basis;
     basis.count = 2;
     basis.degree = 2;

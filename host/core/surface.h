@@ -1,5 +1,5 @@
 #pragma once
-// Surface evaluation on the CPU in fp64: α-EB surfaces (MATH.md §5), plain tensor surfaces of every
+// Surface evaluation on the CPU in fp64: α-EB surfaces (docs/math.md §5), plain tensor surfaces of every
 // uniform family (§6) and knot-vector B-spline surfaces (§10.1 via core/bspline.h).
 //
 // Two tiers like core/curve.h. The net is stored once as the "patch net" `patchNet()` of
@@ -38,14 +38,14 @@ struct SurfacePoint {
   NormalRule normalRule = NormalRule::Regular;
 };
 
-// Inclusive patch index ranges per direction (MATH.md §5.1, §6).
+// Inclusive patch index ranges per direction (docs/math.md §5.1, §6).
 struct PatchRange {
   SpanRange u, v;
 };
 
 // ---- Raw kernels (mirrored by GLSL) -------------------------------------------------------------
 
-// Partials of a tensor patch sum_r sum_s B_r(u) B'_s(v) net[r*stride + s] (MATH.md §1, §6):
+// Partials of a tensor patch sum_r sum_s B_r(u) B'_s(v) net[r*stride + s] (docs/math.md §1, §6):
 // bu.count rows, bv.count columns of `net` starting at the patch's first point.
 struct PatchDerivs {
   glm::dvec3 p{0.0}, u{0.0}, v{0.0}, uu{0.0}, uv{0.0}, vv{0.0};
@@ -53,13 +53,13 @@ struct PatchDerivs {
 void evalTensorPatch(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3* net, int stride, double u,
                      double v, PatchDerivs& out);
 
-// One α-EB patch (MATH.md §5.2, §5.3): net = first of the 4x4 extended points P_{i-1.., j-1..},
+// One α-EB patch (docs/math.md §5.2, §5.3): net = first of the 4x4 extended points P_{i-1.., j-1..},
 // corners in the order (i,j), (i,j+1), (i+1,j), (i+1,j+1) for V and alpha. `base` (optional)
 // receives the base surface C_ij and its partials.
 void evalAlphaEBPatch(const SpanBasis& basis, const glm::dvec3* net, int stride, const glm::dvec3 V[4],
                       const double alpha[4], double u, double v, PatchDerivs& out, PatchDerivs* base);
 
-// The diagonal-limit normal at an α = 1 vertex P (MATH.md §5.3), unnormalised:
+// The diagonal-limit normal at an α = 1 vertex P (docs/math.md §5.3), unnormalised:
 // A_u = V_u - P + (1 - α_u)(node - P), A_v likewise, n = (s_u A_u) x (s_v A_v), where (V_u, α_u)
 // belong to the vertex's neighbour along u inside the patch, s_u = +1 if the vertex is at local
 // u = 0 and -1 at u = 1 (same for v).

@@ -48,19 +48,19 @@ void checkLambda(const FamilySpec& f) {
       const double lo = -static_cast<double>(k * (k - 2));
       if (l < lo || l > 1.0)
         fail("lambda", num(l),
-             "Xu-Wang degree-" + std::to_string(k) + " lambda must lie in [" + num(lo) + ", 1] (MATH.md §2.2)");
+             "Xu-Wang degree-" + std::to_string(k) + " lambda must lie in [" + num(lo) + ", 1] (docs/math.md §2.2)");
       return;
     }
     case Construction::GB:
-      // -12 is a pole and (-12,-8) gives negative weights (MATH.md §7.1); no upper bound.
-      if (l < -8.0) fail("lambda", num(l), "GB lambda must be >= -8 (MATH.md §7.1)");
+      // -12 is a pole and (-12,-8) gives negative weights (docs/math.md §7.1); no upper bound.
+      if (l < -8.0) fail("lambda", num(l), "GB lambda must be >= -8 (docs/math.md §7.1)");
       return;
     case Construction::UBP: {
       const double lo = ubpLambdaMin(f.order);
       if (l < lo || l > 1.0)
         fail("lambda", num(l),
              "UBP order-" + std::to_string(f.order) + " lambda must lie in [lambda_min = " + num(lo) +
-                 ", 1] (MATH.md §8.2)");
+                 ", 1] (docs/math.md §8.2)");
       return;
     }
     case Construction::GUBP:
@@ -71,7 +71,7 @@ void checkLambda(const FamilySpec& f) {
   }
 }
 
-// MATH.md §9: the model carries mu_0..mu_{floor(k/2)}; the full vector mu_0..mu_k is symmetric and
+// docs/math.md §9: the model carries mu_0..mu_{floor(k/2)}; the full vector mu_0..mu_k is symmetric and
 // its even-index and odd-index sums must both be 1.
 void checkMu(const FamilySpec& f) {
   const int k = f.order;
@@ -91,10 +91,10 @@ void checkMu(const FamilySpec& f) {
   constexpr double kSumTol = 1e-9;
   if (std::abs(even - 1.0) > kSumTol || std::abs(odd - 1.0) > kSumTol)
     fail("mu", "even sum " + num(even) + ", odd sum " + num(odd),
-         "GUBP parity sums of the full symmetric mu vector must both equal 1 (MATH.md §9)");
+         "GUBP parity sums of the full symmetric mu vector must both equal 1 (docs/math.md §9)");
 }
 
-// Fewest points an open/closed direction needs (FORMAT.md "Minimum sizes").
+// Fewest points an open/closed direction needs (docs/format.md "Minimum sizes").
 int minPoints(Construction c, int order, bool closed) {
   if (closed) return 3;
   switch (c) {
@@ -125,7 +125,7 @@ void checkKnotRange(const std::vector<double>& t, const std::string& field) {
                num(t[0]) + ") overflows)");
 }
 
-// Full B-spline knot vector of n control points and order k (MATH.md §10.1). `field` is the JSON path
+// Full B-spline knot vector of n control points and order k (docs/math.md §10.1). `field` is the JSON path
 // of the vector ("knots" or "knots[0]").
 void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::string& field) {
   const size_t want = n + static_cast<size_t>(k);
@@ -160,7 +160,7 @@ void checkAlphaValue(double a, const std::string& field) {
 }  // namespace
 
 double ubpLambdaMin(int order) {
-  // MATH.md §8.2: exact minimum of N_{0,k} at x = k/2, as rationals rounded once to double.
+  // docs/math.md §8.2: exact minimum of N_{0,k} at x = k/2, as rationals rounded once to double.
   switch (order) {
     case 2: return -2.0;
     case 3: return -6.0;
@@ -227,7 +227,7 @@ void validateCurve(const CurveModel& m) {
 
   if (m.knots.empty()) return;
   if (c == Construction::ExtendedBSpline || c == Construction::GB) {
-    // MATH.md §1 / R3: one boundary per span plus one; open 4-function curves have N-3 spans.
+    // docs/math.md §1 / R3: one boundary per span plus one; open 4-function curves have N-3 spans.
     const size_t spans = m.closed ? n : n - 3;
     if (m.knots.size() != spans + 1)
       fail("knots", std::to_string(m.knots.size()) + " knots",

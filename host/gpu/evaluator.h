@@ -1,7 +1,7 @@
 #pragma once
 // GPU evaluators (OpenSubdiv style): each holds the compiled pipelines of one precision and
 // evaluates any GpuCurve / GpuSurface (gpu_model.h) of that precision. Kernels: shaders/*.comp,
-// buffer layouts: shaders/layout.h, math: MATH.md §1–§6 mirrored from host/core.
+// buffer layouts: shaders/layout.h, math: docs/math.md §1–§6 mirrored from host/core.
 //
 // Grid jobs (core/sample_grid.h) run chunk by chunk: a chunk is a whole number of spans/patches
 // whose output planes each fit in EvaluatorOptions::maxPlaneBytes, or, for an item larger than
@@ -80,7 +80,7 @@ class SurfaceEvaluator {
   Precision precision() const;
 
   // fields ⊆ {Point, Du, Dv, Duu, Duv, Dvv, Normal}: Su x Sv samples per patch (u_a = a/(Su-1)),
-  // patches row-major over Surface::patches(); normals by the MATH.md §5.3 convention.
+  // patches row-major over Surface::patches(); normals by the docs/math.md §5.3 convention.
   void evaluateGrid(GpuSurface& surface, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer);
   // Every field at arbitrary (patch, u, v); normalRule is not reported (always Regular).
   // Knot-vector B-splines: (i, j) = knot interval pair, as Surface::evaluate.

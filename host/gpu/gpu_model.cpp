@@ -14,7 +14,7 @@ namespace shapespline::gpu {
 namespace {
 
 void checkAlpha(double a, const std::string& field) {
-  if (!(a > 0.0 && a <= 1.0)) throw ModelError(field, std::to_string(a), "alpha must lie in (0, 1] (MATH.md R13)");
+  if (!(a > 0.0 && a <= 1.0)) throw ModelError(field, std::to_string(a), "alpha must lie in (0, 1] (docs/math.md R13)");
 }
 
 SpanBasis surfaceBasisV(const SurfaceModel& m, const SpanBasis& u) {

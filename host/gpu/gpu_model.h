@@ -36,7 +36,7 @@ class GpuModel {
   // α-EB: V (rows*cols REAL4) then nodes (rows*cols REAL4); a 256-byte placeholder otherwise.
   const vk::Buffer& vertexBuffer() const { return verts_; }
   bool verticesDirty() const { return vertsDirty_; }
-  // Knot-vector B-spline (MATH.md §10.1): NET is the plain control net, PARAMS holds the knots and
+  // Knot-vector B-spline (docs/math.md §10.1): NET is the plain control net, PARAMS holds the knots and
   // the interval records of layout.h; basisU()/basisV() carry only count = order, degree = order-1.
   bool knotVector() const { return knotVector_; }
   uint32_t knotOffsetU() const { return knotOffsetU_; }

@@ -19,7 +19,7 @@
 // therefore shows at the next record() without re-uploading the net.
 //
 // Shared vertices: position from one canonical patch (the lower patch index); normal = normalised
-// mean of the per-patch MATH.md §5.3 normals of every patch containing the vertex. At regular points
+// mean of the per-patch docs/math.md §5.3 normals of every patch containing the vertex. At regular points
 // these agree (C² surface); at an α = 1 vertex it is the mean of the patches' diagonal limits.
 //
 // Synchronisation: record() starts with a barrier against earlier vertex-input reads and compute

@@ -42,13 +42,13 @@ bool hasOrder(Construction c) {
   return c == Construction::UBP || c == Construction::GUBP || c == Construction::BSpline;
 }
 bool hasLambda(Construction c) { return c != Construction::GUBP && c != Construction::BSpline; }
-// Span knots exist for extended_bspline/gb curves only (MATH.md §1, R3); knot vectors for bspline.
+// Span knots exist for extended_bspline/gb curves only (docs/math.md §1, R3); knot vectors for bspline.
 bool hasKnots(Construction c, bool surface) {
   if (c == Construction::BSpline) return true;
   return !surface && (c == Construction::ExtendedBSpline || c == Construction::GB);
 }
 
-// FORMAT.md "Fields": why a key that exists is not allowed here, or empty when it is.
+// docs/format.md "Fields": why a key that exists is not allowed here, or empty when it is.
 std::string unusedKeyRule(const std::string& key, Construction c, bool surface) {
   const std::string name(constructionName(c));
   bool used = true;
@@ -73,7 +73,7 @@ double getNumber(const json& j, const std::string& field) {
   return v;
 }
 
-// FORMAT.md: integers must be JSON integers; 5.0 is tolerated, 4.5 and "5" are not.
+// docs/format.md: integers must be JSON integers; 5.0 is tolerated, 4.5 and "5" are not.
 int getInteger(const json& j, const std::string& field) {
   double v = 0.0;
   if (j.is_number_unsigned()) {
@@ -251,7 +251,7 @@ Model parseModel(const json& doc) {
   for (const auto& [key, value] : doc.items()) {
     bool known = false;
     for (const char* k : kKnownKeys) known = known || key == k;
-    if (!known) failJson(key, value, "unknown key (FORMAT.md lists the allowed keys)");
+    if (!known) failJson(key, value, "unknown key (docs/format.md lists the allowed keys)");
   }
   for (const char* k : {"name", "comment"})
     if (doc.contains(k) && !doc.at(k).is_string()) failJson(k, doc.at(k), "must be a string");

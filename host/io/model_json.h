@@ -1,9 +1,9 @@
 #pragma once
-// Model files (FORMAT.md) to typed models and back.
+// Model files (docs/format.md) to typed models and back.
 //
-// Reading checks the JSON-level rules of FORMAT.md "Fields" (object, known keys only, keys the
+// Reading checks the JSON-level rules of docs/format.md "Fields" (object, known keys only, keys the
 // construction uses only, required keys, JSON types, integer-valued numbers, finite numbers, point /
-// row shapes, alpha shape) and then the typed rules of MATH.md §11 via core/validate.h. Every failure
+// row shapes, alpha shape) and then the typed rules of docs/math.md §11 via core/validate.h. Every failure
 // is a ModelError naming the field as a JSON path ("points[2][1]", "alpha[1][2]", "order[1]"), the
 // offending value (io::shortValue) and the rule; malformed JSON text gives field "(document)". The
 // text is parsed within the limits of io/input_file.h (nesting depth, keys per object, array
@@ -30,7 +30,7 @@ Model parseModelText(std::string_view text);
 // a caller can tell an I/O failure from an invalid model).
 Model loadModelFile(const std::filesystem::path& path);
 
-// Model -> FORMAT.md JSON: 2-D curves as [x, y], alpha as a per-vertex array, doubles written
+// Model -> docs/format.md JSON: 2-D curves as [x, y], alpha as a per-vertex array, doubles written
 // round-trippably, so parseModel(toJson(m)) reproduces m exactly.
 nlohmann::json toJson(const Model& model);
 nlohmann::json toJson(const CurveModel& model);

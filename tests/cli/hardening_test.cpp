@@ -445,7 +445,7 @@ struct Family {
   bool alphaTiny = false;
 };
 
-// Every family at both ends of its shape parameter range (MATH.md §11), α at 1e-12 and 1.
+// Every family at both ends of its shape parameter range (docs/math.md §11), α at 1e-12 and 1.
 std::vector<Family> families() {
   return {
       {"xw_lo", R"("construction": "extended_bspline", "degree": 4, "lambda": -8)"},

@@ -1,4 +1,4 @@
-// Identities of the uniform bases (MATH.md §2, §7–§9) and the agreement of the coefficient-matrix
+// Identities of the uniform bases (docs/math.md §2, §7–§9) and the agreement of the coefficient-matrix
 // form (core/span_basis.h) with the direct forms (core/basis_direct.h).
 #include <gtest/gtest.h>
 
@@ -133,7 +133,7 @@ TEST(Basis, GubpMatrixFormMatchesPointwiseCoxDeBoor) {
   }
 }
 
-// The matrix form of order k equals the integral of the order k-1 form (MATH.md §8.1), and order 2
+// The matrix form of order k equals the integral of the order k-1 form (docs/math.md §8.1), and order 2
 // equals the seed: together an induction over k = 2..10 that does not use the recurrence of §8.3.
 TEST(Basis, UbpMatrixFormMatchesIntegralRecurrenceFromTheSeed) {
   for (double l : {-5.0, -0.5, 0.0, 0.75, 1.0}) {

@@ -1,4 +1,4 @@
-// Identities of the knot-vector B-spline kernels (MATH.md §10.1): an independent Cox–de Boor
+// Identities of the knot-vector B-spline kernels (docs/math.md §10.1): an independent Cox–de Boor
 // reference, partition of unity, derivatives against finite differences and against the derivative
 // curve, end interpolation of clamped curves, and the tensor-product structure of surfaces.
 #include <gtest/gtest.h>
@@ -140,7 +140,7 @@ TEST(BSplineCurve, DerivativesMatchFiniteDifferences) {
   }
 }
 
-// All derivatives of the span polynomial against the derivative curve of MATH.md §10.1 applied
+// All derivatives of the span polynomial against the derivative curve of docs/math.md §10.1 applied
 // repeatedly (control points (k−1)(P_{i+1}−P_i)/(t_{i+k}−t_{i+1}), knots t_1..t_{n+k−1}).
 TEST(BSplineCurve, HigherDerivativesMatchDerivativeCurves) {
   std::mt19937 rng(13);

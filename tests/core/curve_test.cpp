@@ -1,5 +1,5 @@
 // Identity tests of core/curve.h: every family × degree/order × λ × open/closed. Each test checks a
-// property that follows from MATH.md independently of the implementation, so it fails if the
+// property that follows from docs/math.md independently of the implementation, so it fails if the
 // evaluation, the span rule, the phantom/wrap rule or the derivative scaling breaks.
 #include <gtest/gtest.h>
 
@@ -74,7 +74,7 @@ FamilySpec xuWang(int degree, double lambda) {
 }
 
 // An admissible GUBP half vector that is not a UBP vector for k >= 5: equal values inside each
-// parity class, solving the parity sums of MATH.md §9.
+// parity class, solving the parity sums of docs/math.md §9.
 std::vector<double> gubpMu(int k) {
   const int h = k / 2;
   std::vector<double> mu(h + 1);
@@ -254,7 +254,7 @@ TEST_P(PlainCurve, AffineInvariance) {
 TEST_P(PlainCurve, CollinearPointsGiveTheLine) {
   // Equally spaced points on a line: every family keeps the curve on the line (partition of unity);
   // those with linear precision give C(u) = P_0 + (u - shift) d, where shift = 1 + c - m/2 puts the
-  // centre of P_i's bell (N symmetric about m/2, MATH.md §1) at u = i + shift: 0 for even m and
+  // centre of P_i's bell (N symmetric about m/2, docs/math.md §1) at u = i + shift: 0 for even m and
   // 1/2 for odd m.
   const auto& p = GetParam();
   const int n = minimumCount(p.fc.family) + 3;
@@ -311,7 +311,7 @@ INSTANTIATE_TEST_SUITE_P(Families, PlainCurve, ::testing::ValuesIn(plainParams()
 // ---- Spans of the C^1 families: the d2 jump -----------------------------------------------------
 
 TEST(CurveJoints, GbSecondDerivativeJumpIsMinusLambdaTimesTangent) {
-  // MATH.md §7.1: C''(left) - C''(right) = -λ C' and C'(joint) = 6(P_{j+1} - P_{j-1})/(12+λ).
+  // docs/math.md §7.1: C''(left) - C''(right) = -λ C' and C'(joint) = 6(P_{j+1} - P_{j-1})/(12+λ).
   for (double lambda : {-8.0, -3.0, 0.0, 2.5, 40.0}) {
     for (bool closed : {false, true}) {
       FamilySpec f;
@@ -334,7 +334,7 @@ TEST(CurveJoints, GbSecondDerivativeJumpIsMinusLambdaTimesTangent) {
 }
 
 TEST(CurveJoints, Order3UbpAndGubpSecondDerivativeJump) {
-  // Order-3 UBP (MATH.md §8.1, Appendix A): N'' jumps by (1-λ, -3(1+λ), 3(1+λ), -(1-λ)) at
+  // Order-3 UBP (docs/math.md §8.1, Appendix A): N'' jumps by (1-λ, -3(1+λ), 3(1+λ), -(1-λ)) at
   // x = 0..3, so at the joint u = J (vertex J): C''(right) - C''(left) =
   // (1-λ)(P_{J+1} - P_{J-2}) - 3(1+λ)(P_J - P_{J-1}). GUBP order 3 with half vector (μ0, 1-μ0) is
   // UBP with λ = 1 - 6 μ0 (λ_{0,3} = (1-λ)/6). The first derivative is continuous (C^1).
@@ -384,7 +384,7 @@ TEST(CurveSpanKnots, DerivativesAreWithRespectToGlobalU) {
         const int s = j - c.spans().first;
         const double h = m.knots[s + 1] - m.knots[s];
         for (double t : kAllT) {
-          // Same shape as the uniform curve; derivatives divided by h^r (MATH.md §1).
+          // Same shape as the uniform curve; derivatives divided by h^r (docs/math.md §1).
           const CurvePoint a = c.evaluate(j, t), b = uniform.evaluate(j, t);
           EXPECT_TRUE(near(a.point, b.point, 1e-14 * scale * 10, "shape"));
           EXPECT_TRUE(near(a.d1 * h, b.d1, 1e-13 * scale * 10, "d1 h"));
@@ -492,7 +492,7 @@ TEST_P(AlphaCurve, InterpolatesEveryVertex) {
 }
 
 TEST_P(AlphaCurve, JointsAreC2AndMatchTheClosedForms) {
-  // MATH.md §4.3: at vertex j, Q' = (1-α_j)(P_{j+1} - P_{j-1})/2 and
+  // docs/math.md §4.3: at vertex j, Q' = (1-α_j)(P_{j+1} - P_{j-1})/2 and
   // Q'' = (1-α_j)((k+λ-2)/2)(P_{j-1} - 2P_j + P_{j+1}) from both sides (extended polygon).
   const Curve c = make(52);
   const auto& E = c.extendedPoints();  // E[i] = P_{i-1}
@@ -532,7 +532,7 @@ TEST_P(AlphaCurve, DerivativesMatchFiniteDifferences) {
 }
 
 TEST_P(AlphaCurve, NodesAndVMatchTheirDefinitions) {
-  // node_j = [(k-λ)P_{j-1} + 2(k(k-2)+λ)P_j + (k-λ)P_{j+1}] / D_k (MATH.md §2.3/§4.2), V_j from it;
+  // node_j = [(k-λ)P_{j-1} + 2(k(k-2)+λ)P_j + (k-λ)P_{j+1}] / D_k (docs/math.md §2.3/§4.2), V_j from it;
   // the extended polygon follows the phantom rule (open) or the wrap (closed).
   const Curve c = make(54);
   const auto& P = c.model().points;
@@ -575,7 +575,7 @@ TEST_P(AlphaCurve, AlphaOneGivesZeroVelocityAndSmallAlphaItsLimit) {
     EXPECT_EQ(glm::length(one.evaluate(j, 0.0).d1), 0.0) << "α = 1: zero velocity at P_j";
   // Uniform tiny α: a = α and α V_j -> P_j - node_j, so Q_j(t) -> C_j(t) + (1-S)(P_j - node_j)
   // + S (P_{j+1} - node_{j+1}) with an O(α) error (§4.2). (The limit still interpolates: the
-  // remark in MATH.md R13 that it tends to the non-interpolating base curve does not hold.)
+  // remark in docs/math.md R13 that it tends to the non-interpolating base curve does not hold.)
   m.alpha.assign(p.count, 1e-6);
   const Curve small = Curve::create(m);
   const SpanBasis basis = xuWangSpanBasis(p.degree, p.lambda);
@@ -618,7 +618,7 @@ INSTANTIATE_TEST_SUITE_P(DegreeLambda, AlphaCurve, ::testing::ValuesIn(alphaPara
 TEST(CurveCreate, ValidatesTheModel) {
   CurveModel m = makeCurve(xuWang(4, 0.0), randomPoints(5, 61), false);
   m.family.construction = Construction::AlphaEB;
-  m.alpha.assign(5, 0.0);  // α = 0 makes V undefined (MATH.md §11)
+  m.alpha.assign(5, 0.0);  // α = 0 makes V undefined (docs/math.md §11)
   EXPECT_THROW(Curve::create(m), ModelError);
   CurveModel bad = makeCurve(xuWang(4, 2.0), randomPoints(5, 62), false);  // λ > 1
   EXPECT_THROW(Curve::create(bad), ModelError);

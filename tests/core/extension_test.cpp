@@ -1,4 +1,4 @@
-// Identities of B-spline unclamping and extension (MATH.md §10.2–§10.7): the worked example, the
+// Identities of B-spline unclamping and extension (docs/math.md §10.2–§10.7): the worked example, the
 // extended curve keeps the original on [a, b], passes through every target at u_s, is C^{k−2} at b
 // and at the interior u_s, and surface extension reaches the target curves; invalid input throws.
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ void expectPoint(const glm::dvec3& actual, glm::dvec3 expected, double tol, cons
                                                  << actual.z << ")";
 }
 
-// MATH.md §10.7, exact rationals from the specification.
+// docs/math.md §10.7, exact rationals from the specification.
 TEST(Extension, WorkedExampleOneTarget) {
   const BSplineCurveData c = workedExample();
   const std::vector<glm::dvec3> targets = {{10, 5, 0}};
@@ -109,7 +109,7 @@ TEST_P(ExtensionSweep, KeepsCurveHitsTargetsAndIsSmooth) {
     ASSERT_EQ(x.points.size(), static_cast<size_t>(n + m + 1));
     ASSERT_EQ(x.knots.size(), static_cast<size_t>(n + m + k + 1));
     ASSERT_EQ(e.u.size(), static_cast<size_t>(m));
-    // Points not touched by unclamping (MATH.md §10.2).
+    // Points not touched by unclamping (docs/math.md §10.2).
     for (int i = 0; i <= n - k + 2; ++i) EXPECT_EQ(e.unclampedPoints[static_cast<size_t>(i)], c.points[static_cast<size_t>(i)]);
     if (chord) {
       EXPECT_EQ(e.u, chordParameters(c, targets));

@@ -58,7 +58,7 @@ struct Samples {
   }
 };
 
-// The families with the ends of their parameter ranges (MATH.md §11): name, spec.
+// The families with the ends of their parameter ranges (docs/math.md §11): name, spec.
 struct FamilyCase {
   std::string name;
   FamilySpec spec;
@@ -253,7 +253,7 @@ TEST(ExtremeValues, CurveSamplesScaleExactlyWithPowersOfTwo) {
 }
 
 TEST(ExtremeValues, GBAtHugeLambdaApproachesItsLimit) {
-  // MATH.md §7.1: as λ → ∞ the GB span tends to E(t) = (1-h)P_j + h P_{j+1}, h = 3t² - 2t³.
+  // docs/math.md §7.1: as λ → ∞ the GB span tends to E(t) = (1-h)P_j + h P_{j+1}, h = 3t² - 2t³.
   const auto pts = wavyPoints(6, 1.0);
   for (double lambda : {1e15, 1e100, DBL_MAX}) {
     FamilySpec f;

@@ -1,4 +1,4 @@
-// Identities of the GB tools (MATH.md §7): straight λ-paths, λ = 0 is the cubic B-spline, the
+// Identities of the GB tools (docs/math.md §7): straight λ-paths, λ = 0 is the cubic B-spline, the
 // constrained modification recovers a known (t0, λ0), every listed solution is exact, and bad input
 // is rejected or reported.
 #include <gtest/gtest.h>
@@ -48,7 +48,7 @@ TEST(GbTools, LambdaPathsAreStraightLines) {
       EXPECT_LT(glm::length(path.c0 - gbSpanPoint(m, span, 0.0, t)), 1e-14);
       for (double lambda : {-8.0, -5.0, -1.0, 0.5, 2.0, 10.0, 100.0, 1e4}) {
         const glm::dvec2 c = gbSpanPoint(m, span, lambda, t);
-        // Collinear with C_0 and E, at the blend weight w = 12/(12+λ) (MATH.md §7.1, C16).
+        // Collinear with C_0 and E, at the blend weight w = 12/(12+λ) (docs/math.md §7.1, C16).
         EXPECT_LT(std::abs(cross(c - path.e, dir)) / len, 2e-14 * 8) << "span " << span << " t " << t << " λ " << lambda;
         const double w = 12.0 / (12.0 + lambda);
         EXPECT_LT(glm::length(c - (w * path.c0 + (1 - w) * path.e)), 1e-13);
@@ -66,7 +66,7 @@ TEST(GbTools, LambdaZeroIsTheUniformCubicBSpline) {
   for (int i = 0; i < static_cast<int>(pts.size()) + 4; ++i) b.knots.push_back(i);
   for (int span = 1; span <= static_cast<int>(pts.size()) - 3; ++span)
     for (double t = 0.0; t <= 1.0; t += 0.125) {
-      // Span j of MATH.md §1 uses P_{j−1}..P_{j+2}: the knot span [j+2, j+3) of the uniform knots.
+      // Span j of docs/math.md §1 uses P_{j−1}..P_{j+2}: the knot span [j+2, j+3) of the uniform knots.
       const glm::dvec3 ref = evalBSplineCurve(b, span + 2 + t).point;
       const glm::dvec2 c = gbSpanPoint(m, span, 0.0, t);
       EXPECT_LT(glm::length(c - glm::dvec2(ref.x, ref.y)), 1e-14) << "span " << span << " t " << t;
@@ -91,7 +91,7 @@ TEST(GbTools, RoundTripRecoversTargetParameters) {
     EXPECT_NEAR(fit.bisection.lambda0, lambda0, 12.0 / (w * w) * 1e-10) << "trial " << trial;
     const glm::dvec2 back = gbSpanPoint(m, span, fit.bisection.lambda0, fit.bisection.t0);
     EXPECT_LT(glm::length(back - x), 1e-10) << "trial " << trial;
-    // λ0 ≥ 0: the solution is unique (MATH.md §7.2).
+    // λ0 ≥ 0: the solution is unique (docs/math.md §7.2).
     ASSERT_EQ(fit.all.size(), 1u) << "trial " << trial;
     EXPECT_NEAR(fit.all[0].t0, t0, 1e-10);
     ++checked;

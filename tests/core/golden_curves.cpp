@@ -4,7 +4,7 @@
 // Tolerances (support/tolerances.h: kFp64Rel relative to the bounding-box diagonal `scale`):
 //  * point / base_nodes / V: kFp64Rel * scale * g, where g = 1 for plain curves and 1/α_min for
 //    α-EB, because V_j = P_j + ((1-α)/α)(P_j - node_j) carries |V| up to scale/α_min and every
-//    later rounding is relative to that magnitude (MATH.md §14).
+//    later rounding is relative to that magnitude (docs/math.md §14).
 //  * d1: kFp64Rel * scale * g * D1 with D1 = max over the case's samples of Σ_r |B_r'(t)| / h
 //    (the sum of the absolute coefficients that multiply the points, so rounding of the sum is
 //    bounded by that many ulps of scale); α-EB adds 2 * max S' = 4.5 for the a' M and L' terms.
@@ -30,7 +30,7 @@ namespace shapespline::test {
 namespace {
 
 constexpr double kExact = std::numeric_limits<double>::min();  // "must be equal", ratio stays finite
-constexpr double kMaxBlendD1 = 2.25;                            // max |S'| (MATH.md §3, at t = 1/2)
+constexpr double kMaxBlendD1 = 2.25;                            // max |S'| (docs/math.md §3, at t = 1/2)
 constexpr double kMaxBlendD2 = 9.0;                             // max |S''| (at t = 0, 1/3, 2/3, 1)
 
 std::string at(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }

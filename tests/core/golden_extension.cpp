@@ -1,8 +1,8 @@
-// Golden checkers for the B-spline extension families of paper [EXT] (MATH.md §10):
+// Golden checkers for the B-spline extension families of paper [EXT] (docs/math.md §10):
 // bspline_unclamp, bspline_extend_curve, bspline_extend_surface.
 //
 // Tolerances. Control points and curve values: kFp64Rel × (bounding-box diagonal of the input net,
-// the targets and the computed net) × growth, where growth = ρ^(k−1) is the MATH.md §14 bound for
+// the targets and the computed net) × growth, where growth = ρ^(k−1) is the docs/math.md §14 bound for
 // the divisions of Algorithms U and X: ρ = max(1, largest knot distance over divisor) taken over
 // every division they make, (t_{i+r+1} − t_i)/(b − t_i) in U and (t_{j+k−1} − t_j)/(u_s − t_j) in
 // X. First derivatives multiply by (k−1)/h_min (h_min the shortest non-empty knot span): a
@@ -47,7 +47,7 @@ double shortestSpan(const std::vector<double>& knots) {
   return h;
 }
 
-// ρ^(k−1) of MATH.md §14 over the divisions of Algorithm U (n + 1 points, end b) and of Algorithm X
+// ρ^(k−1) of docs/math.md §14 over the divisions of Algorithm U (n + 1 points, end b) and of Algorithm X
 // for the points n+1 .. last−1 (the last point is the last target itself), on the final knots.
 double inverseGrowth(int order, const std::vector<double>& knots, int n, int lastPoint) {
   const double b = knots[static_cast<size_t>(n + 1)];
@@ -154,7 +154,7 @@ const GoldenRegistration kExtendCurve("bspline_extend_curve", [](CaseReport& r) 
 const GoldenRegistration kExtendSurface("bspline_extend_surface", [](CaseReport& r) {
   const BSplineSurfaceData surface = bsplineSurfaceFromModel(std::get<SurfaceModel>(io::parseModel(r.model())));
   if (r.inputs().value("direction", std::string("u")) != "u")
-    throw std::runtime_error("only direction u is defined (MATH.md §10.6)");
+    throw std::runtime_error("only direction u is defined (docs/math.md §10.6)");
   std::vector<std::vector<glm::dvec3>> targetCurves;
   std::vector<glm::dvec3> allTargets;
   for (const auto& c : r.inputs().at("target_curves")) {

@@ -1,4 +1,4 @@
-// Golden checker for the GB constrained modification (family gb_modify, MATH.md §7.2).
+// Golden checker for the GB constrained modification (family gb_modify, docs/math.md §7.2).
 #include <cmath>
 #include <string>
 #include <variant>
@@ -10,11 +10,11 @@
 namespace shapespline::test {
 namespace {
 
-// MATH.md §7.2 suggested acceptance for fp64: |t0 − t0_ref| ≤ 1e−9 and the same for w (w is a
+// docs/math.md §7.2 suggested acceptance for fp64: |t0 − t0_ref| ≤ 1e−9 and the same for w (w is a
 // Lipschitz function of t0 along the path). The bisection itself stops at 2^−40 ≈ 9e−13, so 1e−9
 // leaves the margin the spec intends for other stopping rules, not for our rounding.
 constexpr double kGbParamTol = 1e-9;
-// λ0 = 12(1 − w)/w has |dλ/dw| = 12/w², so the w tolerance becomes (12/w²)·1e−9 (MATH.md §7.2).
+// λ0 = 12(1 − w)/w has |dλ/dw| = 12/w², so the w tolerance becomes (12/w²)·1e−9 (docs/math.md §7.2).
 double lambdaTol(double w) { return 12.0 / (w * w) * kGbParamTol; }
 
 const GoldenRegistration kGbModify("gb_modify", [](CaseReport& r) {

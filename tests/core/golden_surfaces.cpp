@@ -2,7 +2,7 @@
 // surfaces and knot-vector B-spline surfaces, evaluated by core/surface.h from io::parseModel.
 //
 // Tolerances (support/tolerances.h: kFp64Rel relative to the bounding-box diagonal `scale`):
-//  * point / base_nodes / V: kFp64Rel * scale * g with g = 1 (plain) or 1/α_min (α-EB, MATH.md §14:
+//  * point / base_nodes / V: kFp64Rel * scale * g with g = 1 (plain) or 1/α_min (α-EB, docs/math.md §14:
 //    V_ij has magnitude up to scale/α_min and later roundings are relative to it).
 //  * a partial of order (r,q): kFp64Rel * scale * g * F_rq. For the base tensor patch
 //    D_rq = max over the samples of (Σ_n |B_n^(r)(u)|)(Σ_m |B_m^(q)(v)|), the sum of absolute
@@ -32,7 +32,7 @@ namespace shapespline::test {
 namespace {
 
 constexpr double kExact = std::numeric_limits<double>::min();
-constexpr double kBlendPairSum[3] = {1.0, 4.5, 18.0};  // W_0, W_1, W_2 (MATH.md §3 maxima)
+constexpr double kBlendPairSum[3] = {1.0, 4.5, 18.0};  // W_0, W_1, W_2 (docs/math.md §3 maxima)
 
 std::string at(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
 std::string at(const std::string& field, size_t i, size_t j) { return at(field, i) + "[" + std::to_string(j) + "]"; }

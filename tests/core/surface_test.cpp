@@ -1,6 +1,6 @@
 // Identity tests of core/surface.h: α-EB surfaces over degree × λ × (closed_u, closed_v), plain
 // tensor surfaces over the families, knot-vector B-spline surfaces, and the normal convention of
-// MATH.md §5.3 at α = 1 vertices.
+// docs/math.md §5.3 at α = 1 vertices.
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -177,7 +177,7 @@ TEST_P(AlphaSurface, DerivativesMatchFiniteDifferences) {
 }
 
 TEST_P(AlphaSurface, BoundaryRowIsTheAlphaEBCurveOfTheBoundaryPolygon) {
-  // MATH.md §5.4: on an open boundary the base surface's boundary curve is the extended B-spline
+  // docs/math.md §5.4: on an open boundary the base surface's boundary curve is the extended B-spline
   // curve of the boundary polygon with its own phantom points. Because the boundary nodes and V
   // then coincide with the curve's, the whole α-EB boundary row is the α-EB curve of that
   // polygon with the boundary α (checked for the u = 0 row and, if v is open, the v = 0 column).

@@ -34,7 +34,7 @@ constexpr size_t kMaxEvaluated = 256;  // samples evaluated per model and input
 constexpr size_t kMaxMessageChars = 400;
 
 // Models the samples are checked against: a local-family curve, a knot-vector curve with a double
-// knot, a local-family surface and a knot-vector surface (FORMAT.md).
+// knot, a local-family surface and a knot-vector surface (docs/format.md).
 constexpr const char* kCurves[] = {
     R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": -2.5, "closed": false,
         "points": [[0, 0], [1, 2], [3, 3], [5, 1], [6, 4], [8, 3]], "alpha": [0.5, 0.25, 1, 0.75, 0.5, 0.625]})",

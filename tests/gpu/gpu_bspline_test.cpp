@@ -1,4 +1,4 @@
-// Knot-vector B-splines (MATH.md §10.1) on the GPU (bspline_curve_eval.comp,
+// Knot-vector B-splines (docs/math.md §10.1) on the GPU (bspline_curve_eval.comp,
 // bspline_surface_eval.comp) against the CPU fp64 core (core/curve.h, core/surface.h): orders 2..10,
 // random non-uniform knots with repeated interior knots (multiplicity up to the order, i.e. down to
 // a discontinuity), clamped and unclamped ends, grids over the non-empty intervals
@@ -200,7 +200,7 @@ TEST_P(GpuBSpline, ExtensionResultsMatchCpu) {
     const Curve cpu = Curve::create(std::move(m));
     gpu::GpuCurve state(ctx_, cpu, pr);
     compareCurve(cpu, ev, state, pr, err);
-    // The extended curve passes through the targets at u_s (MATH.md §10.5), on the GPU too.
+    // The extended curve passes through the targets at u_s (docs/math.md §10.5), on the GPU too.
     const auto got = ev.evaluateListAt(state, x.u);
     const double tol = 4.0 * relFor(pr) * bboxDiag(cpu.model().points) * 16;
     for (size_t s = 0; s < x.u.size(); ++s) err.check("target", targets[s], got[s].point, tol, "u_" + std::to_string(s + 1));

@@ -9,7 +9,7 @@
 //    the global knot parameters (CurveEvaluator::evaluateListAt).
 //  * surface: surface_eval.comp list mode, all fields incl. normals (+ vertex pass for nodes/V).
 // CPU-only files (not run here): basis_singular_blend.json (S has no stand-alone GPU kernel; it is
-// exercised inside every α-EB curve/surface case), gb_modify.json (bisection of MATH.md §7.2, a
+// exercised inside every α-EB curve/surface case), gb_modify.json (bisection of docs/math.md §7.2, a
 // host algorithm), extension.json (unclamping/inverse de Boor, host algorithms), validation.json
 // (model rejection happens at the host boundary).
 //

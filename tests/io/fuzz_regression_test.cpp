@@ -16,7 +16,7 @@ namespace {
 
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// MATH.md §2.3: C_j(0) = [(k-λ) P_{j-1} + 2(k(k-2)+λ) P_j + (k-λ) P_{j+1}] / (2k(k-1)).
+// docs/math.md §2.3: C_j(0) = [(k-λ) P_{j-1} + 2(k(k-2)+λ) P_j + (k-λ) P_{j+1}] / (2k(k-1)).
 glm::dvec3 spanStart(int k, double lambda, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   return ((k - lambda) * (a + c) + 2.0 * (k * (k - 2) + lambda) * b) / (2.0 * k * (k - 1));
 }

@@ -1,5 +1,5 @@
-// Model file reading/writing (FORMAT.md) and typed validation (MATH.md §11): every entry of the bad-model
-// catalog is rejected naming the right field, every FORMAT.md example and boundary value is accepted,
+// Model file reading/writing (docs/format.md) and typed validation (docs/math.md §11): every entry of the bad-model
+// catalog is rejected naming the right field, every docs/format.md example and boundary value is accepted,
 // and toJson round-trips exactly.
 #include <gtest/gtest.h>
 
@@ -154,7 +154,7 @@ void expectSameModel(const io::Model& a, const io::Model& b);  // defined with t
 CurveModel asCurve(const io::Model& m) { return std::get<CurveModel>(m); }
 SurfaceModel asSurface(const io::Model& m) { return std::get<SurfaceModel>(m); }
 
-// The examples of FORMAT.md, verbatim.
+// The examples of docs/format.md, verbatim.
 const char* const kFormatExamples[] = {
     R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": -2.5, "closed": false,
  "points": [[0,0],[1,2],[3,3],[5,1],[6,4],[8,3]],
@@ -314,7 +314,7 @@ TEST(Acceptance, ThreeDimensionalCurve) {
   EXPECT_EQ(c.points[1], glm::dvec3(1, 2, 3));
 }
 
-// Every UBP's Theorem-1 coefficient vector is an admissible GUBP mu (MATH.md §9: UBP is a special case).
+// Every UBP's Theorem-1 coefficient vector is an admissible GUBP mu (docs/math.md §9: UBP is a special case).
 TEST(Acceptance, UbpCoefficientsAreAdmissibleMu) {
   for (int k = 3; k <= 10; ++k) {
     for (double lambda : {-5.0, 0.0, 0.3, 1.0}) {

@@ -1,5 +1,5 @@
 #pragma once
-// A catalog of model files that must be rejected (FORMAT.md, MATH.md §11), each with the JSON-path
+// A catalog of model files that must be rejected (docs/format.md, docs/math.md §11), each with the JSON-path
 // field the error must name. Shared by the io tests (parser) and the CLI tests (exit codes, messages).
 #include <string>
 #include <vector>

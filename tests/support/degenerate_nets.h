@@ -1,5 +1,5 @@
 #pragma once
-// Test nets whose normals need the MATH.md §5.3 fallbacks, shared by the evaluator and tessellator
+// Test nets whose normals need the docs/math.md §5.3 fallbacks, shared by the evaluator and tessellator
 // tests.
 #include <shapespline/core/model.h>
 
