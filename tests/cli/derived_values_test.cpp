@@ -4,6 +4,7 @@
 // intervals near 1e-310 and α near 1e-310 write finite values or fail with a documented exit code
 // and message, never "internal error", never a file.
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -20,118 +21,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-bool vulkanDevice() {
-  static const bool yes = [] {
-    ScratchDir dir("derived_probe");
-    const CliResult r = runCli("info", dir.path());
-    return r.rc == 0 && r.out.find("selected: none") == std::string::npos;
-  }();
-  return yes;
-}
-
-std::vector<std::string> entries(const fs::path& folder) {
-  std::vector<std::string> v;
-  for (const auto& e : fs::directory_iterator(folder)) {
-    const std::string n = e.path().filename().string();
-    if (n != "_stdout.txt" && n != "_stderr.txt") v.push_back(n);
-  }
-  return v;
-}
-
 // `sample MODEL -o folder/file opts` in a fresh folder.
 CliResult sample(const fs::path& model, const fs::path& folder, const std::string& file, const std::string& opts) {
   fs::remove_all(folder);
   fs::create_directories(folder);
   return runCli("sample " + quote(model.string()) + " -o " + quote((folder / file).string()) + " " + opts, folder);
-}
-
-// Every token of a text output that strtod reads entirely is finite ("nan", "-nan", "inf" are
-// read by strtod too, so they are caught).
-size_t expectFiniteText(const std::string& text, const std::string& what) {
-  size_t n = 0;
-  std::string token;
-  auto flush = [&] {
-    if (token.empty()) return;
-    char* end = nullptr;
-    const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() + token.size()) {
-      ++n;
-      EXPECT_TRUE(std::isfinite(v)) << what << ": non-finite number '" << token << "'";
-    }
-    token.clear();
-  };
-  for (char c : text) {
-    if (std::isspace(static_cast<unsigned char>(c)) || std::strchr(",[]{}\":/=", c)) flush();
-    else token += c;
-  }
-  flush();
-  return n;
-}
-
-template <class T>
-void expectFiniteBinary(const char* data, size_t bytes, const std::string& what) {
-  ASSERT_EQ(bytes % sizeof(T), 0u) << what;
-  for (size_t i = 0; i < bytes / sizeof(T); ++i) {
-    T v;
-    std::memcpy(&v, data + i * sizeof(T), sizeof(T));
-    ASSERT_TRUE(std::isfinite(v)) << what << ": value " << i << " is " << v;
-  }
-}
-
-// The PLY vertex block, property by property (s t included).
-void expectFinitePly(const std::string& bytes, const std::string& what) {
-  const size_t end = bytes.find("end_header\n");
-  ASSERT_NE(end, std::string::npos) << what;
-  std::istringstream header(bytes.substr(0, end));
-  std::string line;
-  size_t vertices = 0;
-  std::vector<int> sizes;
-  bool inVertex = false;
-  while (std::getline(header, line)) {
-    std::istringstream ls(line);
-    std::string a, b, c;
-    ls >> a >> b >> c;
-    if (a == "element") {
-      inVertex = b == "vertex";
-      if (inVertex) vertices = std::stoull(c);
-    } else if (a == "property" && inVertex) {
-      sizes.push_back(b == "float" ? 4 : 8);
-    }
-  }
-  const char* p = bytes.data() + end + std::strlen("end_header\n");
-  ASSERT_GT(vertices, 0u) << what;
-  for (size_t v = 0; v < vertices; ++v) {
-    for (int s : sizes) {
-      ASSERT_LE(p + s, bytes.data() + bytes.size()) << what;
-      if (s == 4) expectFiniteBinary<float>(p, 4, what);
-      else expectFiniteBinary<double>(p, 8, what);
-      p += s;
-    }
-  }
-}
-
-// Every number of the file; SVG: every coordinate attribute and the viewBox.
-void expectFiniteFile(const fs::path& file, const std::string& what) {
-  const std::string ext = file.extension().string();
-  const std::string bytes = readText(file);
-  ASSERT_FALSE(bytes.empty()) << what;
-  if (ext == ".ply") {
-    expectFinitePly(bytes, what);
-  } else if (ext == ".f64") {
-    expectFiniteBinary<double>(bytes.data(), bytes.size(), what);
-  } else if (ext == ".f32") {
-    expectFiniteBinary<float>(bytes.data(), bytes.size(), what);
-  } else if (ext == ".svg") {
-    static const std::regex attr(R"re(\b(points|cx|cy|x|y|x1|y1|x2|y2|r|viewBox|width|height)="([^"]*)")re");
-    size_t n = 0;
-    for (auto it = std::sregex_iterator(bytes.begin(), bytes.end(), attr); it != std::sregex_iterator(); ++it)
-      n += expectFiniteText((*it)[2].str(), what + " " + (*it)[1].str());
-    EXPECT_GT(n, 10u) << what;
-  } else {
-    EXPECT_GT(expectFiniteText(bytes, what), 10u) << what;
-  }
 }
 
 // Exit `rc`, the message names every part, and the folder holds no file at all.
@@ -234,7 +128,7 @@ TEST(CliDerivedValues, KnotsNearTheFp64LimitWithFiniteDifferencesStillWrite) {
   for (const auto& file : kCurveFiles) {
     const CliResult r = sample(m, dir / "o", file, "--device cpu --samples 4 -q");
     ASSERT_EQ(r.rc, 0) << file << ": " << r.err;
-    expectFiniteFile(dir / "o" / file, "gb near 1.7e308 " + file);
+    expectFiniteOutput(dir / "o" / file, "gb near 1.7e308 " + file);
   }
   const fs::path s = dir / "s.json";
   writeText(s, R"({"kind": "surface", "construction": "bspline", "order": [3, 3], "closed": [false, false], "points": )" +
@@ -242,7 +136,7 @@ TEST(CliDerivedValues, KnotsNearTheFp64LimitWithFiniteDifferencesStillWrite) {
   for (const auto& file : kSurfaceFiles) {
     const CliResult r = sample(s, dir / "so", file, "--device cpu --grid 3 -q");
     ASSERT_EQ(r.rc, 0) << file << ": " << r.err;
-    expectFiniteFile(dir / "so" / file, "bspline surface near 1.7e308 " + file);
+    expectFiniteOutput(dir / "so" / file, "bspline surface near 1.7e308 " + file);
   }
 }
 
@@ -256,7 +150,7 @@ TEST(CliDerivedValues, ACurveFourE320WideWritesAFiniteSvg) {
   writeText(m, R"({"kind": "curve", "construction": "ubp", "order": 4, "lambda": 0, "points": )" + curvePoints(5e-321) + "}");
   const CliResult r = sample(m, dir / "o", "c.svg", "--device cpu --samples 8 -q");
   ASSERT_EQ(r.rc, 0) << r.err;
-  expectFiniteFile(dir / "o" / "c.svg", "4e-320 wide svg");
+  expectFiniteOutput(dir / "o" / "c.svg", "4e-320 wide svg");
   // The plot fills the frame as it does at scale 1 (the drawing is scale-free): same polylines.
   const fs::path one = dir / "one.json";
   writeText(one, R"({"kind": "curve", "construction": "ubp", "order": 4, "lambda": 0, "points": )" + curvePoints(1.0) + "}");
@@ -346,7 +240,7 @@ TEST(CliDerivedValues, KnotIntervalsOfE310WarnAndWriteEveryFormat) {
         const std::string what = m.filename().string() + " " + file + " " + dev;
         ASSERT_EQ(r.rc, 0) << what << ": " << r.err;
         EXPECT_TRUE(contains(r.err, "shapespline: warning: knots")) << what << ": " << r.err;
-        expectFiniteFile(dir / "o" / file, what);
+        expectFiniteOutput(dir / "o" / file, what);
       }
     }
   }
@@ -429,13 +323,13 @@ TEST(CliDerivedValues, TinyAlphaWritesOnEveryPathTheGpuCannotRepresentFallsBack)
                    curvePoints(1.0) + "}");
   const CliResult cpu = sample(c, dir / "cpu", "c.f64", "--device cpu --precision float --samples 5 --derivatives -q");
   ASSERT_EQ(cpu.rc, 0) << cpu.err;
-  expectFiniteFile(dir / "cpu" / "c.f64", "cpu");
+  expectFiniteOutput(dir / "cpu" / "c.f64", "cpu");
   for (const auto& file : kCurveFiles) {
     for (const char* dev : {"--device cpu", "--device vulkan"}) {
       const CliResult r = sample(c, dir / "o", file, std::string(dev) + " --samples 5");
       ASSERT_EQ(r.rc, 0) << file << " " << dev << ": " << r.err;
       EXPECT_TRUE(contains(r.err, "warning: alpha[")) << r.err;
-      expectFiniteFile(dir / "o" / file, "alpha 1e-300 " + file + " " + dev);
+      expectFiniteOutput(dir / "o" / file, "alpha 1e-300 " + file + " " + dev);
     }
   }
   writeText(dir / "at.json", R"({"samples": [{"span": 1, "t": 0.5}, {"span": 4, "t": 0.25}]})");
@@ -454,7 +348,7 @@ TEST(CliDerivedValues, TinyAlphaWritesOnEveryPathTheGpuCannotRepresentFallsBack)
   // fp64 kernels represent it: no fallback, finite, the CPU result to 1e-9 of its extent.
   const CliResult d = sample(c, dir / "d", "c.f64", "--precision double --samples 5 --derivatives --require-device -q");
   ASSERT_EQ(d.rc, 0) << d.err;
-  expectFiniteFile(dir / "d" / "c.f64", "gpu fp64");
+  expectFiniteOutput(dir / "d" / "c.f64", "gpu fp64");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // file left), never write a NaN or Inf, warn where precision is lost, and write the same bytes for
 // the same input across runs, thread counts and chunk sizes.
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -17,20 +18,6 @@ namespace shapespline::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-bool vulkanDevice() {
-  static const bool yes = [] {
-    ScratchDir dir("hardening_probe");
-    const CliResult r = runCli("info", dir.path());
-    return r.rc == 0 && r.out.find("selected: none") == std::string::npos;
-  }();
-  return yes;
-}
-
-#define REQUIRE_VULKAN() \
-  if (!vulkanDevice()) GTEST_SKIP() << "no Vulkan device"
 
 std::string example(const std::string& name) { return examplesDir() + "/" + name; }
 
@@ -60,16 +47,6 @@ CliResult sample(const std::string& modelPath, const fs::path& folder, const std
              fileLimitKiB);
 }
 
-// Entries of a folder other than the runner's own capture files.
-std::vector<std::string> entries(const fs::path& folder) {
-  std::vector<std::string> v;
-  for (const auto& e : fs::directory_iterator(folder)) {
-    const std::string n = e.path().filename().string();
-    if (n != "_stdout.txt" && n != "_stderr.txt") v.push_back(n);
-  }
-  return v;
-}
-
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += x + " ";
@@ -77,108 +54,6 @@ std::string joined(const std::vector<std::string>& v) {
 }
 
 // ---- Parsing outputs back: every number must be finite -------------------------------------------
-
-// Text numbers (OBJ, CSV, eval JSON): every token that strtod accepts entirely; "nan"/"inf" in any
-// spelling are caught because strtod accepts them too.
-void expectFiniteText(const std::string& text, const std::string& what, size_t* count = nullptr) {
-  size_t n = 0;
-  std::string token;
-  auto flush = [&] {
-    if (token.empty()) return;
-    char* end = nullptr;
-    const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() + token.size()) {
-      ++n;
-      ASSERT_TRUE(std::isfinite(v)) << what << ": non-finite number '" << token << "'";
-    }
-    token.clear();
-  };
-  for (char c : text) {
-    if (std::isspace(static_cast<unsigned char>(c)) || c == ',' || c == '[' || c == ']' || c == '{' || c == '}' ||
-        c == '"' || c == ':' || c == '/') {
-      flush();
-    } else {
-      token += c;
-    }
-  }
-  flush();
-  if (count) *count = n;
-}
-
-template <class T>
-void expectFiniteBinary(const char* data, size_t bytes, const std::string& what) {
-  ASSERT_EQ(bytes % sizeof(T), 0u) << what;
-  for (size_t i = 0; i < bytes / sizeof(T); ++i) {
-    T v;
-    std::memcpy(&v, data + i * sizeof(T), sizeof(T));
-    ASSERT_TRUE(std::isfinite(v)) << what << ": value " << i << " is " << v;
-  }
-}
-
-// PLY (binary little endian): the vertex block, property by property.
-void expectFinitePly(const std::string& bytes, const std::string& what) {
-  const size_t end = bytes.find("end_header\n");
-  ASSERT_NE(end, std::string::npos) << what;
-  std::istringstream header(bytes.substr(0, end));
-  std::string line;
-  size_t vertices = 0;
-  std::vector<int> sizes;
-  bool inVertex = false;
-  while (std::getline(header, line)) {
-    std::istringstream ls(line);
-    std::string a, b, c;
-    ls >> a >> b >> c;
-    if (a == "element") {
-      inVertex = b == "vertex";
-      if (inVertex) vertices = std::stoull(c);
-    } else if (a == "property" && inVertex) {
-      ASSERT_TRUE(b == "float" || b == "double") << what << ": " << line;
-      sizes.push_back(b == "float" ? 4 : 8);
-    }
-  }
-  const char* p = bytes.data() + end + std::strlen("end_header\n");
-  ASSERT_GT(vertices, 0u) << what;
-  for (size_t v = 0; v < vertices; ++v) {
-    for (int s : sizes) {
-      ASSERT_LE(p + s, bytes.data() + bytes.size()) << what;
-      if (s == 4) expectFiniteBinary<float>(p, 4, what);
-      else expectFiniteBinary<double>(p, 8, what);
-      p += s;
-    }
-  }
-}
-
-// SVG: every number in a points/cx/cy/x/y/x1/y1/x2/y2 attribute.
-void expectFiniteSvg(const std::string& text, const std::string& what) {
-  static const std::regex attr(R"re(\b(points|cx|cy|x|y|x1|y1|x2|y2)="([^"]*)")re");
-  size_t n = 0;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), attr); it != std::sregex_iterator(); ++it) {
-    size_t k = 0;
-    expectFiniteText((*it)[2].str(), what + " attribute " + (*it)[1].str(), &k);
-    n += k;
-  }
-  EXPECT_GT(n, 10u) << what;
-}
-
-// Every number of the output file (and sidecar) is finite.
-void expectFiniteOutput(const fs::path& file, const std::string& what) {
-  const std::string ext = file.extension().string();
-  const std::string bytes = readText(file);
-  ASSERT_FALSE(bytes.empty()) << what;
-  if (ext == ".obj" || ext == ".csv") {
-    size_t n = 0;
-    expectFiniteText(bytes, what, &n);
-    EXPECT_GT(n, 10u) << what;
-  } else if (ext == ".ply") {
-    expectFinitePly(bytes, what);
-  } else if (ext == ".f64") {
-    expectFiniteBinary<double>(bytes.data(), bytes.size(), what);
-  } else if (ext == ".f32") {
-    expectFiniteBinary<float>(bytes.data(), bytes.size(), what);
-  } else if (ext == ".svg") {
-    expectFiniteSvg(bytes, what);
-  }
-}
 
 // ---- Determinism --------------------------------------------------------------------------------
 
@@ -582,7 +457,9 @@ TEST(CliHardeningExtremes, VulkanFp64AndFp32StayFiniteAndMatchTheCpu) {
       ASSERT_EQ(r.rc, 0) << name << " " << precision << ": " << r.err;
       EXPECT_EQ(contains(r.err, "notice: GB lambda"), fallback) << name << " " << precision << ": " << r.err;
       EXPECT_EQ(contains(r.err, "shapespline: warning: "), f.warns) << name << " " << precision << ": " << r.err;
-      if (f.alphaTiny) EXPECT_TRUE(contains(r.err, "warning: alpha")) << r.err;
+      if (f.alphaTiny) {
+        EXPECT_TRUE(contains(r.err, "warning: alpha")) << r.err;
+      }
       expectFiniteOutput(dir / name / file, name + " " + precision);
       if (!f.warns && !s.coincident) {
         // Away from warned precision loss the GPU agrees with the CPU to the precision's tolerance
@@ -617,9 +494,7 @@ TEST(CliHardeningExtremes, EvalPrintsOnlyFiniteNumbers) {
                                 std::pair{"same.json", "aat.json"}}) {
       const CliResult r = run(std::string("eval ") + m + " --at " + at + " " + dev, dir.path());
       ASSERT_EQ(r.rc, 0) << m << " " << dev << ": " << r.err;
-      size_t n = 0;
-      expectFiniteText(r.out, std::string(m) + " " + dev, &n);
-      EXPECT_GT(n, 20u) << r.out;
+      EXPECT_GT(expectFiniteText(r.out, std::string(m) + " " + dev), 20u) << r.out;
       EXPECT_FALSE(contains(r.out, "nan") || contains(r.out, "inf")) << r.out;
       EXPECT_EQ(contains(r.err, "warning: alpha"), std::string(m) == "c.json") << m << " " << dev << ": " << r.err;
     }

@@ -3,6 +3,7 @@
 // `extend --to-curve`) fail with exit 2 and a short message naming the field and the limit; no
 // input crashes, blocks or exhausts memory. CLI11 argument errors use the same message format.
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +16,6 @@ namespace shapespline::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::string example(const std::string& name) { return examplesDir() + "/" + name; }
 

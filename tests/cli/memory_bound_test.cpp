@@ -5,6 +5,7 @@
 // against the bound the README states. The RSS tests are excluded under ASan (scripts/sanitize.sh):
 // its shadow memory and quarantine are not the tool's memory.
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -29,18 +30,6 @@ namespace fs = std::filesystem;
 // CPU and failed on lavapipe (its 201 MB fp32 plane exceeds maxStorageBufferRange, 128 MiB).
 constexpr long kCpuBoundKiB = 128 * 1024;
 constexpr long kVulkanBoundKiB = 200 * 1024;
-
-bool vulkanDevice() {
-  static const bool yes = [] {
-    ScratchDir dir("memory_probe");
-    const CliResult r = runCli("info", dir.path());
-    return r.rc == 0 && r.out.find("selected: none") == std::string::npos;
-  }();
-  return yes;
-}
-
-#define REQUIRE_VULKAN() \
-  if (!vulkanDevice()) GTEST_SKIP() << "no Vulkan device"
 
 // One bicubic patch (uniform B-spline, 4 x 4 net) and one α-EB patch with normals worth checking.
 const char* kOnePatch =

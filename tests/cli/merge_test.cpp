@@ -5,6 +5,7 @@
 // its own items only; merged files are byte-identical to the unsharded job in every format; merge
 // streams (bounded memory).
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -19,8 +20,6 @@ namespace shapespline::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::string model(const std::string& name) { return examplesDir() + "/" + name; }
 

@@ -7,6 +7,7 @@
 // SHAPESPLINE_TEST_CLI=/path/to/shapespline runs these tests against another binary (e.g. one
 // built before the fixes, to see them fail).
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -31,8 +32,6 @@ std::string cli() {
   return other && *other ? other : SHAPESPLINE_CLI;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // `shapespline <args>` through the shell; `redirect` replaces the stdout capture (e.g. ">/dev/full"),
 // `prefix` goes before the binary (environment, ulimit).
 CliResult run(const std::string& args, const fs::path& scratch, const std::string& prefix = "",
@@ -48,17 +47,6 @@ CliResult run(const std::string& args, const fs::path& scratch, const std::strin
   fs::remove(out);
   fs::remove(err);
   return r;
-}
-
-// Entries of a folder other than the runner's capture files, sorted.
-std::vector<std::string> entries(const fs::path& folder) {
-  std::vector<std::string> v;
-  for (const auto& e : fs::directory_iterator(folder)) {
-    const std::string n = e.path().filename().string();
-    if (n != "_stdout.txt" && n != "_stderr.txt") v.push_back(n);
-  }
-  std::sort(v.begin(), v.end());
-  return v;
 }
 
 std::string joined(const std::vector<std::string>& v) {
