@@ -67,12 +67,9 @@ inline std::string quote(const std::string& s) {
   return q + "'";
 }
 
-// Runs `shapespline <args>` (args already shell-quoted where needed) in `cwd`.
-inline CliResult runCli(const std::string& args, const std::filesystem::path& scratch,
-                        const std::filesystem::path& cwd = {}) {
-  const auto out = scratch / "_stdout.txt", err = scratch / "_stderr.txt";
-  std::string cmd = std::string(cwd.empty() ? "" : "cd " + quote(cwd.string()) + " && ") + quote(SHAPESPLINE_CLI) +
-                    " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
+// Runs a shell command whose stdout/stderr go to `out`/`err`, then reads and removes both files.
+inline CliResult runCaptured(const std::string& cmd, const std::filesystem::path& out,
+                             const std::filesystem::path& err) {
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -81,6 +78,15 @@ inline CliResult runCli(const std::string& args, const std::filesystem::path& sc
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return r;
+}
+
+// Runs `shapespline <args>` (args already shell-quoted where needed) in `cwd`.
+inline CliResult runCli(const std::string& args, const std::filesystem::path& scratch,
+                        const std::filesystem::path& cwd = {}) {
+  const auto out = scratch / "_stdout.txt", err = scratch / "_stderr.txt";
+  std::string cmd = std::string(cwd.empty() ? "" : "cd " + quote(cwd.string()) + " && ") + quote(SHAPESPLINE_CLI) +
+                    " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
+  return runCaptured(cmd, out, err);
 }
 
 inline std::string examplesDir() { return std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models"; }

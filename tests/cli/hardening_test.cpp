@@ -29,14 +29,7 @@ CliResult run(const std::string& args, const fs::path& scratch, const std::strin
   std::string cmd = "cd " + quote(scratch.string()) + " && env " + env + " ";
   if (fileLimitKiB > 0) cmd += "bash -c 'ulimit -f " + std::to_string(fileLimitKiB) + "; exec \"$0\" \"$@\"' ";
   cmd += quote(SHAPESPLINE_CLI) + " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
-  const int status = std::system(cmd.c_str());
-  CliResult r;
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = readText(out);
-  r.err = readText(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
+  return runCaptured(cmd, out, err);
 }
 
 // `sample MODEL -o folder/name opts`, creating the folder.

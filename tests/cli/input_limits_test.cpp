@@ -27,14 +27,7 @@ CliResult runBounded(const std::string& args, const fs::path& scratch, int secon
       "cd " + quote(scratch.string()) + " && timeout -s KILL " + std::to_string(seconds) + " bash -c " +
       quote((memoryKiB > 0 ? "ulimit -v " + std::to_string(memoryKiB) + "; " : std::string()) + "exec \"$0\" \"$@\"") +
       " " + quote(SHAPESPLINE_CLI) + " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
-  const int status = std::system(cmd.c_str());
-  CliResult r;
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = readText(out);
-  r.err = readText(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
+  return runCaptured(cmd, out, err);
 }
 
 // One error line (plus at most a usage hint): nothing of the input is echoed at length.

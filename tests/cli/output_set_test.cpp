@@ -39,14 +39,7 @@ CliResult run(const std::string& args, const fs::path& scratch, const std::strin
   const auto out = scratch / "_stdout.txt", err = scratch / "_stderr.txt";
   const std::string cmd = "cd " + quote(scratch.string()) + " && " + prefix + " " + quote(cli()) + " " + args + " " +
                           (redirect.empty() ? ">" + quote(out.string()) : redirect) + " 2>" + quote(err.string());
-  const int status = std::system(cmd.c_str());
-  CliResult r;
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = readText(out);
-  r.err = readText(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
+  return runCaptured(cmd, out, err);
 }
 
 std::string joined(const std::vector<std::string>& v) {
