@@ -14,22 +14,14 @@
 #include <vector>
 
 #include "support/golden.h"
+#include "seed_files.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-void write(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
-  if (!out) throw std::runtime_error("cannot write " + path.string());
-}
-
-std::string sanitize(std::string name) {
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-  return name;
-}
+using shapespline::fuzz::seedName;
+using shapespline::fuzz::writeSeed;
 
 std::string nested(size_t depth) { return std::string(depth, '[') + std::string(depth, ']'); }
 
@@ -78,11 +70,11 @@ int main(int argc, char** argv) {
       for (const auto& c : file.doc.at("cases")) {
         const std::string family = c.value("family", "");
         if ((family != "curve" && family != "surface") || !c.contains("inputs")) continue;
-        write(out / ("golden_" + sanitize(c.at("id").get<std::string>()) + ".json"), c.at("inputs").dump());
+        writeSeed(out / ("golden_" + seedName(c.at("id").get<std::string>()) + ".json"), c.at("inputs").dump());
         ++golden;
       }
     for (const auto& [name, text] : handwritten()) {
-      write(out / (name + ".json"), text);
+      writeSeed(out / (name + ".json"), text);
       ++written;
     }
     std::printf("eval_at_fuzz_seeds: %zu golden sample lists, %zu handwritten -> %s\n", golden, written, out.c_str());

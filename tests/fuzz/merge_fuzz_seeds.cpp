@@ -3,6 +3,7 @@
 // each packed as one input (merge_fuzz_format.h); plus shards in the wrong order, a shard given
 // twice and a truncated shard, so that the fuzzer starts from both sides of every check.
 // Usage: merge_fuzz_seeds OUT_DIR.
+#include "seed_files.h"
 #include "merge_fuzz_format.h"
 
 #include <shapespline/core/curve.h>
@@ -33,11 +34,7 @@ std::string readFile(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void writeFile(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << bytes;
-  if (!out) throw std::runtime_error("cannot write " + p.string());
-}
+using shapespline::fuzz::writeSeed;
 
 // One job (model, grid, format) as `sample` lays it out.
 struct Job {
@@ -149,16 +146,16 @@ int main(int argc, char** argv) {
           }
           const std::string base = std::string(test::kMergeFuzzExtensions[f]) + "_" +
                                    fs::path(model).stem().string() + "_" + std::to_string(n);
-          writeFile(out / (base + "_ok"), test::encodeMergeFuzzInput(in));
+          writeSeed(out / (base + "_ok"), test::encodeMergeFuzzInput(in));
           ++seeds;
           if (n >= 2) {
             test::MergeFuzzInput swapped = in, twice = in, cut = in;
             std::swap(swapped.shards[0], swapped.shards[1]);
             twice.shards[1] = twice.shards[0];
             cut.shards.back().data.resize(cut.shards.back().data.size() * 2 / 3);
-            writeFile(out / (base + "_swapped"), test::encodeMergeFuzzInput(swapped));
-            writeFile(out / (base + "_twice"), test::encodeMergeFuzzInput(twice));
-            writeFile(out / (base + "_cut"), test::encodeMergeFuzzInput(cut));
+            writeSeed(out / (base + "_swapped"), test::encodeMergeFuzzInput(swapped));
+            writeSeed(out / (base + "_twice"), test::encodeMergeFuzzInput(twice));
+            writeSeed(out / (base + "_cut"), test::encodeMergeFuzzInput(cut));
             seeds += 3;
           }
         }

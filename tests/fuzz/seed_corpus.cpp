@@ -13,22 +13,14 @@
 
 #include "support/bad_models.h"
 #include "support/golden.h"
+#include "seed_files.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-void write(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
-  if (!out) throw std::runtime_error("cannot write " + path.string());
-}
-
-std::string sanitize(std::string name) {
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-  return name;
-}
+using shapespline::fuzz::seedName;
+using shapespline::fuzz::writeSeed;
 
 }  // namespace
 
@@ -46,18 +38,18 @@ int main(int argc, char** argv) {
       for (const auto& entry : fs::directory_iterator(models)) {
         if (entry.path().extension() != ".json") continue;
         std::ifstream in(entry.path(), std::ios::binary);
-        write(out / ("example_" + sanitize(entry.path().filename().string())),
+        writeSeed(out / ("example_" + seedName(entry.path().filename().string())),
               std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()));
         ++examples;
       }
     for (const auto& file : shapespline::test::loadGoldenFiles())
       for (const auto& c : file.doc.at("cases"))
         if (c.contains("model")) {
-          write(out / ("golden_" + sanitize(c.at("id").get<std::string>()) + ".json"), c.at("model").dump());
+          writeSeed(out / ("golden_" + seedName(c.at("id").get<std::string>()) + ".json"), c.at("model").dump());
           ++golden;
         }
     for (const auto& b : shapespline::test::badModelCatalog()) {
-      write(out / ("bad_" + sanitize(b.name) + ".json"), b.json_text);
+      writeSeed(out / ("bad_" + seedName(b.name) + ".json"), b.json_text);
       ++bad;
     }
     std::printf("model_fuzz_seeds: %zu examples, %zu golden models, %zu bad models -> %s\n", examples, golden,
