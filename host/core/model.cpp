@@ -2,18 +2,6 @@
 
 namespace shapespline {
 
-std::string_view constructionName(Construction c) {
-  switch (c) {
-    case Construction::ExtendedBSpline: return "extended_bspline";
-    case Construction::AlphaEB: return "alpha_eb";
-    case Construction::GB: return "gb";
-    case Construction::UBP: return "ubp";
-    case Construction::GUBP: return "gubp";
-    case Construction::BSpline: return "bspline";
-  }
-  return "unknown";
-}
-
 static std::string describe(const std::string& field, const std::string& value, const std::string& rule) {
   std::string s = field;
   if (!value.empty()) s += " = " + value;

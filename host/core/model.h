@@ -1,6 +1,8 @@
 #pragma once
 // Plain data describing a curve or surface model (docs/format.md). No evaluation here:
 // evaluators (core/curve.h, core/surface.h, gpu/) take these by const reference.
+#include <shapespline/core/family.h>
+
 #include <glm/vec3.hpp>
 
 #include <stdexcept>
@@ -9,11 +11,6 @@
 #include <vector>
 
 namespace shapespline {
-
-enum class Construction { ExtendedBSpline, AlphaEB, GB, UBP, GUBP, BSpline };
-
-// "extended_bspline", "alpha_eb", ... as spelled in model files.
-std::string_view constructionName(Construction c);
 
 // The shape-defining part of a family of local basis functions (docs/math.md §1–§9).
 struct FamilySpec {

@@ -23,18 +23,14 @@ std::string idx(const std::string& base, size_t i) { return base + "[" + std::to
   throw ModelError(std::move(field), std::move(value), std::move(rule));
 }
 
-bool usesXuWangBasis(Construction c) { return c == Construction::ExtendedBSpline || c == Construction::AlphaEB; }
-bool usesOrder(Construction c) {
-  return c == Construction::UBP || c == Construction::GUBP || c == Construction::BSpline;
-}
 std::string cname(Construction c) { return std::string(constructionName(c)); }
 
 void checkOrder(int order, Construction c, const std::string& field) {
-  const int lo = c == Construction::BSpline ? 2 : 3;
+  const int lo = familyOf(c).minOrder;
   if (order < lo || order > 10) {
-    fail(field, std::to_string(order),
-         c == Construction::BSpline ? "bspline order must be an integer in 2..10"
-                                    : cname(c) + " order must be an integer in 3..10 (order 2 is only the seed function)");
+    std::string rule = cname(c) + " order must be an integer in " + std::to_string(lo) + "..10";
+    if (lo > 2) rule += " (order 2 is only the seed function)";
+    fail(field, std::to_string(order), rule);
   }
 }
 
@@ -97,19 +93,15 @@ void checkMu(const FamilySpec& f) {
 // Fewest points an open/closed direction needs (docs/format.md "Minimum sizes").
 int minPoints(Construction c, int order, bool closed) {
   if (closed) return 3;
-  switch (c) {
-    case Construction::AlphaEB: return 2;
-    case Construction::ExtendedBSpline:
-    case Construction::GB: return 4;
-    default: return order;
-  }
+  const int fixed = familyOf(c).minOpenPoints;
+  return fixed > 0 ? fixed : order;
 }
 
 std::string minRule(Construction c, int order, bool closed, const std::string& what, const std::string& unit) {
   const int m = minPoints(c, order, closed);
   std::string s = closed ? "a closed " : "an open ";
   s += cname(c) + " " + what + " needs at least " + std::to_string(m) + " " + unit;
-  if (!closed && usesOrder(c)) s += " (order " + std::to_string(order) + ")";
+  if (!closed && familyOf(c).usesOrder) s += " (order " + std::to_string(order) + ")";
   return s;
 }
 
@@ -177,10 +169,11 @@ double ubpLambdaMin(int order) {
 
 void validateFamily(const FamilySpec& f, int orderV, bool isSurface) {
   const Construction c = f.construction;
-  if (usesXuWangBasis(c) && (f.degree < 4 || f.degree > 6))
+  const FamilyTraits& traits = familyOf(c);
+  if (traits.usesDegree && (f.degree < 4 || f.degree > 6))
     fail("degree", std::to_string(f.degree), "degree must be 4, 5 or 6");
-  if (usesOrder(c)) {
-    const bool twoOrders = isSurface && c == Construction::BSpline;
+  if (traits.usesOrder) {
+    const bool twoOrders = isSurface && traits.twoOrders;
     checkOrder(f.order, c, twoOrders ? "order[0]" : "order");
     if (twoOrders) {
       checkOrder(orderV, c, "order[1]");
@@ -190,7 +183,7 @@ void validateFamily(const FamilySpec& f, int orderV, bool isSurface) {
     }
   }
   checkLambda(f);
-  if (c == Construction::GUBP) {
+  if (traits.usesMu) {
     checkMu(f);
   } else if (!f.mu.empty()) {
     fail("mu", std::to_string(f.mu.size()) + " values", "mu is only used by gubp, not by " + cname(c));

@@ -31,36 +31,34 @@ std::string idx(const std::string& base, size_t i) { return base + "[" + std::to
 }
 
 std::optional<Construction> constructionFromName(const std::string& s) {
-  for (Construction c : {Construction::ExtendedBSpline, Construction::AlphaEB, Construction::GB, Construction::UBP,
-                         Construction::GUBP, Construction::BSpline})
-    if (constructionName(c) == s) return c;
+  if (const FamilyTraits* f = familyNamed(s)) return f->construction;
   return std::nullopt;
 }
 
-bool isXuWang(Construction c) { return c == Construction::ExtendedBSpline || c == Construction::AlphaEB; }
-bool hasOrder(Construction c) {
-  return c == Construction::UBP || c == Construction::GUBP || c == Construction::BSpline;
+// "extended_bspline, alpha_eb, ..., bspline": every name the family table knows.
+std::string constructionNames() {
+  std::string names;
+  for (const FamilyTraits& f : families()) names += (names.empty() ? "" : ", ") + std::string(f.name);
+  return names;
 }
-bool hasLambda(Construction c) { return c != Construction::GUBP && c != Construction::BSpline; }
-// Span knots exist for extended_bspline/gb curves only (docs/math.md §1, R3); knot vectors for bspline.
-bool hasKnots(Construction c, bool surface) {
-  if (c == Construction::BSpline) return true;
-  return !surface && (c == Construction::ExtendedBSpline || c == Construction::GB);
-}
+
+// Span knots exist for curves only (docs/math.md §1, R3); knot vectors for curves and surfaces.
+bool hasKnots(const FamilyTraits& f, bool surface) { return f.knotVectors || (!surface && f.spanKnots); }
 
 // docs/format.md "Fields": why a key that exists is not allowed here, or empty when it is.
 std::string unusedKeyRule(const std::string& key, Construction c, bool surface) {
-  const std::string name(constructionName(c));
+  const FamilyTraits& f = familyOf(c);
+  const std::string name(f.name);
   bool used = true;
-  if (key == "degree") used = isXuWang(c);
-  else if (key == "order") used = hasOrder(c);
-  else if (key == "lambda") used = hasLambda(c);
-  else if (key == "mu") used = c == Construction::GUBP;
-  else if (key == "alpha") used = c == Construction::AlphaEB;
-  else if (key == "knots") used = hasKnots(c, surface);
+  if (key == "degree") used = f.usesDegree;
+  else if (key == "order") used = f.usesOrder;
+  else if (key == "lambda") used = f.usesLambda;
+  else if (key == "mu") used = f.usesMu;
+  else if (key == "alpha") used = f.usesAlpha;
+  else if (key == "knots") used = hasKnots(f, surface);
   if (used) return {};
   if (key == "alpha") return "alpha is only allowed for alpha_eb, not " + name;
-  if (key == "knots" && surface && (c == Construction::ExtendedBSpline || c == Construction::GB))
+  if (key == "knots" && surface && f.spanKnots)
     return "span knots are only allowed for extended_bspline/gb curves, not surfaces";
   return key + " is not used by construction " + name;
 }
@@ -114,10 +112,11 @@ size_t readPoint(const json& p, const std::string& field, bool surface, glm::dve
 
 void readCommon(const json& doc, FamilySpec& f, bool surface) {
   const Construction c = f.construction;
-  if (isXuWang(c)) f.degree = getInteger(doc.at("degree"), "degree");
-  if (hasLambda(c) && doc.contains("lambda")) f.lambda = getNumber(doc.at("lambda"), "lambda");
-  if (c == Construction::GUBP) f.mu = getNumberArray(doc.at("mu"), "mu", "numbers");
-  if (hasOrder(c) && !(surface && c == Construction::BSpline)) {
+  const FamilyTraits& traits = familyOf(c);
+  if (traits.usesDegree) f.degree = getInteger(doc.at("degree"), "degree");
+  if (traits.usesLambda && doc.contains("lambda")) f.lambda = getNumber(doc.at("lambda"), "lambda");
+  if (traits.usesMu) f.mu = getNumberArray(doc.at("mu"), "mu", "numbers");
+  if (traits.usesOrder && !(surface && traits.twoOrders)) {
     const json& o = doc.at("order");
     if (surface && o.is_array())
       failJson("order", o, std::string(constructionName(c)) + " surfaces take one integer order for both directions");
@@ -173,7 +172,7 @@ SurfaceModel readSurface(const json& doc, Construction c) {
   SurfaceModel m;
   m.family.construction = c;
   readCommon(doc, m.family, true);
-  if (c == Construction::BSpline) {
+  if (familyOf(c).twoOrders) {
     const json& o = doc.at("order");
     if (o.is_array()) {
       if (o.size() != 2) failJson("order", o, "a bspline surface order is [k, l] (u order, v order)");
@@ -263,12 +262,11 @@ Model parseModel(const json& doc) {
   const bool surface = kindJ == "surface";
 
   if (!doc.contains("construction"))
-    fail("construction", "(missing)",
-         "construction is required: extended_bspline, alpha_eb, gb, ubp, gubp or bspline");
+    fail("construction", "(missing)", "construction is required: one of " + constructionNames());
   const json& consJ = doc.at("construction");
   const auto cons = consJ.is_string() ? constructionFromName(consJ.get<std::string>()) : std::nullopt;
   if (!cons)
-    failJson("construction", consJ, "construction must be one of extended_bspline, alpha_eb, gb, ubp, gubp, bspline");
+    failJson("construction", consJ, "construction must be one of " + constructionNames());
   const Construction c = *cons;
 
   for (const auto& [key, value] : doc.items())
@@ -278,10 +276,11 @@ Model parseModel(const json& doc) {
   auto require = [&](const char* key, bool needed) {
     if (needed && !doc.contains(key)) fail(key, "(missing)", std::string(key) + " is required for " + cname);
   };
-  require("degree", isXuWang(c));
-  require("order", hasOrder(c));
-  require("mu", c == Construction::GUBP);
-  require("alpha", c == Construction::AlphaEB);
+  const FamilyTraits& traits = familyOf(c);
+  require("degree", traits.usesDegree);
+  require("order", traits.usesOrder);
+  require("mu", traits.usesMu);
+  require("alpha", traits.usesAlpha);
   require("points", true);
 
   if (surface) {
@@ -300,33 +299,35 @@ Model loadModelFile(const std::filesystem::path& path) { return parseModelText(r
 
 json toJson(const CurveModel& m) {
   const FamilySpec& f = m.family;
+  const FamilyTraits& traits = familyOf(f.construction);
   json j;
   j["kind"] = "curve";
-  j["construction"] = std::string(constructionName(f.construction));
-  if (isXuWang(f.construction)) j["degree"] = f.degree;
-  if (hasOrder(f.construction)) j["order"] = f.order;
-  if (hasLambda(f.construction)) j["lambda"] = f.lambda;
-  if (f.construction == Construction::GUBP) j["mu"] = f.mu;
+  j["construction"] = std::string(traits.name);
+  if (traits.usesDegree) j["degree"] = f.degree;
+  if (traits.usesOrder) j["order"] = f.order;
+  if (traits.usesLambda) j["lambda"] = f.lambda;
+  if (traits.usesMu) j["mu"] = f.mu;
   j["closed"] = m.closed;
   json pts = json::array();
   for (const auto& p : m.points)
     pts.push_back(m.dimension == 2 ? json::array({p.x, p.y}) : json::array({p.x, p.y, p.z}));
   j["points"] = std::move(pts);
-  if (f.construction == Construction::AlphaEB) j["alpha"] = m.alpha;
+  if (traits.usesAlpha) j["alpha"] = m.alpha;
   if (!m.knots.empty()) j["knots"] = m.knots;
   return j;
 }
 
 json toJson(const SurfaceModel& m) {
   const FamilySpec& f = m.family;
+  const FamilyTraits& traits = familyOf(f.construction);
   json j;
   j["kind"] = "surface";
-  j["construction"] = std::string(constructionName(f.construction));
-  if (isXuWang(f.construction)) j["degree"] = f.degree;
-  if (f.construction == Construction::BSpline) j["order"] = json::array({f.order, m.orderV});
-  else if (hasOrder(f.construction)) j["order"] = f.order;
-  if (hasLambda(f.construction)) j["lambda"] = f.lambda;
-  if (f.construction == Construction::GUBP) j["mu"] = f.mu;
+  j["construction"] = std::string(traits.name);
+  if (traits.usesDegree) j["degree"] = f.degree;
+  if (traits.twoOrders) j["order"] = json::array({f.order, m.orderV});
+  else if (traits.usesOrder) j["order"] = f.order;
+  if (traits.usesLambda) j["lambda"] = f.lambda;
+  if (traits.usesMu) j["mu"] = f.mu;
   j["closed"] = json::array({m.closedU, m.closedV});
   json pts = json::array();
   for (int i = 0; i < m.rows; ++i) {
@@ -338,9 +339,9 @@ json toJson(const SurfaceModel& m) {
     pts.push_back(std::move(row));
   }
   j["points"] = std::move(pts);
-  if (f.construction == Construction::AlphaEB && m.alpha.size() != m.points.size()) {
+  if (traits.usesAlpha && m.alpha.size() != m.points.size()) {
     j["alpha"] = m.alpha;  // not a valid model; write what is there rather than index past it
-  } else if (f.construction == Construction::AlphaEB) {
+  } else if (traits.usesAlpha) {
     json a = json::array();
     for (int i = 0; i < m.rows; ++i) {
       json row = json::array();
