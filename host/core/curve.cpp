@@ -1,6 +1,6 @@
 #include <shapespline/core/curve.h>
 
-#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
 
 #include <algorithm>
@@ -48,11 +48,7 @@ void evalLocalSpan(const SpanBasis& basis, const glm::dvec3* pts, double t, doub
   double b[kMaxBasisCount], d1[kMaxBasisCount], d2[kMaxBasisCount];
   evalSpanBasis(basis, t, b, d1, d2);
   glm::dvec3 p(0.0), q1(0.0), q2(0.0);
-  for (int r = 0; r < basis.count; ++r) {
-    p += b[r] * pts[r];
-    q1 += d1[r] * pts[r];
-    q2 += d2[r] * pts[r];
-  }
+  for (int r = 0; r < basis.count; ++r) pm::accumulate3(p, q1, q2, b[r], d1[r], d2[r], pts[r]);
   out.point = p;
   out.d1 = q1 * invH;
   out.d2 = q2 * (invH * invH);
@@ -62,24 +58,14 @@ void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::d
                      double a0, double a1, double t, CurvePoint& out) {
   CurvePoint c;
   evalLocalSpan(basis, pts, t, 1.0, c);
-  const BlendValue s = singularBlend(t);
-  const double da = a1 - a0;
-  const glm::dvec3 dv = v1 - v0;
-  const double a = a0 + s.s * da, a_1 = s.d1 * da, a_2 = s.d2 * da;
-  const glm::dvec3 l = v0 + s.s * dv, l1 = s.d1 * dv, l2 = s.d2 * dv;
-  const glm::dvec3 m = l - c.point, m1 = l1 - c.d1, m2 = l2 - c.d2;
-  out.point = c.point + a * m;
-  out.d1 = c.d1 + a * m1 + a_1 * m;
-  out.d2 = c.d2 + a * m2 + 2.0 * a_1 * m1 + a_2 * m;
+  pm::alphaEBBlendCurve(pm::singularBlend(t), v0, v1, a0, a1, c.point, c.d1, c.d2);
+  out = c;
 }
 
 glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha, const std::string& field) {
-  const glm::dvec3 d = p - node;
-  const double c = (1.0 - alpha) / alpha;
-  // For α below 1/DBL_MAX (subnormal) the factor itself overflows and 0 * inf would make V NaN even
-  // where P = node; d / α - d is the same value without the overflowing intermediate.
-  const glm::dvec3 v = std::isfinite(c) ? p + c * d : p + (d / alpha - d);
+  const glm::dvec3 v = pm::alphaEBVertex(p, node, alpha);
   if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+    const glm::dvec3 d = p - node;
     const double dist = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
     throw ModelError(field, shortest(alpha),
                      "alpha is so small that V = P + ((1-alpha)/alpha)(P - node) exceeds the fp64 range (|P - node| = " +

@@ -1,6 +1,6 @@
 #include <shapespline/core/grid_sampler.h>
 
-#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/point_math.h>
 
 #include <glm/geometric.hpp>
 
@@ -29,7 +29,7 @@ double gridParameter(int a, int samples) { return samples > 1 ? static_cast<doub
 struct DirectionTable {
   int count = 0, samples = 0;
   std::vector<double> b[3];
-  std::vector<BlendValue> blend;
+  std::vector<glm::dvec3> blend;  // (S, S', S'')(t_a)
 
   const double* row(int d, int r) const { return b[d].data() + static_cast<size_t>(r) * samples; }
 };
@@ -46,7 +46,7 @@ DirectionTable tabulate(const SpanBasis& basis, int samples) {
     evalSpanBasis(basis, t, v[0], v[1], v[2]);
     for (int d = 0; d < 3; ++d)
       for (int r = 0; r < basis.count; ++r) tab.b[d][static_cast<size_t>(r) * samples + a] = v[d][r];
-    tab.blend[a] = singularBlend(t);
+    tab.blend[a] = pm::singularBlend(t);
   }
   return tab;
 }
@@ -349,17 +349,11 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
     }
     for (int a = aBegin; a < aEnd; ++a, ++point) {
       glm::dvec3 c[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
-      for (int r = 0; r < tab.count; ++r)
-        for (int d = 0; d < 3; ++d) c[d] += tab.b[d][static_cast<size_t>(r) * S + a] * P[r];
-      if (alphaEB) {  // docs/math.md §4.2
-        const BlendValue s = tab.blend[a];
-        const double al = (1 - s.s) * a0 + s.s * a1, al1 = s.d1 * (a1 - a0), al2 = s.d2 * (a1 - a0);
-        const glm::dvec3 L = (1 - s.s) * v0 + s.s * v1, L1 = s.d1 * (v1 - v0), L2 = s.d2 * (v1 - v0);
-        const glm::dvec3 M = L - c[0], M1 = L1 - c[1], M2 = L2 - c[2];
-        c[2] = c[2] + al * M2 + 2 * al1 * M1 + al2 * M;
-        c[1] = c[1] + al * M1 + al1 * M;
-        c[0] = c[0] + al * M;
+      for (int r = 0; r < tab.count; ++r) {
+        const size_t k = static_cast<size_t>(r) * S + a;
+        pm::accumulate3(c[0], c[1], c[2], tab.b[0][k], tab.b[1][k], tab.b[2][k], P[r]);
       }
+      if (alphaEB) pm::alphaEBBlendCurve(tab.blend[a], v0, v1, a0, a1, c[0], c[1], c[2]);
       put(outP, point, c[0]);
       put(outD1, point, c[1] * invH);
       put(outD2, point, c[2] * (invH * invH));
@@ -462,41 +456,24 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           point += static_cast<size_t>(Sv);
           continue;
         }
-        const BlendValue su = tu.blend[a];
+        const pm::BlendFactors fu = pm::blendFactors(tu.blend[a]);
         const double uA = gridParameter(a, Su);
         for (int b = 0; b < Sv; ++b, ++point) {
           glm::dvec3 q[6];
           for (int k = 0; k < 6; ++k) q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
           if (alphaEB) {
-            // docs/math.md §5.3: weight derivative (r,q) = u-factor of order r times v-factor of order q.
-            const BlendValue sv = tv.blend[b];
-            const double fu[3][2] = {{1 - su.s, su.s}, {-su.d1, su.d1}, {-su.d2, su.d2}};
-            const double fv[3][2] = {{1 - sv.s, sv.s}, {-sv.d1, sv.d1}, {-sv.d2, sv.d2}};
-            double al[6] = {0, 0, 0, 0, 0, 0};
-            glm::dvec3 M[6] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0),
-                               glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
-            // Only the orders the requested fields need (need[] already includes the first partials
-            // that α-EB second partials use); the skipped ones feed no output.
-            for (int k = 0; k < 6; ++k) {
-              if (!need[k]) continue;
-              const int r = kOrders[k][0], o = kOrders[k][1];
-              al[k] = 0.0;
-              glm::dvec3 L(0.0);
-              for (int cu = 0; cu < 2; ++cu)
-                for (int cv = 0; cv < 2; ++cv) {
-                  const double w = fu[r][cu] * fv[o][cv];
-                  al[k] += w * alpha[cu * 2 + cv];
-                  L += w * V[cu * 2 + cv];
-                }
-              M[k] = L - q[k];
-            }
-            const glm::dvec3 C = q[0], Cu = q[1], Cv = q[2], Cuu = q[3], Cuv = q[4], Cvv = q[5];
-            q[0] = C + al[0] * M[0];
-            if (need[1]) q[1] = Cu + al[0] * M[1] + al[1] * M[0];
-            if (need[2]) q[2] = Cv + al[0] * M[2] + al[2] * M[0];
-            if (need[3]) q[3] = Cuu + al[0] * M[3] + 2 * al[1] * M[1] + al[3] * M[0];
-            if (need[4]) q[4] = Cuv + al[0] * M[4] + al[1] * M[2] + al[2] * M[1] + al[4] * M[0];
-            if (need[5]) q[5] = Cvv + al[0] * M[5] + 2 * al[2] * M[2] + al[5] * M[0];
+            // docs/math.md §5.3, only the orders the requested fields need (need[] already includes
+            // the first partials that α-EB second partials use); the skipped ones feed no output.
+            const pm::BlendFactors fv = pm::blendFactors(tv.blend[b]);
+            pm::AlphaEBWeights w = pm::alphaEBWeightsZero();
+            pm::cornerBlend(fu.f00, fu.f01, fv.f00, fv.f01, alpha, V, w.a00, w.L00);
+            if (need[1]) pm::cornerBlend(fu.f10, fu.f11, fv.f00, fv.f01, alpha, V, w.a10, w.L10);
+            if (need[2]) pm::cornerBlend(fu.f00, fu.f01, fv.f10, fv.f11, alpha, V, w.a01, w.L01);
+            if (need[3]) pm::cornerBlend(fu.f20, fu.f21, fv.f00, fv.f01, alpha, V, w.a20, w.L20);
+            if (need[4]) pm::cornerBlend(fu.f10, fu.f11, fv.f10, fv.f11, alpha, V, w.a11, w.L11);
+            if (need[5]) pm::cornerBlend(fu.f00, fu.f01, fv.f20, fv.f21, alpha, V, w.a02, w.L02);
+            if (need[3] || need[4] || need[5]) pm::alphaEBBlendSecond(w, q[0], q[1], q[2], q[3], q[4], q[5]);
+            pm::alphaEBBlendFirst(w, q[0], q[1], q[2]);
           }
           put(out[int(Field::Point)], point, q[0]);
           put(out[int(Field::Du)], point, q[1]);

@@ -1,5 +1,7 @@
 #include <shapespline/core/span_basis.h>
 
+#include <shapespline/core/point_math.h>
+
 #include <cmath>
 
 namespace shapespline {
@@ -202,13 +204,8 @@ SpanBasis makeSpanBasis(const FamilySpec& family) {
 void evalSpanBasis(const SpanBasis& basis, double t, double* b, double* d1, double* d2) {
   for (int r = 0; r < basis.count; ++r) {
     const double* c = basis.coef[r];
-    // Simultaneous Horner for p, p', p''/2.
     double p = c[basis.degree], dp = 0.0, ddp = 0.0;
-    for (int d = basis.degree - 1; d >= 0; --d) {
-      ddp = ddp * t + dp;
-      dp = dp * t + p;
-      p = p * t + c[d];
-    }
+    for (int d = basis.degree - 1; d >= 0; --d) pm::hornerStep(p, dp, ddp, t, c[d]);
     if (b) b[r] = p;
     if (d1) d1[r] = dp;
     if (d2) d2[r] = 2.0 * ddp;

@@ -1,6 +1,6 @@
 #include <shapespline/core/surface.h>
 
-#include <shapespline/core/singular_blend.h>
+#include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
 
 #include <glm/geometric.hpp>
@@ -12,6 +12,9 @@
 #include <string>
 
 namespace shapespline {
+
+static_assert(kNormalShift == pm::kNormalShift && kNormalDegeneracy == pm::kNormalDegeneracy,
+              "the public §5.3 constants are the shared ones");
 
 namespace {
 
@@ -29,15 +32,6 @@ std::string rangeText(const SpanRange& r) {
 void checkLocal(const char* name, double t) {
   if (!(t >= 0.0 && t <= 1.0))
     throw std::out_of_range(std::string(name) + " = " + fmt(t) + " outside the local parameter range [0, 1]");
-}
-
-// The u- or v-factor pair of §5.3: (1-S, S) for order 0 and (-S^(r), S^(r)) for r >= 1.
-struct FactorPairs {
-  double f[3][2];
-};
-FactorPairs blendFactors(double t) {
-  const BlendValue s = singularBlend(t);
-  return {{{1.0 - s.s, s.s}, {-s.d1, s.d1}, {-s.d2, s.d2}}};
 }
 
 // A patch-net index sequence for one direction, plus the knot interval range for B-splines.
@@ -58,17 +52,8 @@ void evalTensorPatch(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3*
     // Row r contracted with the v basis first: three v-partials of one row curve.
     glm::dvec3 row0(0.0), row1(0.0), row2(0.0);
     const glm::dvec3* p = net + static_cast<ptrdiff_t>(r) * stride;
-    for (int s = 0; s < bv.count; ++s) {
-      row0 += c0[s] * p[s];
-      row1 += c1[s] * p[s];
-      row2 += c2[s] * p[s];
-    }
-    d.p += b0[r] * row0;
-    d.u += b1[r] * row0;
-    d.uu += b2[r] * row0;
-    d.v += b0[r] * row1;
-    d.uv += b1[r] * row1;
-    d.vv += b0[r] * row2;
+    for (int s = 0; s < bv.count; ++s) pm::accumulate3(row0, row1, row2, c0[s], c1[s], c2[s], p[s]);
+    pm::accumulateTensorRow(d.p, d.u, d.v, d.uu, d.uv, d.vv, b0[r], b1[r], b2[r], row0, row1, row2);
   }
   out = d;
 }
@@ -77,41 +62,22 @@ void evalAlphaEBPatch(const SpanBasis& basis, const glm::dvec3* net, int stride,
                       const double alpha[4], double u, double v, PatchDerivs& out, PatchDerivs* base) {
   PatchDerivs c;
   evalTensorPatch(basis, basis, net, stride, u, v, c);
-  const FactorPairs fu = blendFactors(u), fv = blendFactors(v);
-  // a_{rq} and L_{rq} for (r,q) in {00, 10, 01, 20, 11, 02}; corner k = 2*cu + cv.
-  double a[6] = {};
-  glm::dvec3 l[6] = {};
-  static constexpr int kOrders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
-  for (int o = 0; o < 6; ++o) {
-    for (int k = 0; k < 4; ++k) {
-      const double w = fu.f[kOrders[o][0]][k >> 1] * fv.f[kOrders[o][1]][k & 1];
-      a[o] += w * alpha[k];
-      l[o] += w * V[k];
-    }
-  }
-  const glm::dvec3 m = l[0] - c.p, mu = l[1] - c.u, mv = l[2] - c.v;
-  const glm::dvec3 muu = l[3] - c.uu, muv = l[4] - c.uv, mvv = l[5] - c.vv;
-  out.p = c.p + a[0] * m;
-  out.u = c.u + a[0] * mu + a[1] * m;
-  out.v = c.v + a[0] * mv + a[2] * m;
-  out.uu = c.uu + a[0] * muu + 2.0 * a[1] * mu + a[3] * m;
-  out.uv = c.uv + a[0] * muv + a[1] * mv + a[2] * mu + a[4] * m;
-  out.vv = c.vv + a[0] * mvv + 2.0 * a[2] * mv + a[5] * m;
+  const pm::AlphaEBWeights w = pm::alphaEBWeights(pm::singularBlend(u), pm::singularBlend(v), alpha, V);
+  PatchDerivs q = c;
+  pm::alphaEBBlendPatch(w, q.p, q.u, q.v, q.uu, q.uv, q.vv);
+  out = q;
   if (base) *base = c;
 }
 
 glm::dvec3 alphaEBCornerNormal(const glm::dvec3& p, const glm::dvec3& node, const glm::dvec3& vU, double alphaU,
                                const glm::dvec3& vV, double alphaV, double sU, double sV) {
-  const glm::dvec3 aU = vU - p + (1.0 - alphaU) * (node - p);
-  const glm::dvec3 aV = vV - p + (1.0 - alphaV) * (node - p);
-  return glm::cross(sU * aU, sV * aV);
+  glm::dvec3 axisU, axisV;
+  pm::alphaEBCornerAxes(p, node, vU, alphaU, vV, alphaV, sU, sV, axisU, axisV);
+  return glm::cross(axisU, axisV);
 }
 
 bool degenerateCross(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& cross) {
-  if (a == glm::dvec3(0.0) || b == glm::dvec3(0.0)) return true;
-  const double n = glm::length(cross);
-  // !(>=) so that NaN/Inf inputs count as degenerate.
-  return !(n >= kNormalDegeneracy * glm::length(a) * glm::length(b)) || !std::isfinite(n) || n == 0.0;
+  return pm::degenerateCross(a, b, cross);
 }
 
 glm::dvec3 unitScaled(const glm::dvec3& a) {
@@ -318,10 +284,9 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
     return out;
   }
   // 3. Moved towards the patch centre by δ in each parameter.
-  auto towardCentre = [](double t) { return t < 0.5 ? t + kNormalShift : t > 0.5 ? t - kNormalShift : t; };
   PatchDerivs qs, cs;
-  evalPatch(i, j, towardCentre(u), towardCentre(v), qs, cs);
-  if (unitNormal(knotVector_ ? cs.u : qs.u, knotVector_ ? cs.v : qs.v, out.normal)) {
+  evalPatch(i, j, pm::towardCentre(u), pm::towardCentre(v), qs, cs);
+  if (unitNormal(knotVector() ? cs.u : qs.u, knotVector() ? cs.v : qs.v, out.normal)) {
     out.normalRule = NormalRule::Shifted;
     return out;
   }
@@ -330,7 +295,7 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
     out.normalRule = NormalRule::Base;
     return out;
   }
-  out.normal = glm::dvec3(0.0, 0.0, 1.0);
+  out.normal = pm::fixedAxisNormal();
   out.normalRule = NormalRule::FixedAxis;
   return out;
 }
