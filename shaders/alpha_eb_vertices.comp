@@ -8,7 +8,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
-layout(std430, binding = 2) writeonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = kBindingVerts) writeonly buffer VertBuf { REAL4 verts[]; };
 layout(push_constant) uniform PushBlock { VertexPush pc; };
 
 const uint kNodePoints = 3u;

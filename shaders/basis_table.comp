@@ -6,8 +6,8 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
-layout(std430, binding = 3) writeonly buffer TableBuf { REAL table[]; };
-layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = kBindingTable) writeonly buffer TableBuf { REAL table[]; };
+layout(std430, binding = kBindingSamples) readonly buffer SampleBuf { ListSample samples[]; };
 layout(push_constant) uniform PushBlock { TablePush pc; };
 
 void main() {

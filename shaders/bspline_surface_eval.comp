@@ -9,14 +9,14 @@
 #include "common.glsl"
 #include "bspline.glsl"
 
-layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
-layout(std430, binding = 5) writeonly buffer OutPoint { REAL4 outPoint[]; };
-layout(std430, binding = 8) writeonly buffer OutDu { REAL4 outDu[]; };
-layout(std430, binding = 9) writeonly buffer OutDv { REAL4 outDv[]; };
-layout(std430, binding = 10) writeonly buffer OutDuu { REAL4 outDuu[]; };
-layout(std430, binding = 11) writeonly buffer OutDuv { REAL4 outDuv[]; };
-layout(std430, binding = 12) writeonly buffer OutDvv { REAL4 outDvv[]; };
-layout(std430, binding = 13) writeonly buffer OutNormal { REAL4 outNormal[]; };
+layout(std430, binding = kBindingSamples) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = kBindingOutput + kFieldPoint) writeonly buffer OutPoint { REAL4 outPoint[]; };
+layout(std430, binding = kBindingOutput + kFieldDu) writeonly buffer OutDu { REAL4 outDu[]; };
+layout(std430, binding = kBindingOutput + kFieldDv) writeonly buffer OutDv { REAL4 outDv[]; };
+layout(std430, binding = kBindingOutput + kFieldDuu) writeonly buffer OutDuu { REAL4 outDuu[]; };
+layout(std430, binding = kBindingOutput + kFieldDuv) writeonly buffer OutDuv { REAL4 outDuv[]; };
+layout(std430, binding = kBindingOutput + kFieldDvv) writeonly buffer OutDvv { REAL4 outDvv[]; };
+layout(std430, binding = kBindingOutput + kFieldNormal) writeonly buffer OutNormal { REAL4 outNormal[]; };
 
 layout(push_constant) uniform PushBlock { KnotEvalPush pc; };
 
@@ -80,12 +80,12 @@ Sample evalSample(uint k) {
     ListSample s = samples[pc.firstItem + k];
     spanU = int(s.i);
     spanV = int(s.j);
-    iu = int(s.pad0);
-    iv = int(s.pad1);
+    iu = int(s.intervalU);
+    iv = int(s.intervalV);
     x = s.u;
     y = s.v;
-    lu = s.pad2;
-    lv = s.pad3;
+    lu = s.localU;
+    lv = s.localV;
   } else {
     // Row of the chunk, then row counted from the start of item firstItem (surface_eval.comp).
     uint row = k / pc.samplesV, b = k - row * pc.samplesV;

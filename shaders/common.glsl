@@ -1,5 +1,5 @@
-// Shared GLSL of the evaluation kernels: precision switch, specialization constants, buffers and
-// the raw kernels mirrored from host/core (same names, same operation order as the fp64 C++).
+// Shared GLSL of the evaluation kernels: precision switch, specialization constants, buffers, the
+// per-point math of host/core/point_math.h (the same text core compiles as C++) and store macros.
 // Compiled with REAL_IS_DOUBLE=1 for the fp64 variant (needs shaderFloat64).
 #ifndef SHAPESPLINE_COMMON_GLSL
 #define SHAPESPLINE_COMMON_GLSL
@@ -44,47 +44,32 @@
 #define SHAPESPLINE_GLSL 1
 #include "layout.h"
 
-layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint BASIS_COUNT_U = 4;
-layout(constant_id = 2) const uint POLY_DEGREE_U = 3;
-layout(constant_id = 3) const uint BASIS_COUNT_V = 4;
-layout(constant_id = 4) const uint POLY_DEGREE_V = 3;
-layout(constant_id = 5) const uint OUTPUT_MASK = 1;
-layout(constant_id = 6) const uint ALPHA_EB = 0;
-layout(constant_id = 7) const uint LIST_MODE = 0;
-layout(constant_id = 8) const uint SURFACE = 0;
+layout(local_size_x_id = kSpecWorkgroupSize) in;
+layout(constant_id = kSpecBasisCountU) const uint BASIS_COUNT_U = 4;
+layout(constant_id = kSpecPolyDegreeU) const uint POLY_DEGREE_U = 3;
+layout(constant_id = kSpecBasisCountV) const uint BASIS_COUNT_V = 4;
+layout(constant_id = kSpecPolyDegreeV) const uint POLY_DEGREE_V = 3;
+layout(constant_id = kSpecOutputMask) const uint OUTPUT_MASK = 1;
+layout(constant_id = kSpecAlphaEB) const uint ALPHA_EB = 0;
+layout(constant_id = kSpecListMode) const uint LIST_MODE = 0;
+layout(constant_id = kSpecSurface) const uint SURFACE = 0;
 
-layout(std430, binding = 0) readonly buffer NetBuf { REAL4 net[]; };
-layout(std430, binding = 1) readonly buffer ParamBuf { REAL params[]; };
+layout(std430, binding = kBindingNet) readonly buffer NetBuf { REAL4 net[]; };
+layout(std430, binding = kBindingParams) readonly buffer ParamBuf { REAL params[]; };
 
-// core/span_basis.cpp evalSpanBasis: simultaneous Horner for p, p', p''/2 in the local t.
-// Coefficients coef[r][d] of the basis start at params[coefOffset].
+#include "point_math.h"
+
+// evalSpanBasis of core/span_basis.cpp on the coefficients coef[r][d] at params[coefOffset].
 void evalSpanBasis(uint coefOffset, uint count, uint degree, REAL t,
                    out REAL b[kMaxBasis], out REAL d1[kMaxBasis], out REAL d2[kMaxBasis]) {
   for (uint r = 0; r < count; ++r) {
     uint c = coefOffset + r * kCoefStride;
     REAL p = params[c + degree], dp = REAL(0), ddp = REAL(0);
-    for (int d = int(degree) - 1; d >= 0; --d) {
-      ddp = ddp * t + dp;
-      dp = dp * t + p;
-      p = p * t + params[c + uint(d)];
-    }
+    for (int d = int(degree) - 1; d >= 0; --d) hornerStep(p, dp, ddp, t, params[c + uint(d)]);
     b[r] = p;
     d1[r] = dp;
     d2[r] = REAL(2) * ddp;
   }
-}
-
-// core/singular_blend.cpp singularBlend: S, S', S'' (docs/math.md §3). The three pieces are all
-// evaluated and one selected (same arithmetic as the C++): llvmpipe runs every side of a
-// per-lane branch anyway, and a select saves the mask bookkeeping.
-REAL3 singularBlend(REAL t) {
-  REAL3 lo = REAL3(REAL(4.5) * t * t * t, REAL(13.5) * t * t, REAL(27) * t);
-  REAL3 mid = REAL3(REAL(0.5) + t * (REAL(-4.5) + t * (REAL(13.5) - REAL(9) * t)),
-                    REAL(-4.5) + t * (REAL(27) - REAL(27) * t), REAL(27) - REAL(54) * t);
-  REAL u = REAL(1) - t;
-  REAL3 hi = REAL3(REAL(1) - REAL(4.5) * u * u * u, REAL(13.5) * u * u, REAL(-27) * u);
-  return mix(mix(hi, mid, bvec3(t <= REAL(2.0 / 3.0))), lo, bvec3(t <= REAL(1.0 / 3.0)));
 }
 
 // Stores value (xyz of point k) into a packed xyz plane viewed as REAL4[].

@@ -6,12 +6,12 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
-layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
-layout(std430, binding = 3) readonly buffer TableBuf { REAL table[]; };
-layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
-layout(std430, binding = 5) writeonly buffer OutPoint { REAL4 outPoint[]; };
-layout(std430, binding = 6) writeonly buffer OutD1 { REAL4 outD1[]; };
-layout(std430, binding = 7) writeonly buffer OutD2 { REAL4 outD2[]; };
+layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = kBindingTable) readonly buffer TableBuf { REAL table[]; };
+layout(std430, binding = kBindingSamples) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = kBindingOutput + kFieldPoint) writeonly buffer OutPoint { REAL4 outPoint[]; };
+layout(std430, binding = kBindingOutput + kFieldD1) writeonly buffer OutD1 { REAL4 outD1[]; };
+layout(std430, binding = kBindingOutput + kFieldD2) writeonly buffer OutD2 { REAL4 outD2[]; };
 
 layout(push_constant) uniform PushBlock { EvalPush pc; };
 

@@ -12,10 +12,10 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 
-layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
-layout(std430, binding = 5) writeonly buffer OutPoint { PLANE4 outPoint[]; };
-layout(std430, binding = 6) writeonly buffer OutD1 { PLANE4 outD1[]; };
-layout(std430, binding = 7) writeonly buffer OutD2 { PLANE4 outD2[]; };
+layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = kBindingOutput + kFieldPoint) writeonly buffer OutPoint { PLANE4 outPoint[]; };
+layout(std430, binding = kBindingOutput + kFieldD1) writeonly buffer OutD1 { PLANE4 outD1[]; };
+layout(std430, binding = kBindingOutput + kFieldD2) writeonly buffer OutD2 { PLANE4 outD2[]; };
 
 layout(push_constant) uniform PushBlock { EvalPush pc; };
 
@@ -23,7 +23,7 @@ const bool kWantPoint = (OUTPUT_MASK & (1u << kFieldPoint)) != 0u;
 const bool kWantD1 = (OUTPUT_MASK & (1u << kFieldD1)) != 0u;
 const bool kWantD2 = (OUTPUT_MASK & (1u << kFieldD2)) != 0u;
 const bool kAEB = ALPHA_EB != 0u;
-layout(constant_id = 9) const uint RUN_LENGTH = 4;  // a multiple of 4 (evaluator.cpp picks it)
+layout(constant_id = kSpecRunLength) const uint RUN_LENGTH = 4;  // a multiple of 4 (evaluator.cpp picks it)
 const uint MU = BASIS_COUNT_U;
 const uint DU = POLY_DEGREE_U;
 

@@ -18,8 +18,9 @@
 //  TABLE   (REAL)   basis table (basis_table.comp): entry of sample a of a direction at
 //                   tableOffset + a*3*m + d*m + r = B_r^(d)(t_a), d = 0,1,2.
 //  SAMPLES (ListSample) list mode: (span/patch i, patch j, local u, local v) per sample.
-//                   Knot-vector B-splines (bspline_*_eval.comp): (span u, span v, interval u,
-//                   interval v, knot parameter u, knot parameter v, local u, local v).
+//                   Knot-vector B-splines (bspline_*_eval.comp): (i, j) = the knot spans, (u, v) =
+//                   the knot parameters, and (intervalU, intervalV, localU, localV) = the knot
+//                   interval pair and local parameters the sample was given in (normal shifts).
 //  Knot-vector B-splines keep in PARAMS (from kParamHeader on): the knots of each direction and
 //  one interval record per non-empty knot interval (kIntervalStride REALs: span index j, span
 //  used at local t = 1 and the knot parameter there, both as core/bspline.h findKnotSpan picks
@@ -62,7 +63,8 @@ SS_CONST(uint32_t, kSpecAlphaEB, 6u);       // 1: α-EB construction, 0: plain l
 SS_CONST(uint32_t, kSpecListMode, 7u);      // 1: SAMPLES list, 0: per-item grid from TABLE
 SS_CONST(uint32_t, kSpecSurface, 8u);       // alpha_eb_vertices: 1 surface net, 0 curve polygon
 SS_CONST(uint32_t, kSpecRunLength, 9u);     // surface_grid / curve_grid: samples per invocation
-SS_CONST(uint32_t, kSpecUniformRates, 9u);  // tessellate_grid: 1 when every patch has the same rates
+SS_CONST(uint32_t, kSpecUniformRates, 10u); // tessellate_grid: 1 when every patch has the same rates
+// tess_layout.h kTessSpecListSources is 11: ids are unique across both headers (kernels.cpp checks).
 
 // Field indices (must equal core/sample_grid.h Field).
 SS_CONST(uint32_t, kFieldPoint, 0u);
@@ -86,7 +88,6 @@ SS_CONST(uint32_t, kNoOffset, 0xffffffffu);
 SS_CONST(uint32_t, kIntervalStride, 4u);     // knot-vector interval record (see the header)
 
 SS_CONST(uint32_t, kPointsPerInvocation, 4u);
-SS_CONST(uint32_t, kDefaultWorkgroupSize, 64u);
 
 #ifdef SHAPESPLINE_GLSL
 #define SS_UINT uint
@@ -155,33 +156,39 @@ struct TablePush {
   SS_UINT tableOffset;   // TABLE index of the first entry written
 };
 
+// One SAMPLES entry (see the header): intervalU/V and localU/V carry data for knot-vector
+// B-spline surfaces only (0 elsewhere).
 #ifdef SHAPESPLINE_GLSL
 struct ListSample {
   uint i;
   uint j;
-  uint pad0;
-  uint pad1;
+  uint intervalU;
+  uint intervalV;
   REAL u;
   REAL v;
-  REAL pad2;
-  REAL pad3;
+  REAL localU;
+  REAL localV;
 };
 #else
 // Host mirrors of ListSample for REAL = float and REAL = double.
 struct ListSampleF {
-  uint32_t i, j, pad0, pad1;
-  float u, v, pad2, pad3;
+  uint32_t i, j, intervalU, intervalV;
+  float u, v, localU, localV;
 };
 struct ListSampleD {
-  uint32_t i, j, pad0, pad1;
-  double u, v, pad2, pad3;
+  uint32_t i, j, intervalU, intervalV;
+  double u, v, localU, localV;
 };
 static_assert(sizeof(EvalPush) == 80 && offsetof(EvalPush, tableOffsetV) == 56 && offsetof(EvalPush, rowCount) == 64);
 static_assert(sizeof(KnotEvalPush) == 64 && offsetof(KnotEvalPush, samplesV) == offsetof(EvalPush, samplesV) &&
               offsetof(KnotEvalPush, itemsV) == offsetof(EvalPush, itemsV));
-static_assert(sizeof(VertexPush) == 16 && sizeof(TablePush) == 16);
-static_assert(sizeof(ListSampleF) == 32 && offsetof(ListSampleF, u) == 16);
-static_assert(sizeof(ListSampleD) == 48 && offsetof(ListSampleD, u) == 16 && offsetof(ListSampleD, v) == 24);
+static_assert(sizeof(VertexPush) == 16 && offsetof(VertexPush, alphaOffset) == 12);
+static_assert(sizeof(TablePush) == 16 && offsetof(TablePush, tableOffset) == 12);
+static_assert(sizeof(KnotEvalPush) == 64 && offsetof(KnotEvalPush, listMode) == 40 && offsetof(KnotEvalPush, rowCount) == 48);
+static_assert(sizeof(ListSampleF) == 32 && offsetof(ListSampleF, intervalU) == 8 && offsetof(ListSampleF, u) == 16 &&
+              offsetof(ListSampleF, localU) == 24);
+static_assert(sizeof(ListSampleD) == 48 && offsetof(ListSampleD, intervalU) == 8 && offsetof(ListSampleD, u) == 16 &&
+              offsetof(ListSampleD, v) == 24 && offsetof(ListSampleD, localU) == 32 && offsetof(ListSampleD, localV) == 40);
 static_assert(kParamCoefV == kMaxBasis * kCoefStride && kParamHeader == 2 * kMaxBasis * kCoefStride);
 
 }  // namespace shapespline::gpu::layout

@@ -7,16 +7,16 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
-layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
-layout(std430, binding = 3) readonly buffer TableBuf { REAL table[]; };
-layout(std430, binding = 4) readonly buffer SampleBuf { ListSample samples[]; };
-layout(std430, binding = 5) writeonly buffer OutPoint { REAL4 outPoint[]; };
-layout(std430, binding = 8) writeonly buffer OutDu { REAL4 outDu[]; };
-layout(std430, binding = 9) writeonly buffer OutDv { REAL4 outDv[]; };
-layout(std430, binding = 10) writeonly buffer OutDuu { REAL4 outDuu[]; };
-layout(std430, binding = 11) writeonly buffer OutDuv { REAL4 outDuv[]; };
-layout(std430, binding = 12) writeonly buffer OutDvv { REAL4 outDvv[]; };
-layout(std430, binding = 13) writeonly buffer OutNormal { REAL4 outNormal[]; };
+layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = kBindingTable) readonly buffer TableBuf { REAL table[]; };
+layout(std430, binding = kBindingSamples) readonly buffer SampleBuf { ListSample samples[]; };
+layout(std430, binding = kBindingOutput + kFieldPoint) writeonly buffer OutPoint { REAL4 outPoint[]; };
+layout(std430, binding = kBindingOutput + kFieldDu) writeonly buffer OutDu { REAL4 outDu[]; };
+layout(std430, binding = kBindingOutput + kFieldDv) writeonly buffer OutDv { REAL4 outDv[]; };
+layout(std430, binding = kBindingOutput + kFieldDuu) writeonly buffer OutDuu { REAL4 outDuu[]; };
+layout(std430, binding = kBindingOutput + kFieldDuv) writeonly buffer OutDuv { REAL4 outDuv[]; };
+layout(std430, binding = kBindingOutput + kFieldDvv) writeonly buffer OutDvv { REAL4 outDvv[]; };
+layout(std430, binding = kBindingOutput + kFieldNormal) writeonly buffer OutNormal { REAL4 outNormal[]; };
 
 layout(push_constant) uniform PushBlock { EvalPush pc; };
 

@@ -26,16 +26,16 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 
-layout(std430, binding = 5) writeonly buffer OutPoint { PLANE4 outPoint[]; };
-layout(std430, binding = 8) writeonly buffer OutDu { PLANE4 outDu[]; };
-layout(std430, binding = 9) writeonly buffer OutDv { PLANE4 outDv[]; };
-layout(std430, binding = 10) writeonly buffer OutDuu { PLANE4 outDuu[]; };
-layout(std430, binding = 11) writeonly buffer OutDuv { PLANE4 outDuv[]; };
-layout(std430, binding = 12) writeonly buffer OutDvv { PLANE4 outDvv[]; };
+layout(std430, binding = kBindingOutput + kFieldPoint) writeonly buffer OutPoint { PLANE4 outPoint[]; };
+layout(std430, binding = kBindingOutput + kFieldDu) writeonly buffer OutDu { PLANE4 outDu[]; };
+layout(std430, binding = kBindingOutput + kFieldDv) writeonly buffer OutDv { PLANE4 outDv[]; };
+layout(std430, binding = kBindingOutput + kFieldDuu) writeonly buffer OutDuu { PLANE4 outDuu[]; };
+layout(std430, binding = kBindingOutput + kFieldDuv) writeonly buffer OutDuv { PLANE4 outDuv[]; };
+layout(std430, binding = kBindingOutput + kFieldDvv) writeonly buffer OutDvv { PLANE4 outDvv[]; };
 // Normals stay REAL4 in every variant: the fallback pass rewrites single points (3 REALs), which
 // a packed view could not do without the neighbouring point's normal.
-layout(std430, binding = 13) writeonly buffer OutNormal { REAL4 outNormal[]; };
-layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = kBindingOutput + kFieldNormal) writeonly buffer OutNormal { REAL4 outNormal[]; };
+layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[]; };
 
 layout(push_constant) uniform PushBlock { EvalPush pc; };
 
@@ -58,7 +58,7 @@ const bool kNeedD1V = (OUTPUT_MASK & ((1u << kFieldDv) | (1u << kFieldDuv) | (1u
 // Samples per invocation (a multiple of 4): RUN_LENGTH < samplesV: a run of one row (RUN_LENGTH
 // divides samplesV); RUN_LENGTH >= samplesV: RUN_LENGTH / samplesV whole rows of one patch (dividing
 // samplesU). The u contraction of a row is shared by all of its samples.
-layout(constant_id = 9) const uint RUN_LENGTH = 4;
+layout(constant_id = kSpecRunLength) const uint RUN_LENGTH = 4;
 const uint MU = BASIS_COUNT_U;
 const uint MV = BASIS_COUNT_V;
 const uint DU = POLY_DEGREE_U;

@@ -61,7 +61,7 @@ TS_CONST(TS_UINT, kTessBindingBoundary, 7u);
 TS_CONST(TS_UINT, kTessBindingSources, 8u);
 TS_CONST(TS_UINT, kTessBindingCount, 9u);
 TS_CONST(TS_UINT, kTessListSource, 0x80000000u);  // SOURCES bit: a list-mode sample
-TS_CONST(TS_UINT, kTessSpecListSources, 9u);      // pack spec constant: 1 when SOURCES has list samples
+TS_CONST(TS_UINT, kTessSpecListSources, 11u);     // pack spec constant: 1 when SOURCES has list samples
 
 TS_CONST(TS_UINT, kTessVertexFloats, 8u);
 TS_CONST(TS_UINT, kTessVertexStride, 32u);
@@ -128,7 +128,8 @@ struct RenderPush {
   float color[4];
   float params[4];
 };
-static_assert(sizeof(TessPackPush) == 16 && sizeof(TessGridPush) == 64);
+static_assert(sizeof(TessPackPush) == 16 && sizeof(TessGridPush) == 64 && offsetof(TessGridPush, alphaOffset) == 36 &&
+              offsetof(TessGridPush, rowsPerInvocation) == 56);
 static_assert(sizeof(RenderPush) == 112 && offsetof(RenderPush, params) == 96);
 #endif
 

@@ -12,16 +12,16 @@
 #include "common.glsl"
 #include "tess_layout.h"
 
-layout(std430, binding = 2) readonly buffer VertBuf { REAL4 verts[]; };
-layout(std430, binding = 3) readonly buffer PatchBuf { uvec4 patchRecords[]; };
-layout(std430, binding = 4) readonly buffer RowBuf { uvec2 rowItems[]; };
-layout(std430, binding = 5) writeonly buffer VertexOut { VERTEX outVerts[]; };
+layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[]; };
+layout(std430, binding = kTessGridBindingPatches) readonly buffer PatchBuf { uvec4 patchRecords[]; };
+layout(std430, binding = kTessGridBindingRows) readonly buffer RowBuf { uvec2 rowItems[]; };
+layout(std430, binding = kTessGridBindingVertices) writeonly buffer VertexOut { VERTEX outVerts[]; };
 // A perimeter sample is (p, 0, n, 0): in the packed fp32 variant one 32-byte store, like a vertex.
 #if defined(PACKED_STORES) && PACKED_STORES && !(defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE)
-layout(std430, binding = 6) writeonly buffer BoundaryBuf { VERTEX boundary[]; };
+layout(std430, binding = kTessGridBindingBoundary) writeonly buffer BoundaryBuf { VERTEX boundary[]; };
 #define STORE_PERIMETER(s, p, n) STORE_VERTEX(boundary, s, vec4(p, 0), vec4(n, 0))
 #else
-layout(std430, binding = 6) writeonly buffer BoundaryBuf { REAL4 boundary[]; };
+layout(std430, binding = kTessGridBindingBoundary) writeonly buffer BoundaryBuf { REAL4 boundary[]; };
 #define STORE_PERIMETER(s, p, n)        \
   {                                     \
     boundary[2u * (s)] = REAL4(p, 0);   \
@@ -33,7 +33,7 @@ layout(push_constant) uniform PushBlock { TessGridPush pc; };
 
 #include "surface_patch.glsl"
 
-layout(constant_id = 9) const uint UNIFORM_RATES = 0;  // layout.h kSpecUniformRates
+layout(constant_id = kSpecUniformRates) const uint UNIFORM_RATES = 0;
 const bool kAEB = ALPHA_EB != 0u;
 const bool kUniform = UNIFORM_RATES != 0u;
 const uint MU = BASIS_COUNT_U;

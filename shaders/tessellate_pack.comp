@@ -10,35 +10,35 @@
 #include "common.glsl"
 #include "tess_layout.h"
 
-layout(std430, binding = 2) readonly buffer PointPlane { REAL points[]; };
-layout(std430, binding = 3) readonly buffer NormalPlane { REAL normals[]; };
+layout(std430, binding = kTessBindingPoints) readonly buffer PointPlane { REAL points[]; };
+layout(std430, binding = kTessBindingNormals) readonly buffer NormalPlane { REAL normals[]; };
 // Packed variant: 64-bit loads as well (llvmpipe gathers one scalar per lane at a time, so a vec2
 // read as one uint64 is one gather instead of two).
 #if defined(PACKED_STORES) && PACKED_STORES
-layout(std430, binding = 4) readonly buffer UVBuf { uint64_t uvs[]; };
-layout(std430, binding = 5) readonly buffer ExtraBuf { uint64_t extra[]; };
+layout(std430, binding = kTessBindingUV) readonly buffer UVBuf { uint64_t uvs[]; };
+layout(std430, binding = kTessBindingExtra) readonly buffer ExtraBuf { uint64_t extra[]; };
 vec2 uvOf(uint k) { return uintBitsToFloat(unpackUint2x32(uvs[k])); }
 uvec2 extraOf(uint k) { return unpackUint2x32(extra[k]); }
 #else
-layout(std430, binding = 4) readonly buffer UVBuf { vec2 uvs[]; };
-layout(std430, binding = 5) readonly buffer ExtraBuf { uvec2 extra[]; };
+layout(std430, binding = kTessBindingUV) readonly buffer UVBuf { vec2 uvs[]; };
+layout(std430, binding = kTessBindingExtra) readonly buffer ExtraBuf { uvec2 extra[]; };
 vec2 uvOf(uint k) { return uvs[k]; }
 uvec2 extraOf(uint k) { return extra[k]; }
 #endif
-layout(std430, binding = 6) writeonly buffer VertexBuf { VERTEX outVerts[]; };
+layout(std430, binding = kTessBindingVertices) writeonly buffer VertexBuf { VERTEX outVerts[]; };
 #if defined(PACKED_STORES) && PACKED_STORES && !(defined(REAL_IS_DOUBLE) && REAL_IS_DOUBLE)
-layout(std430, binding = 7) readonly buffer BoundaryBuf { u64vec2 boundary[]; };
+layout(std430, binding = kTessBindingBoundary) readonly buffer BoundaryBuf { u64vec2 boundary[]; };
 vec3 boundaryXYZ(uint i) {
   u64vec2 w = boundary[i];
   return vec3(uintBitsToFloat(unpackUint2x32(w.x)), uintBitsToFloat(unpackUint2x32(w.y).x));
 }
 #else
-layout(std430, binding = 7) readonly buffer BoundaryBuf { REAL4 boundary[]; };
+layout(std430, binding = kTessBindingBoundary) readonly buffer BoundaryBuf { REAL4 boundary[]; };
 vec3 boundaryXYZ(uint i) { return vec3(boundary[i].xyz); }
 #endif
-layout(std430, binding = 8) readonly buffer SourceBuf { uint sources[]; };
+layout(std430, binding = kTessBindingSources) readonly buffer SourceBuf { uint sources[]; };
 layout(push_constant) uniform PushBlock { TessPackPush pc; };
-layout(constant_id = 9) const uint LIST_SOURCES = 1;  // tess_layout.h kTessSpecListSources
+layout(constant_id = kTessSpecListSources) const uint LIST_SOURCES = 1;
 
 // field 0: point, 1: normal of a source.
 vec3 sourceValue(uint source, uint field) {

@@ -44,14 +44,27 @@ vk::Buffer realBuffer(KernelSet& k, size_t reals, vk::MemoryUse use, const char*
   return vk::Buffer::create(k.context(), realBufferBytes(k, reals), vk::kStorageUsage, use, label);
 }
 
+SpecValues basisTableSpec(const SpanBasis& b) {
+  return {{layout::kSpecBasisCountU, uint32_t(b.count)}, {layout::kSpecPolyDegreeU, uint32_t(b.degree)}};
+}
+
+// Knot-vector kernels take the list flag as a push constant (grid and list share a pipeline).
+constexpr uint32_t kNoListMode = ~0u;
+
+// Constants of the evaluation kernels: bases, output fields, α-EB flag and list flag.
+SpecValues evalSpec(const GpuModel& m, FieldMask fields, uint32_t listMode) {
+  SpecValues spec = basisSpec(m.basisU(), m.basisV());
+  spec[layout::kSpecOutputMask] = fields;
+  spec[layout::kSpecAlphaEB] = m.alphaEB() ? 1u : 0u;
+  if (listMode != kNoListMode) spec[layout::kSpecListMode] = listMode;
+  return spec;
+}
+
 // Records the α-EB vertex pass when the model's parameters changed since the last one.
 void recordVertexPass(KernelSet& k, GpuModel& m, bool surface, VkCommandBuffer cmd,
                       std::vector<vk::DescriptorSet>& keep) {
   if (!m.alphaEB() || !m.verticesDirty()) return;
-  const SpanBasis& bu = m.basisU();
-  const SpanBasis& bv = m.basisV();
-  const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
-                                                          uint32_t(bv.degree), 0u, 1u, 0u, surface ? 1u : 0u});
+  const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {{layout::kSpecSurface, surface ? 1u : 0u}});
   keep.push_back(makeSet(k, pipe));
   keep.back().bind(layout::kBindingNet, m.netBuffer())
       .bind(layout::kBindingParams, m.paramBuffer())
@@ -67,7 +80,7 @@ void recordVertexPass(KernelSet& k, GpuModel& m, bool surface, VkCommandBuffer c
 void recordTable(KernelSet& k, const GpuModel& m, const SpanBasis& b, uint32_t coefOffset, uint32_t samples,
                  uint32_t tableOffset, const vk::Buffer& table, VkCommandBuffer cmd,
                  std::vector<vk::DescriptorSet>& keep) {
-  const auto& pipe = k.pipeline(Kernel::BasisTable, {uint32_t(b.count), uint32_t(b.degree)});
+  const auto& pipe = k.pipeline(Kernel::BasisTable, basisTableSpec(b));
   keep.push_back(makeSet(k, pipe));
   keep.back().bind(layout::kBindingParams, m.paramBuffer()).bind(layout::kBindingTable, table);
   layout::TablePush pc{samples, 0u, coefOffset, tableOffset};
@@ -231,9 +244,8 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     while (rows < maxRows && (!job.surface || su % (rows * 2) == 0) && rowLength * rows * 2 <= maxRun) rows *= 2;
     run = rowLength * rows;
   }
-  std::vector<uint32_t> spec = {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
-                                fields,           m.alphaEB() ? 1u : 0u, 0u, job.surface ? 1u : 0u};
-  if (gridKernel) spec.push_back(run);
+  SpecValues spec = evalSpec(m, fields, job.knotVector ? kNoListMode : 0u);
+  if (gridKernel) spec[layout::kSpecRunLength] = run;
   const auto& pipe = k.pipeline(job.kernel, spec);
 
   // The chunks, in rows (a row: the Sv samples of one u sample of a patch, or one sample of a
@@ -350,8 +362,6 @@ std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kerne
   const size_t rs = realSize(k.precision());
   const size_t limit = std::min<size_t>(maxPlaneBytes, k.context().limits().maxStorageBufferRange);
   const size_t perChunk = std::min(total, std::max<size_t>(4, (limit - 4 * rs) / (3 * rs)));
-  const SpanBasis& bu = m.basisU();
-  const SpanBasis& bv = m.basisV();
   std::vector<int> active;
   std::vector<vk::Buffer> planes(kFieldCount);
   for (int f = 0; f < kFieldCount; ++f) {
@@ -368,8 +378,8 @@ std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kerne
   } else {
     std::vector<layout::ListSampleF> f(total);
     for (size_t i = 0; i < total; ++i)
-      f[i] = {samples[i].i,         samples[i].j,         samples[i].pad0,         samples[i].pad1,
-              float(samples[i].u), float(samples[i].v), float(samples[i].pad2), float(samples[i].pad3)};
+      f[i] = {samples[i].i,        samples[i].j,        samples[i].intervalU,         samples[i].intervalV,
+              float(samples[i].u), float(samples[i].v), float(samples[i].localU), float(samples[i].localV)};
     bytes.resize(total * sizeof(layout::ListSampleF));
     std::memcpy(bytes.data(), f.data(), bytes.size());
   }
@@ -378,8 +388,7 @@ std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kerne
   // Knot-vector kernels read the list flag from the push constants, so grid and list share a pipeline.
   constexpr bool kKnot = std::is_same_v<Push, layout::KnotEvalPush>;
   if constexpr (kKnot) push.listMode = 1u;
-  const auto& pipe = k.pipeline(kernel, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count), uint32_t(bv.degree),
-                                         fields, m.alphaEB() ? 1u : 0u, kKnot ? 0u : 1u, surface ? 1u : 0u});
+  const auto& pipe = k.pipeline(kernel, evalSpec(m, fields, kKnot ? kNoListMode : 1u));
   vk::DescriptorSet set = makeSet(k, pipe);
   set.bind(layout::kBindingNet, m.netBuffer())
       .bind(layout::kBindingParams, m.paramBuffer())
@@ -719,7 +728,7 @@ std::vector<double> BasisTableEvaluator::run(const SpanBasis& basis, int sampleC
   params.upload(toReal(coef, k.precision()));
   const size_t n = size_t(sampleCount) * 3 * basis.count;
   vk::Buffer table = realBuffer(k, n, vk::MemoryUse::Readback, "gpu.table");
-  const auto& pipe = k.pipeline(Kernel::BasisTable, {uint32_t(basis.count), uint32_t(basis.degree)});
+  const auto& pipe = k.pipeline(Kernel::BasisTable, basisTableSpec(basis));
   vk::DescriptorSet set = makeSet(k, pipe);
   set.bind(layout::kBindingParams, params).bind(layout::kBindingTable, table);
   if (!list.empty()) set.bind(layout::kBindingSamples, sampleBuf);

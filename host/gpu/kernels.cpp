@@ -59,6 +59,16 @@ void requirePrecision(const vk::Context& ctx, Precision p) {
                              "' does not support; use precision float");
 }
 
+static_assert(layout::kSpecUniformRates < tess_layout::kTessSpecListSources,
+              "specialization-constant ids are unique across layout.h and tess_layout.h");
+
+SpecValues basisSpec(const SpanBasis& u, const SpanBasis& v) {
+  return {{layout::kSpecBasisCountU, uint32_t(u.count)},
+          {layout::kSpecPolyDegreeU, uint32_t(u.degree)},
+          {layout::kSpecBasisCountV, uint32_t(v.count)},
+          {layout::kSpecPolyDegreeV, uint32_t(v.degree)}};
+}
+
 KernelSet::KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize, bool packedStores)
     : ctx_(std::move(ctx)),
       precision_(precision),
@@ -68,8 +78,10 @@ KernelSet::KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint
   dummy_ = vk::Buffer::create(*ctx_, 256, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.dummy");
 }
 
-const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<uint32_t>& spec) {
-  auto key = std::make_pair(static_cast<int>(kernel), spec);
+const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const SpecValues& spec) {
+  if (spec.count(layout::kSpecWorkgroupSize))
+    throw std::logic_error("KernelSet::pipeline: the workgroup size is the KernelSet's own constant");
+  auto key = std::make_pair(kernel, spec);
   auto it = pipelines_.find(key);
   if (it != pipelines_.end()) return it->second;
   const bool d = precision_ == Precision::Double;
@@ -122,7 +134,7 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const std::vector<
   vk::ComputePipelineDesc desc;
   desc.spirv = code.pick(d, packedStores_);
   desc.specConstants.push_back({layout::kSpecWorkgroupSize, workgroupSize_});
-  for (size_t i = 0; i < spec.size(); ++i) desc.specConstants.push_back({static_cast<uint32_t>(i + 1), spec[i]});
+  for (const auto& [id, value] : spec) desc.specConstants.push_back({id, value});
   desc.pushConstantBytes = push;
   desc.storageBufferCount = kBindingCount;
   desc.label = std::string(label) + (d ? "_f64" : "_f32") + (packedStores_ && code.hasPacked() ? "_pk" : "");

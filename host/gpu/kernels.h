@@ -45,19 +45,24 @@ struct ShaderVariants {
   }
 };
 
+// Specialization constants of one pipeline variant keyed by their shaders/layout.h (tess_layout.h)
+// ids; KernelSet adds kSpecWorkgroupSize. A kernel is given only the constants it reads.
+using SpecValues = std::map<uint32_t, uint32_t>;
+// kSpecBasisCountU .. kSpecPolyDegreeV of the u and v span bases.
+SpecValues basisSpec(const SpanBasis& u, const SpanBasis& v);
+
 class KernelSet {
  public:
   // packedStores: use the packed-store variants where the device has shaderInt64.
   KernelSet(std::shared_ptr<vk::Context> ctx, Precision precision, uint32_t workgroupSize, bool packedStores);
 
   vk::Context& context() const { return *ctx_; }
-  const std::shared_ptr<vk::Context>& contextPtr() const { return ctx_; }
   Precision precision() const { return precision_; }
   uint32_t workgroupSize() const { return workgroupSize_; }
   // Whether the packed-store variants are in use (asked for and shaderInt64 present).
   bool packedStores() const { return packedStores_; }
-  // spec[i] is the value of constant_id i + 1 (id 0 is the workgroup size).
-  const vk::ComputePipeline& pipeline(Kernel kernel, const std::vector<uint32_t>& spec);
+  // The pipeline of `kernel` specialised with `spec` (compiled on first use).
+  const vk::ComputePipeline& pipeline(Kernel kernel, const SpecValues& spec);
   // 256-byte buffer bound to every binding a pipeline variant does not use.
   const vk::Buffer& dummy() const { return dummy_; }
   // Records a dispatch of `invocations` 1-D invocations (x then y when over the group limit).
@@ -68,7 +73,7 @@ class KernelSet {
   Precision precision_;
   uint32_t workgroupSize_;
   bool packedStores_;
-  std::map<std::pair<int, std::vector<uint32_t>>, vk::ComputePipeline> pipelines_;
+  std::map<std::pair<Kernel, SpecValues>, vk::ComputePipeline> pipelines_;
   vk::Buffer dummy_;
 };
 

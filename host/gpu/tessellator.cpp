@@ -279,9 +279,10 @@ SurfaceTessellator::TargetSets& SurfaceTessellator::targetSets(VkBuffer vertices
 const vk::ComputePipeline& SurfaceTessellator::gridPipeline() {
   const SpanBasis& bu = surface_.basisU();
   const SpanBasis& bv = surface_.basisV();
-  return kernels_->pipeline(Kernel::TessellateGrid, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
-                                                     uint32_t(bv.degree), 0u, surface_.alphaEB() ? 1u : 0u, 0u, 0u,
-                                                     gridUniform_ ? 1u : 0u});
+  SpecValues spec = basisSpec(bu, bv);
+  spec[layout::kSpecAlphaEB] = surface_.alphaEB() ? 1u : 0u;
+  spec[layout::kSpecUniformRates] = gridUniform_ ? 1u : 0u;
+  return kernels_->pipeline(Kernel::TessellateGrid, spec);
 }
 
 void SurfaceTessellator::record(VkCommandBuffer cmd) {
@@ -310,8 +311,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   // (1) α-EB nodes and V from the current PARAMS (a few hundred invocations: always run, so that a
   // recorded command buffer never depends on host-side dirty state).
   if (aeb) {
-    const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
-                                                            uint32_t(bv.degree), 0u, 1u, 0u, 1u});
+    const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {{layout::kSpecSurface, 1u}});
     if (!impl_->vertexPassSet.handle()) {
       impl_->vertexPassSet = vk::DescriptorSet::create(*ctx_, pipe);
       for (uint32_t b = 0; b < kBindingCount; ++b) impl_->vertexPassSet.bind(b, k.dummy());
@@ -329,8 +329,11 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   // (2) Edge points that are not on their patch's grid (mixed edge rates): list mode.
   if (listSampleCount_ > 0) {
     const FieldMask mask = fieldBit(Field::Point) | fieldBit(Field::Normal);
-    const auto& eval = k.pipeline(Kernel::SurfaceEval, {uint32_t(bu.count), uint32_t(bu.degree), uint32_t(bv.count),
-                                                        uint32_t(bv.degree), mask, aeb ? 1u : 0u, 1u, 1u});
+    SpecValues spec = basisSpec(bu, bv);
+    spec[layout::kSpecOutputMask] = mask;
+    spec[layout::kSpecAlphaEB] = aeb ? 1u : 0u;
+    spec[layout::kSpecListMode] = 1u;
+    const auto& eval = k.pipeline(Kernel::SurfaceEval, spec);
     if (!impl_->listSet.handle()) {
       impl_->listSet = vk::DescriptorSet::create(*ctx_, eval);
       for (uint32_t b = 0; b < kBindingCount; ++b) impl_->listSet.bind(b, k.dummy());
