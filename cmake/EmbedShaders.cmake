@@ -2,7 +2,7 @@
 # Compiles GLSL to SPIR-V with glslangValidator at build time and writes a header
 # (uint32_t array named VARNAME) into the build tree; never into the source tree.
 function(shapespline_embed_shader)
-  cmake_parse_arguments(ARG "" "TARGET;SOURCE;VARNAME;OUTPUT_NAME" "DEFINES;DEPENDS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TARGET;SOURCE;VARNAME;OUTPUT_NAME" "DEFINES;DEPENDS;INCLUDES" ${ARGN})
   get_filename_component(src "${ARG_SOURCE}" ABSOLUTE)
   if(NOT ARG_OUTPUT_NAME)
     get_filename_component(ARG_OUTPUT_NAME "${src}" NAME_WE)
@@ -15,6 +15,9 @@ function(shapespline_embed_shader)
   set(defs "")
   foreach(d IN LISTS ARG_DEFINES)
     list(APPEND defs "-D${d}")
+  endforeach()
+  foreach(d IN LISTS ARG_INCLUDES)
+    list(APPEND defs "-I${d}")
   endforeach()
   add_custom_command(
     OUTPUT "${out}"

@@ -33,6 +33,6 @@ void main() {
     P = net[i + 1u].xyz;
   }
   REAL alpha = params[pc.alphaOffset + idx];
-  verts[idx] = REAL4(P + ((REAL(1) - alpha) / alpha) * (P - node), 0);
+  verts[idx] = REAL4(alphaEBVertex(P, node, alpha), 0);
   verts[count + idx] = REAL4(node, 0);
 }

@@ -44,12 +44,7 @@ CurvePoint evalSample(uint k) {
   o.point = REAL3(0);
   o.d1 = REAL3(0);
   o.d2 = REAL3(0);
-  for (uint r = 0; r < BASIS_COUNT_U; ++r) {
-    REAL3 P = net[first + r].xyz;
-    o.point += b[r] * P;
-    o.d1 += d1[r] * P;
-    o.d2 += d2[r] * P;
-  }
+  for (uint r = 0; r < BASIS_COUNT_U; ++r) accumulate3(o.point, o.d1, o.d2, b[r], d1[r], d2[r], net[first + r].xyz);
   return o;
 }
 

@@ -41,36 +41,14 @@ Sample evalKnotPatch(int spanU, REAL x, int spanV, REAL y) {
   uint firstU = uint(spanU) + 1u - BASIS_COUNT_U, firstV = uint(spanV) + 1u - BASIS_COUNT_V;
   Sample o;
   o.p = REAL3(0); o.u = REAL3(0); o.v = REAL3(0); o.uu = REAL3(0); o.uv = REAL3(0); o.vv = REAL3(0);
-  o.n = REAL3(0, 0, 1);
+  o.n = fixedAxisNormal();
   for (uint r = 0; r < BASIS_COUNT_U; ++r) {
     REAL3 s0 = REAL3(0), s1 = REAL3(0), s2 = REAL3(0);
     uint row = (firstU + r) * pc.netCols + firstV;
-    for (uint s = 0; s < BASIS_COUNT_V; ++s) {
-      REAL3 P = net[row + s].xyz;
-      s0 += bv[s] * P;
-      s1 += dv[s] * P;
-      s2 += ddv[s] * P;
-    }
-    o.p += bu[r] * s0;
-    o.u += du[r] * s0;
-    o.uu += ddu[r] * s0;
-    o.v += bu[r] * s1;
-    o.uv += du[r] * s1;
-    o.vv += bu[r] * s2;
+    for (uint s = 0; s < BASIS_COUNT_V; ++s) accumulate3(s0, s1, s2, bv[s], dv[s], ddv[s], net[row + s].xyz);
+    accumulateTensorRow(o.p, o.u, o.v, o.uu, o.uv, o.vv, bu[r], du[r], ddu[r], s0, s1, s2);
   }
   return o;
-}
-
-// core/surface.cpp degenerateCross (docs/math.md §5.3 thresholds).
-bool knotDegenerateCross(REAL3 a, REAL3 b, REAL3 n) {
-  if (all(equal(a, REAL3(0))) || all(equal(b, REAL3(0)))) return true;
-  REAL l = length(n);
-  return !(l >= REAL(1e-12) * length(a) * length(b)) || l == REAL(0);
-}
-
-REAL towardCentre(REAL t) {
-  const REAL delta = REAL(1.0 / 4096.0);
-  return t < REAL(0.5) ? t + delta : (t > REAL(0.5) ? t - delta : t);
 }
 
 Sample evalSample(uint k) {
@@ -118,7 +96,7 @@ Sample evalSample(uint k) {
     if (pass == 0u) o = s;
     if (!kWantNormal) break;
     REAL3 nn = cross(s.u, s.v);
-    if (!knotDegenerateCross(s.u, s.v, nn)) {
+    if (!degenerateCross(s.u, s.v, nn)) {
       o.n = normalize(nn);
       break;
     }

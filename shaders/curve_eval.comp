@@ -2,7 +2,8 @@
 // Curves of the uniform local families (docs/math.md §1, with optional span knots: derivatives times
 // 1/h^r) and α-EB curves (§4.2): point, d1, d2 for a per-span grid of S samples (basis values from
 // the TABLE of basis_table.comp) or a list of (span, t). 4 output points per invocation, each field
-// stored as three vec4 (layout.h). Mirrors host/core/curve.cpp evalLocalSpan / evalAlphaEBSpan.
+// stored as three vec4 (layout.h). The loops of host/core/curve.cpp evalLocalSpan / evalAlphaEBSpan
+// around the formulas of point_math.h.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -27,12 +28,7 @@ struct CurvePoint {
 CurvePoint evalLocalSpan(in REAL b[kMaxBasis], in REAL d1[kMaxBasis], in REAL d2[kMaxBasis], uint first,
                          REAL invH) {
   REAL3 p = REAL3(0), q1 = REAL3(0), q2 = REAL3(0);
-  for (uint r = 0; r < BASIS_COUNT_U; ++r) {
-    REAL3 P = net[first + r].xyz;
-    p += b[r] * P;
-    q1 += d1[r] * P;
-    q2 += d2[r] * P;
-  }
+  for (uint r = 0; r < BASIS_COUNT_U; ++r) accumulate3(p, q1, q2, b[r], d1[r], d2[r], net[first + r].xyz);
   CurvePoint o;
   o.point = p;
   o.d1 = q1 * invH;
@@ -44,17 +40,8 @@ CurvePoint evalLocalSpan(in REAL b[kMaxBasis], in REAL d1[kMaxBasis], in REAL d2
 CurvePoint evalAlphaEBSpan(in REAL b[kMaxBasis], in REAL d1[kMaxBasis], in REAL d2[kMaxBasis], uint first,
                            REAL3 v0, REAL3 v1, REAL a0, REAL a1, REAL t) {
   CurvePoint c = evalLocalSpan(b, d1, d2, first, REAL(1));
-  REAL3 s = singularBlend(t);
-  REAL da = a1 - a0;
-  REAL3 dv = v1 - v0;
-  REAL a = a0 + s.x * da, a_1 = s.y * da, a_2 = s.z * da;
-  REAL3 l = v0 + s.x * dv, l1 = s.y * dv, l2 = s.z * dv;
-  REAL3 m = l - c.point, m1 = l1 - c.d1, m2 = l2 - c.d2;
-  CurvePoint o;
-  o.point = c.point + a * m;
-  o.d1 = c.d1 + a * m1 + a_1 * m;
-  o.d2 = c.d2 + a * m2 + REAL(2) * a_1 * m1 + a_2 * m;
-  return o;
+  alphaEBBlendCurve(singularBlend(t), v0, v1, a0, a1, c.point, c.d1, c.d2);
+  return c;
 }
 
 CurvePoint evalSample(uint k) {

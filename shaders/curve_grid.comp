@@ -5,8 +5,8 @@
 // span's points, its α-EB vertex data and 1/h are gathered once per span instead of once per
 // sample, the span is turned into a polynomial in t (basis coefficients in registers), t =
 // a/(S-1) as in basis_table.comp, and every loop bound is a specialization constant. The α-EB
-// blend mirrors host/core/curve.cpp evalAlphaEBSpan; see surface_grid.comp for the llvmpipe
-// reasoning.
+// blend is point_math.h's (as in host/core/curve.cpp evalAlphaEBSpan); see surface_grid.comp for
+// the llvmpipe reasoning.
 // variant: packed-stores (fp32 output planes stored as uint64 pairs; common.glsl)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -65,8 +65,6 @@ void main() {
     } else if (pc.invHOffset != kNoOffset) {
       invH = params[pc.invHOffset + span - pc.firstSpanU];
     }
-    REAL da = a1 - a0;
-    REAL3 dv = v1 - v0;
     // The span in the power basis: W[d] = Σ_r c_r,d P[r] (B_r(t) = Σ_d c_r,d t^d), so a sample is
     // one Horner pass for the point and both derivatives instead of every basis function and a
     // contraction (90 instead of 288 operations at degree 5; llvmpipe fuses no multiply-adds).
@@ -83,21 +81,14 @@ void main() {
         REAL t = pc.samplesU > 1u ? REAL(a0s + e) / den : REAL(0);
         // Point, first and half second derivative by simultaneous Horner.
         REAL3 c0 = W[DU], c1 = REAL3(0), h2 = REAL3(0);
-        [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) {
-          if (kWantD2) h2 = h2 * t + c1;
-          c1 = c1 * t + c0;
-          c0 = c0 * t + W[d];
-        }
+        [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) hornerStep(c0, c1, h2, t, W[d]);  // h2 dead unless d2
         REAL3 c2 = REAL(2) * h2;
         if (kAEB) {
           // evalAlphaEBSpan (the base span with 1/h = 1).
-          REAL3 s = singularBlend(t);
-          REAL a = a0 + s.x * da, a_1 = s.y * da, a_2 = s.z * da;
-          REAL3 l = v0 + s.x * dv, l1 = s.y * dv, l2 = s.z * dv;
-          REAL3 m = l - c0, m1 = l1 - c1, m2 = l2 - c2;
-          p[e] = c0 + a * m;
-          d1[e] = c1 + a * m1 + a_1 * m;
-          d2[e] = c2 + a * m2 + REAL(2) * a_1 * m1 + a_2 * m;
+          alphaEBBlendCurve(singularBlend(t), v0, v1, a0, a1, c0, c1, c2);
+          p[e] = c0;
+          d1[e] = c1;
+          d2[e] = c2;
         } else {
           p[e] = c0;
           d1[e] = c1 * invH;

@@ -3,7 +3,7 @@
 // point, first and second partials and the unit normal of the §5.3 convention, for a per-patch
 // Su x Sv grid (basis values read from the TABLE written by basis_table.comp) or a list of
 // (patch, u, v). Each invocation evaluates 4 consecutive output points and stores each field as
-// three vec4 (layout.h). Mirrors host/core/surface.cpp (evalTensorPatch, evalAlphaEBPatch, normals).
+// three vec4 (layout.h). Patch evaluation and normals: surface_patch.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 

@@ -106,15 +106,13 @@ void main() {
     uint a = a0 + k, row = row0 + k;
     // evalSpanBasis for u_a (basis_table.comp: t = a/(Su-1)).
     REAL tu = pc.samplesU > 1u ? REAL(a) / denU : REAL(0);
-    REAL3 su = kAEB ? singularBlend(tu) : REAL3(0);
-    // u-factor pairs of order 0,1,2: (1-S, S), (-S', S'), (-S'', S'').
-    REAL fu00 = REAL(1) - su.x, fu10 = su.x;
+    BlendFactors fu = blendFactors(kAEB ? singularBlend(tu) : REAL3(0));
     // The u halves of the corner weights of this row, u orders 0, 1, 2.
     CornerHalf H0, H1, H2;
     if (kAEB) {
-      H0 = cornerBlendU(fu00, fu10, al, V);
-      H1 = cornerBlendU(-su.y, su.y, al, V);
-      H2 = cornerBlendU(-su.z, su.z, al, V);
+      H0 = cornerBlendU(fu.f00, fu.f01, al, V);
+      H1 = cornerBlendU(fu.f10, fu.f11, al, V);
+      H2 = cornerBlendU(fu.f20, fu.f21, al, V);
     }
     REAL3 T0[MV], T1[MV], T2[MV];
     [[unroll]] for (uint s = 0; s < MV; ++s) {
@@ -124,17 +122,9 @@ void main() {
     }
     [[unroll]] for (uint r = 0; r < MU; ++r) {
       REAL w0 = cu[r][DU], dp = REAL(0), ddp = REAL(0);
-      [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) {
-        ddp = ddp * tu + dp;
-        dp = dp * tu + w0;
-        w0 = w0 * tu + cu[r][d];
-      }
-      REAL w1 = dp, w2 = REAL(2) * ddp;
-      [[unroll]] for (uint s = 0; s < MV; ++s) {
-        T0[s] += w0 * P[r][s];
-        if (kNeedT1) T1[s] += w1 * P[r][s];
-        if (kWantDuu) T2[s] += w2 * P[r][s];
-      }
+      [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) hornerStep(w0, dp, ddp, tu, cu[r][d]);
+      // T1 and T2 feed only the outputs that need them (the rest is dead code).
+      [[unroll]] for (uint s = 0; s < MV; ++s) accumulate3(T0[s], T1[s], T2[s], w0, dp, REAL(2) * ddp, P[r][s]);
     }
     // The row in the power basis of v: W_k[d] = Σ_s c_s,d T_k[s] (B_s(v) = Σ_d c_s,d v^d), so a
     // sample is one Horner pass over d instead of every v basis function and a contraction
@@ -158,16 +148,14 @@ void main() {
         // v_b = b/(Sv-1) (basis_table.comp's t); value, first and half second derivative of the
         // row polynomials by simultaneous Horner.
         REAL t = pc.samplesV > 1u ? REAL(b0 + e) / denV : REAL(0);
+        // Partials no output needs are dead code.
         REAL3 c0 = W0[DV], c1 = REAL3(0), c2 = REAL3(0);  // of W0: C, C_v, C_vv / 2
-        REAL3 e0 = W1[DV], e1 = REAL3(0);                  // of W1: C_u, C_uv
-        REAL3 f0 = W2[DV];                                  // of W2: C_uu
+        REAL3 e0 = W1[DV], e1 = REAL3(0), e2 = REAL3(0);  // of W1: C_u, C_uv
+        REAL3 f0 = W2[DV], f1 = REAL3(0), f2 = REAL3(0);  // of W2: C_uu
         [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
-          if (kWantDvv) c2 = c2 * t + c1;
-          if (kNeedD1V) c1 = c1 * t + c0;
-          c0 = c0 * t + W0[d];
-          if (kWantDuv) e1 = e1 * t + e0;
-          if (kNeedT1) e0 = e0 * t + W1[d];
-          if (kWantDuu) f0 = f0 * t + W2[d];
+          hornerStep(c0, c1, c2, t, W0[d]);
+          hornerStep(e0, e1, e2, t, W1[d]);
+          hornerStep(f0, f1, f2, t, W2[d]);
         }
         p[e] = c0;
         u[e] = kNeedT1 ? e0 : REAL3(0);
@@ -176,26 +164,17 @@ void main() {
         uv[e] = kWantDuv ? e1 : REAL3(0);
         vv[e] = kWantDvv ? REAL(2) * c2 : REAL3(0);
         if (kAEB) {
-          // docs/math.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q.
-          REAL3 sv = singularBlend(t);
-          // Only the orders the requested fields need; straight-line code (no arrays indexed by a
-          // loop counter, which lavapipe would keep in per-lane scratch memory).
-          REAL A00, A10 = REAL(0), A01 = REAL(0), A20 = REAL(0), A11 = REAL(0), A02 = REAL(0);
-          REAL3 L00, L10 = REAL3(0), L01 = REAL3(0), L20 = REAL3(0), L11 = REAL3(0), L02 = REAL3(0);
-          REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;
-          cornerBlendV(H0, fv0, fv1, A00, L00);
-          if (kNeedT1) cornerBlendV(H1, fv0, fv1, A10, L10);
-          if (kWantDuu) cornerBlendV(H2, fv0, fv1, A20, L20);
-          if (kNeedD1V) cornerBlendV(H0, -sv.y, sv.y, A01, L01);
-          if (kWantDuv) cornerBlendV(H1, -sv.y, sv.y, A11, L11);
-          if (kWantDvv) cornerBlendV(H0, -sv.z, sv.z, A02, L02);
-          REAL3 M = L00 - p[e], Mu = L10 - u[e], Mv = L01 - v[e];
-          if (kWantDuu) uu[e] = uu[e] + A00 * (L20 - uu[e]) + REAL(2) * A10 * Mu + A20 * M;
-          if (kWantDuv) uv[e] = uv[e] + A00 * (L11 - uv[e]) + A10 * Mv + A01 * Mu + A11 * M;
-          if (kWantDvv) vv[e] = vv[e] + A00 * (L02 - vv[e]) + REAL(2) * A01 * Mv + A02 * M;
-          if (kNeedT1) u[e] = u[e] + A00 * Mu + A10 * M;
-          if (kNeedD1V) v[e] = v[e] + A00 * Mv + A01 * M;
-          p[e] = p[e] + A00 * M;
+          // docs/math.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q,
+          // only for the orders the requested fields need.
+          BlendFactors fv = blendFactors(singularBlend(t));
+          AlphaEBWeights w = alphaEBWeightsZero();
+          cornerBlendV(H0, fv.f00, fv.f01, w.a00, w.L00);
+          if (kNeedT1) cornerBlendV(H1, fv.f00, fv.f01, w.a10, w.L10);
+          if (kWantDuu) cornerBlendV(H2, fv.f00, fv.f01, w.a20, w.L20);
+          if (kNeedD1V) cornerBlendV(H0, fv.f10, fv.f11, w.a01, w.L01);
+          if (kWantDuv) cornerBlendV(H1, fv.f10, fv.f11, w.a11, w.L11);
+          if (kWantDvv) cornerBlendV(H0, fv.f20, fv.f21, w.a02, w.L02);
+          alphaEBBlendPatch(w, p[e], u[e], v[e], uu[e], uv[e], vv[e]);
         }
         if (kWantNormal) {
           // An α = 1 patch corner makes Q_u or Q_v vanish exactly and lands here as degenerate.

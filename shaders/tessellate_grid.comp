@@ -64,55 +64,35 @@ void writePerimeter(uint b, REAL3 p, REAL3 n) {
 
 // Point, Q_u, Q_v at v = t of the current row, branch-free. The row data: its u contraction in
 // the power basis of v, W0[d] = Σ_s c_s,d Σ_r B_r(u) P[r][s] and W1[d] likewise with B_r'(u), where
-// B_s(v) = Σ_d c_s,d v^d are the v basis coefficients (SpanBasis); S(u) and its derivatives su;
-// the patch's corner V and α. A sample is then one Horner pass over d for the point, Q_v (its
+// B_s(v) = Σ_d c_s,d v^d are the v basis coefficients (SpanBasis); the patch's corner V and α and
+// their blend with the u factors of the row. A sample is then one Horner pass over d for the point, Q_v (its
 // derivative) and Q_u, instead of evaluating every v basis function and contracting with them:
 // 90 instead of 228 operations per sample at degree 5 (llvmpipe does not fuse multiply-adds). The
 // rounding bound is the same, Σ |c_s,d| |P| ulps either way. (Globals: a struct of arrays sized
 // by specialization constants miscompiles.)
-REAL3 gW0[DV + 1u], gW1[DV + 1u], gSu, gV[4], gCornerU[4];
-REAL gAl[4], gAlphaU[4];
+REAL3 gW0[DV + 1u], gW1[DV + 1u], gV[4];
+REAL gAl[4];
+CornerHalf gH0, gH1;  // the u halves of the α-EB corner weights of the row, u orders 0 and 1
 REAL cv[MV][DV + 1u];  // v basis coefficients (PARAMS)
 
 void evalSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
   p = gW0[DV];
   du = gW1[DV];
   dv = REAL3(0);
+  REAL3 unused0 = REAL3(0), unused1 = REAL3(0), unused2 = REAL3(0);  // dead code after inlining
   [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
-    dv = dv * t + p;
-    p = p * t + gW0[d];
-    du = du * t + gW1[d];
+    hornerStep(p, dv, unused0, t, gW0[d]);
+    hornerStep(du, unused1, unused2, t, gW1[d]);
   }
   if (kAEB) {
-    // docs/math.md §5.3 (evalAlphaEBPatch): Q = C + A M, Q_u = C_u + A M_u + A_u M, Q_v likewise, with
-    // the corner weights factored: the u factors are blended into gCornerU once per row.
-    REAL3 sv = singularBlend(t);
-    REAL fv0 = REAL(1) - sv.x, fv1 = sv.x;
-    REAL A00 = fv0 * gAlphaU[0] + fv1 * gAlphaU[1];
-    REAL A10 = fv0 * gAlphaU[2] + fv1 * gAlphaU[3];
-    REAL A01 = sv.y * (gAlphaU[1] - gAlphaU[0]);
-    REAL3 L00 = fv0 * gCornerU[0] + fv1 * gCornerU[1];
-    REAL3 L10 = fv0 * gCornerU[2] + fv1 * gCornerU[3];
-    REAL3 L01 = sv.y * (gCornerU[1] - gCornerU[0]);
-    REAL3 M = L00 - p, Mu = L10 - du, Mv = L01 - dv;
-    du = du + A00 * Mu + A10 * M;
-    dv = dv + A00 * Mv + A01 * M;
-    p = p + A00 * M;
+    // docs/math.md §5.3 (evalAlphaEBPatch) for Q, Q_u, Q_v, the u halves of the weights from the row.
+    BlendFactors fv = blendFactors(singularBlend(t));
+    AlphaEBWeights w = alphaEBWeightsZero();
+    cornerBlendV(gH0, fv.f00, fv.f01, w.a00, w.L00);
+    cornerBlendV(gH1, fv.f00, fv.f01, w.a10, w.L10);
+    cornerBlendV(gH0, fv.f10, fv.f11, w.a01, w.L01);
+    alphaEBBlendFirst(w, p, du, dv);
   }
-}
-
-// The u halves of the α-EB corner weights of the current row: for the v = 0 and v = 1 sides, V
-// and α blended with (1 - S(u), S(u)) (entries 0, 1) and with (-S'(u), S'(u)) (entries 2, 3).
-void blendCornersU() {
-  REAL fu0 = REAL(1) - gSu.x, fu1 = gSu.x;
-  gCornerU[0] = fu0 * gV[0] + fu1 * gV[2];
-  gCornerU[1] = fu0 * gV[1] + fu1 * gV[3];
-  gCornerU[2] = gSu.y * (gV[2] - gV[0]);
-  gCornerU[3] = gSu.y * (gV[3] - gV[1]);
-  gAlphaU[0] = fu0 * gAl[0] + fu1 * gAl[2];
-  gAlphaU[1] = fu0 * gAl[1] + fu1 * gAl[3];
-  gAlphaU[2] = gSu.y * (gAl[2] - gAl[0]);
-  gAlphaU[3] = gSu.y * (gAl[3] - gAl[1]);
 }
 
 // Samples whose normal needs the full §5.3 convention (α = 1 patch corners, where Q_u or Q_v
@@ -180,11 +160,8 @@ void main() {
       T1[s] = REAL3(0);
     }
     [[unroll]] for (uint r = 0; r < MU; ++r) {
-      REAL w0 = cu[r][DU], dp = REAL(0);
-      [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) {
-        dp = dp * tu + w0;
-        w0 = w0 * tu + cu[r][d];
-      }
+      REAL w0 = cu[r][DU], dp = REAL(0), unused = REAL(0);
+      [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) hornerStep(w0, dp, unused, tu, cu[r][d]);
       [[unroll]] for (uint s = 0; s < MV; ++s) {
         T0[s] += w0 * P[r][s];
         T1[s] += dp * P[r][s];
@@ -199,8 +176,11 @@ void main() {
       gW0[d] = w0;
       gW1[d] = w1;
     }
-    gSu = kAEB ? singularBlend(tu) : REAL3(0);
-    if (kAEB) blendCornersU();
+    if (kAEB) {
+      BlendFactors fu = blendFactors(singularBlend(tu));
+      gH0 = cornerBlendU(fu.f00, fu.f01, gAl, gV);
+      gH1 = cornerBlendU(fu.f10, fu.f11, gAl, gV);
+    }
     uint fallbackCount = 0u, fallback0 = 0u, fallback1 = 0u;
 
     // Interior samples b = 1 .. m-1 of an inner row (none for rows 0 and n), in groups of 4; the
