@@ -119,8 +119,8 @@ Curve Curve::create(CurveModel model) {
   const int n = static_cast<int>(m.points.size());
   const Construction kind = m.family.construction;
 
-  if (kind == Construction::BSpline && !m.knots.empty()) {
-    c.knotVector_ = true;
+  c.parameterization_ = parameterizationOf(kind, !m.knots.empty());
+  if (c.knotVector()) {
     c.bspline_.order = m.family.order;
     c.bspline_.knots = m.knots;
     c.bspline_.points = m.points;
@@ -128,23 +128,22 @@ Curve Curve::create(CurveModel model) {
     return c;
   }
 
-  c.alphaEB_ = kind == Construction::AlphaEB;
   c.basis_ = makeSpanBasis(m.family);
   const int count = c.basis_.count, centre = c.basis_.centre;
-  if (c.alphaEB_) {
+  if (c.alphaEB()) {
     c.spans_ = {0, m.closed ? n - 1 : n - 2};
   } else {
     c.spans_ = m.closed ? SpanRange{0, n - 1} : SpanRange{centre, n - count + centre};
   }
   const std::vector<ExtendedIndex> ext =
-      extendedIndices(n, m.closed, c.alphaEB_, count, centre, c.spanPointOffset_);
+      extendedIndices(n, m.closed, c.alphaEB(), count, centre, c.spanPointOffset_);
   c.spanPoints_.resize(ext.size());
   for (size_t i = 0; i < ext.size(); ++i)
     c.spanPoints_[i] = ext[i].w1 == 0.0 ? m.points[ext[i].i0]
                                         : ext[i].w0 * m.points[ext[i].i0] + ext[i].w1 * m.points[ext[i].i1];
   if (kind == Construction::ExtendedBSpline || kind == Construction::GB) c.spanKnots_ = m.knots;
 
-  if (c.alphaEB_) {
+  if (c.alphaEB()) {
     // node_j = C_j(0) and V_j, once per model (§14).
     c.nodes_.resize(n);
     c.v_.resize(n);
@@ -163,7 +162,7 @@ Curve Curve::create(CurveModel model) {
 }
 
 std::pair<double, double> Curve::parameterRange() const {
-  if (knotVector_) {
+  if (knotVector()) {
     const int k = bspline_.order, n = static_cast<int>(bspline_.points.size());
     return {bspline_.knots[k - 1], bspline_.knots[n]};
   }
@@ -173,7 +172,7 @@ std::pair<double, double> Curve::parameterRange() const {
 
 double Curve::parameterOf(int span, double t) const {
   if (span < spans_.first || span > spans_.last) throwSpan(span, spans_);
-  if (knotVector_) {
+  if (knotVector()) {
     const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
     return a + t * (b - a);
   }
@@ -186,7 +185,7 @@ double Curve::parameterOf(int span, double t) const {
 
 CurvePoint Curve::evalSpan(int span, double t) const {
   CurvePoint out;
-  if (alphaEB_) {
+  if (alphaEB()) {
     const int n = static_cast<int>(model_.points.size());
     const int j1 = span + 1 == n ? 0 : span + 1;  // only reached for closed curves
     evalAlphaEBSpan(basis_, &spanPoints_[span], v_[span], v_[j1], model_.alpha[span], model_.alpha[j1], t, out);
@@ -214,7 +213,7 @@ CurvePoint Curve::evalSpan(int span, double t) const {
 CurvePoint Curve::evaluate(int span, double t) const {
   if (span < spans_.first || span > spans_.last) throwSpan(span, spans_);
   checkLocal("t", t);
-  if (knotVector_) {
+  if (knotVector()) {
     const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
     if (!(b > a))
       throw std::out_of_range("span " + std::to_string(span) + " is the empty knot interval [" + fmt(a) + ", " +
@@ -244,7 +243,7 @@ CurvePoint Curve::evaluateAt(double u) const {
   const auto [lo, hi] = parameterRange();
   if (!(u >= lo && u <= hi))
     throw std::out_of_range("u = " + fmt(u) + " outside the parameter range [" + fmt(lo) + ", " + fmt(hi) + "]");
-  if (knotVector_) {
+  if (knotVector()) {
     const BSplineCurvePoint p = evalBSplineCurve(bspline_, u);
     return {p.point, p.d1, p.d2};
   }

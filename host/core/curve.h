@@ -60,7 +60,9 @@ class Curve {
   int dimension() const { return model_.dimension; }
   // True for `bspline` with a knot vector (docs/math.md §10.1); evaluation then goes through
   // core/bspline.h and the parameter is the knot parameter.
-  bool usesKnotVector() const { return knotVector_; }
+  // Decided once here from the family table (core/family.h); every layer dispatches on it.
+  Parameterization parameterization() const { return parameterization_; }
+  bool usesKnotVector() const { return knotVector(); }
 
   // Valid spans. Local families: docs/math.md §1 (open j = c..N-m+c, closed 0..N-1); α-EB: §4.1 (open
   // 0..N-2, closed 0..N-1). Knot-vector B-splines: the knot interval indices k-1..n of §10.1
@@ -90,7 +92,7 @@ class Curve {
   // points P_{-1}, P_N of §4.1, closed N+3 points wrapped mod N; span j reads entries j..j+3.
   // alphaNodes()[j] = node_j = C_j(0), alphaV()[j] = V_j, alphas()[j] = α_j, all of size N;
   // span j uses index j and (j+1) mod N.
-  const std::vector<glm::dvec3>& extendedPoints() const { return alphaEB_ ? spanPoints_ : emptyPoints_; }
+  const std::vector<glm::dvec3>& extendedPoints() const { return alphaEB() ? spanPoints_ : emptyPoints_; }
   const std::vector<glm::dvec3>& alphaNodes() const { return nodes_; }
   const std::vector<glm::dvec3>& alphaV() const { return v_; }
   const std::vector<double>& alphas() const { return model_.alpha; }
@@ -103,7 +105,10 @@ class Curve {
   CurveModel model_;
   SpanBasis basis_;
   SpanRange spans_;
-  bool knotVector_ = false, alphaEB_ = false;
+  bool knotVector() const { return parameterization_ == Parameterization::KnotVector; }
+  bool alphaEB() const { return parameterization_ == Parameterization::AlphaEB; }
+
+  Parameterization parameterization_ = Parameterization::LocalSpans;
   std::vector<glm::dvec3> spanPoints_;
   int spanPointOffset_ = 0;
   std::vector<glm::dvec3> nodes_, v_;

@@ -189,17 +189,7 @@ SpanBasis gubpSpanBasis(int order, std::span<const double> muHalf) {
 
 SpanBasis uniformBSplineSpanBasis(int order) { return ubpSpanBasis(order, 0.0); }
 
-SpanBasis makeSpanBasis(const FamilySpec& family) {
-  switch (family.construction) {
-    case Construction::ExtendedBSpline:
-    case Construction::AlphaEB: return xuWangSpanBasis(family.degree, family.lambda);
-    case Construction::GB: return gbSpanBasis(family.lambda);
-    case Construction::UBP: return ubpSpanBasis(family.order, family.lambda);
-    case Construction::GUBP: return gubpSpanBasis(family.order, family.mu);
-    case Construction::BSpline: return uniformBSplineSpanBasis(family.order);
-  }
-  return {};
-}
+SpanBasis makeSpanBasis(const FamilySpec& family) { return familyOf(family.construction).spanBasis(family); }
 
 void evalSpanBasis(const SpanBasis& basis, double t, double* b, double* d1, double* d2) {
   for (int r = 0; r < basis.count; ++r) {

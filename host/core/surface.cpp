@@ -119,8 +119,8 @@ Surface Surface::create(SurfaceModel model) {
   const SurfaceModel& m = s.model_;
   const Construction kind = m.family.construction;
 
-  if (kind == Construction::BSpline && (!m.knotsU.empty() || !m.knotsV.empty())) {
-    s.knotVector_ = true;
+  s.parameterization_ = parameterizationOf(kind, !m.knotsU.empty() || !m.knotsV.empty());
+  if (s.knotVector()) {
     s.bspline_.orderU = m.family.order;
     s.bspline_.orderV = m.orderV > 0 ? m.orderV : m.family.order;
     s.bspline_.knotsU = m.knotsU;
@@ -132,15 +132,14 @@ Surface Surface::create(SurfaceModel model) {
     return s;
   }
 
-  s.alphaEB_ = kind == Construction::AlphaEB;
   s.basisU_ = makeSpanBasis(m.family);
-  if (kind == Construction::BSpline && m.orderV > 0) {
+  if (familyOf(kind).twoOrders && m.orderV > 0) {
     s.basisV_ = uniformBSplineSpanBasis(m.orderV);
   } else {
     s.basisV_ = s.basisU_;
   }
   auto range = [&](int n, bool closed, const SpanBasis& b) {
-    if (s.alphaEB_) return SpanRange{0, closed ? n - 1 : n - 2};
+    if (s.alphaEB()) return SpanRange{0, closed ? n - 1 : n - 2};
     return closed ? SpanRange{0, n - 1} : SpanRange{b.centre, n - b.count + b.centre};
   };
   s.patches_ = {range(m.rows, m.closedU, s.basisU_), range(m.cols, m.closedV, s.basisV_)};
@@ -148,9 +147,9 @@ Surface Surface::create(SurfaceModel model) {
   // The u and v rules are linear and act on different indices, so the tensor product of the two
   // 1-D combinations equals applying them one after the other (§5.1: they commute).
   const std::vector<ExtendedIndex> eu =
-      extendedIndices(m.rows, m.closedU, s.alphaEB_, s.basisU_.count, s.basisU_.centre, s.offU_);
+      extendedIndices(m.rows, m.closedU, s.alphaEB(), s.basisU_.count, s.basisU_.centre, s.offU_);
   const std::vector<ExtendedIndex> ev =
-      extendedIndices(m.cols, m.closedV, s.alphaEB_, s.basisV_.count, s.basisV_.centre, s.offV_);
+      extendedIndices(m.cols, m.closedV, s.alphaEB(), s.basisV_.count, s.basisV_.centre, s.offV_);
   s.netRows_ = static_cast<int>(eu.size());
   s.netCols_ = static_cast<int>(ev.size());
   s.net_.resize(eu.size() * ev.size());
@@ -167,7 +166,7 @@ Surface Surface::create(SurfaceModel model) {
     }
   }
 
-  if (s.alphaEB_) {
+  if (s.alphaEB()) {
     const size_t count = static_cast<size_t>(m.rows) * m.cols;
     s.nodes_.resize(count);
     s.v_.resize(count);
@@ -191,12 +190,12 @@ Surface Surface::create(SurfaceModel model) {
 }
 
 std::pair<double, double> Surface::parameterRangeU() const {
-  if (knotVector_) return {bspline_.knotsU[bspline_.orderU - 1], bspline_.knotsU[bspline_.rows]};
+  if (knotVector()) return {bspline_.knotsU[bspline_.orderU - 1], bspline_.knotsU[bspline_.rows]};
   return {static_cast<double>(patches_.u.first), static_cast<double>(patches_.u.last + 1)};
 }
 
 std::pair<double, double> Surface::parameterRangeV() const {
-  if (knotVector_) return {bspline_.knotsV[bspline_.orderV - 1], bspline_.knotsV[bspline_.cols]};
+  if (knotVector()) return {bspline_.knotsV[bspline_.orderV - 1], bspline_.knotsV[bspline_.cols]};
   return {static_cast<double>(patches_.v.first), static_cast<double>(patches_.v.last + 1)};
 }
 
@@ -205,7 +204,7 @@ std::pair<double, double> Surface::parameterOf(int i, int j, double u, double v)
     throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
                             ") outside the valid patch range " + rangeText(patches_.u) + " x " +
                             rangeText(patches_.v));
-  if (knotVector_) {
+  if (knotVector()) {
     const double u0 = bspline_.knotsU[i], u1 = bspline_.knotsU[i + 1];
     const double v0 = bspline_.knotsV[j], v1 = bspline_.knotsV[j + 1];
     return {u0 + u * (u1 - u0), v0 + v * (v1 - v0)};
@@ -214,7 +213,7 @@ std::pair<double, double> Surface::parameterOf(int i, int j, double u, double v)
 }
 
 void Surface::evalPatch(int i, int j, double u, double v, PatchDerivs& out, PatchDerivs& base) const {
-  if (knotVector_) {
+  if (knotVector()) {
     const double u0 = bspline_.knotsU[i], u1 = bspline_.knotsU[i + 1];
     const double v0 = bspline_.knotsV[j], v1 = bspline_.knotsV[j + 1];
     const BSplineSurfacePoint p = evalBSplineSurface(bspline_, u0 + u * (u1 - u0), v0 + v * (v1 - v0));
@@ -226,7 +225,7 @@ void Surface::evalPatch(int i, int j, double u, double v, PatchDerivs& out, Patc
     return;
   }
   const glm::dvec3* net = &net_[static_cast<size_t>(i + offU_) * netCols_ + (j + offV_)];
-  if (!alphaEB_) {
+  if (!alphaEB()) {
     evalTensorPatch(basisU_, basisV_, net, netCols_, u, v, out);
     base = out;
     return;
@@ -270,7 +269,7 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
   out.dvv = q.vv;
 
   // 1. α = 1 vertex at an exact patch corner: diagonal limit.
-  if (alphaEB_ && (u == 0.0 || u == 1.0) && (v == 0.0 || v == 1.0)) {
+  if (alphaEB() && (u == 0.0 || u == 1.0) && (v == 0.0 || v == 1.0)) {
     glm::dvec3 n;
     if (cornerLimit(i, j, u == 0.0 ? 0 : 1, v == 0.0 ? 0 : 1, n)) {
       out.normal = n;
@@ -279,7 +278,7 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
     }
   }
   // 2. Regular point (knot vectors: the partials scaled to stay finite, see evalPatch).
-  if (unitNormal(knotVector_ ? c.u : q.u, knotVector_ ? c.v : q.v, out.normal)) {
+  if (unitNormal(knotVector() ? c.u : q.u, knotVector() ? c.v : q.v, out.normal)) {
     out.normalRule = NormalRule::Regular;
     return out;
   }
@@ -307,7 +306,7 @@ SurfacePoint Surface::evaluate(int i, int j, double u, double v) const {
                             rangeText(patches_.v));
   checkLocal("u", u);
   checkLocal("v", v);
-  if (knotVector_) {
+  if (knotVector()) {
     if (!(bspline_.knotsU[i + 1] > bspline_.knotsU[i]) || !(bspline_.knotsV[j + 1] > bspline_.knotsV[j]))
       throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
                               ") is an empty knot interval");
@@ -328,7 +327,7 @@ SurfacePoint Surface::evaluateAt(double U, double V) const {
   if (!(U >= ulo && U <= uhi) || !(V >= vlo && V <= vhi))
     throw std::out_of_range("(U, V) = (" + fmt(U) + ", " + fmt(V) + ") outside the parameter range [" + fmt(ulo) +
                             ", " + fmt(uhi) + "] x [" + fmt(vlo) + ", " + fmt(vhi) + "]");
-  if (knotVector_) {
+  if (knotVector()) {
     const int n = bspline_.rows, kU = bspline_.orderU;
     const int i = findKnotSpan(kU, bspline_.knotsU, n, U);
     const int j = findKnotSpan(bspline_.orderV, bspline_.knotsV, bspline_.cols, V);
@@ -343,7 +342,7 @@ SurfacePoint Surface::evaluateAt(double U, double V) const {
 }
 
 glm::dvec3 Surface::limitNormal(int i, int j, int cornerU, int cornerV) const {
-  if (!alphaEB_) throw std::logic_error("limitNormal: only α-EB surfaces have α = 1 vertices");
+  if (!alphaEB()) throw std::logic_error("limitNormal: only α-EB surfaces have α = 1 vertices");
   if (i < patches_.u.first || i > patches_.u.last || j < patches_.v.first || j > patches_.v.last)
     throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
                             ") outside the valid patch range " + rangeText(patches_.u) + " x " +

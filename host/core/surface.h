@@ -90,7 +90,9 @@ class Surface {
   static Surface create(SurfaceModel model);
 
   const SurfaceModel& model() const { return model_; }
-  bool usesKnotVector() const { return knotVector_; }
+  // Decided once here from the family table (core/family.h); every layer dispatches on it.
+  Parameterization parameterization() const { return parameterization_; }
+  bool usesKnotVector() const { return knotVector(); }
 
   // Valid patches per direction: §5.1 for α-EB, §1 per direction for plain families; knot-vector
   // B-splines: knot interval indices k-1..n per direction (empty intervals rejected by evaluate()).
@@ -124,7 +126,7 @@ class Surface {
   // (R+2 or R+3) x (C+2 or C+3), row-major with netCols() columns. alphaNodes(), alphaV() and
   // alphas() are R x C row-major (node_ij = C_ij(0,0), V_ij, α_ij); patch (i,j) uses entries
   // (i, j), (i, j+1), (i+1, j), (i+1, j+1), wrapped in closed directions.
-  const std::vector<glm::dvec3>& extendedNet() const { return alphaEB_ ? net_ : emptyPoints_; }
+  const std::vector<glm::dvec3>& extendedNet() const { return alphaEB() ? net_ : emptyPoints_; }
   const std::vector<glm::dvec3>& alphaNodes() const { return nodes_; }
   const std::vector<glm::dvec3>& alphaV() const { return v_; }
   const std::vector<double>& alphas() const { return model_.alpha; }
@@ -140,7 +142,10 @@ class Surface {
   SurfaceModel model_;
   SpanBasis basisU_, basisV_;
   PatchRange patches_;
-  bool knotVector_ = false, alphaEB_ = false;
+  bool knotVector() const { return parameterization_ == Parameterization::KnotVector; }
+  bool alphaEB() const { return parameterization_ == Parameterization::AlphaEB; }
+
+  Parameterization parameterization_ = Parameterization::LocalSpans;
   std::vector<glm::dvec3> net_;
   int netRows_ = 0, netCols_ = 0, offU_ = 0, offV_ = 0;
   std::vector<glm::dvec3> nodes_, v_;
