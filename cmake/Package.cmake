@@ -13,7 +13,8 @@ set(SHAPESPLINE_PUBLIC_HEADERS
     core/validate.h
     io/atomic_file.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
     vk/buffer.h vk/context.h vk/error.h vk/handle.h vk/pipeline.h vk/pipeline_cache.h vk/submit.h
-    gpu/evaluator.h gpu/gpu_model.h gpu/tess_topology.h gpu/tessellator.h
+    gpu/basis_table_evaluator.h gpu/curve_evaluator.h gpu/evaluator.h gpu/evaluator_options.h gpu/gpu_model.h
+    gpu/surface_evaluator.h gpu/tess_topology.h gpu/tessellator.h
     render/camera.h render/renderer.h
     shaders/tess_layout.h)
 foreach(header IN LISTS SHAPESPLINE_PUBLIC_HEADERS)

@@ -47,41 +47,117 @@ OneShot::~OneShot() {
   vkFreeCommandBuffers(ctx_.device(), ctx_.commandPool(), 1, &cmd_);
 }
 
-void OneShot::submitAndWait(std::chrono::nanoseconds timeout) {
-  if (submitted_) throw std::logic_error("OneShot::submitAndWait called twice");
-  if (deviceLostFaultDue()) {
-    ctx_.markDeviceLost();
-    throw VulkanError(VK_ERROR_DEVICE_LOST, std::string("vkQueueSubmit") + kInjectedNote);
-  }
+namespace {
+
+// The fence wait alone makes writes available but not visible to the host (Vulkan spec 7.9,
+// "Host Write Ordering Guarantees" covers only the other direction).
+void hostReadBarrier(VkCommandBuffer cmd) {
   VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  // The fence wait alone makes writes available but not visible to the host (Vulkan spec 7.9,
-  // "Host Write Ordering Guarantees" covers only the other direction).
-  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
-  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+}
 
+// Ends `cmd` (after the host-read barrier) and submits it with `fence`; the caller holds the
+// context's submit mutex (the queue is externally synchronized).
+void endAndSubmit(Context& ctx, VkCommandBuffer cmd, VkFence fence) {
+  if (ctx.deviceLost()) throw VulkanError(VK_ERROR_DEVICE_LOST, "submitting a command buffer");
+  if (deviceLostFaultDue()) {  // test-only fault injection (vk/fault.h)
+    ctx.markDeviceLost();
+    throw VulkanError(VK_ERROR_DEVICE_LOST, std::string("vkQueueSubmit") + kInjectedNote);
+  }
+  hostReadBarrier(cmd);
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &cmd_;
-  VkResult result = vkQueueSubmit(ctx_.queue(), 1, &submit, fence_.get());
-  if (result == VK_ERROR_DEVICE_LOST) ctx_.markDeviceLost();
+  submit.pCommandBuffers = &cmd;
+  const VkResult result = vkQueueSubmit(ctx.queue(), 1, &submit, fence);
+  if (result == VK_ERROR_DEVICE_LOST) ctx.markDeviceLost();
   check(result, "vkQueueSubmit");
-  submitted_ = true;
+}
 
-  VkFence fence = fence_.get();
+void waitForFence(Context& ctx, VkFence fence, std::chrono::nanoseconds timeout) {
   const uint64_t ns = uint64_t(std::max<std::chrono::nanoseconds::rep>(0, timeout.count()));
-  result = vkWaitForFences(ctx_.device(), 1, &fence, VK_TRUE, ns);
+  const VkResult result = vkWaitForFences(ctx.device(), 1, &fence, VK_TRUE, ns);
   if (result == VK_TIMEOUT) {
     throw VulkanError(VK_TIMEOUT, "vkWaitForFences",
                       "GPU work did not finish within " +
                           std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count()) +
                           " ms (vkWaitForFences returned VK_TIMEOUT)");
   }
-  if (result == VK_ERROR_DEVICE_LOST) ctx_.markDeviceLost();
+  if (result == VK_ERROR_DEVICE_LOST) ctx.markDeviceLost();
   check(result, "vkWaitForFences (waiting for a compute submission)");
+}
+
+FenceHandle createFence(Context& ctx) {
+  VkFenceCreateInfo info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence = VK_NULL_HANDLE;
+  check(vkCreateFence(ctx.device(), &info, nullptr, &fence), "vkCreateFence");
+  return FenceHandle(ctx.device(), fence);
+}
+
+void beginOneTime(VkCommandBuffer cmd) {
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+}
+
+}  // namespace
+
+void OneShot::submitAndWait(std::chrono::nanoseconds timeout) {
+  if (submitted_) throw std::logic_error("OneShot::submitAndWait called twice");
+  endAndSubmit(ctx_, cmd_, fence_.get());
+  submitted_ = true;
+  waitForFence(ctx_, fence_.get(), timeout);
   submitted_ = false;  // finished: nothing left to wait for in the destructor
+}
+
+SubmitRing::SubmitRing(Context& ctx, uint32_t slots) : ctx_(ctx), pending_(slots, false) {
+  VkCommandPoolCreateInfo info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT | VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+  info.queueFamilyIndex = ctx.queueFamily();
+  VkCommandPool pool = VK_NULL_HANDLE;
+  check(vkCreateCommandPool(ctx.device(), &info, nullptr, &pool), "vkCreateCommandPool (submit ring)");
+  pool_ = CommandPoolHandle(ctx.device(), pool);
+  cmd_.resize(slots);
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = slots;
+  check(vkAllocateCommandBuffers(ctx.device(), &alloc, cmd_.data()), "vkAllocateCommandBuffers (submit ring)");
+  for (uint32_t i = 0; i < slots; ++i) fence_.push_back(createFence(ctx));
+}
+
+SubmitRing::~SubmitRing() {
+  for (size_t i = 0; i < cmd_.size(); ++i) {
+    if (!pending_[i] || ctx_.deviceLost()) continue;
+    VkFence f = fence_[i].get();
+    if (vkWaitForFences(ctx_.device(), 1, &f, VK_TRUE, uint64_t(kDefaultFenceTimeout.count()) * 1000000ull) !=
+        VK_SUCCESS) {
+      fence_[i].release();  // still in use by a hung device: leak rather than destroy
+      pool_.release();
+    }
+  }
+}
+
+VkCommandBuffer SubmitRing::begin(uint32_t slot) {
+  check(vkResetCommandBuffer(cmd_[slot], 0), "vkResetCommandBuffer (submit ring)");
+  beginOneTime(cmd_[slot]);
+  return cmd_[slot];
+}
+
+void SubmitRing::submit(uint32_t slot) {
+  VkFence f = fence_[slot].get();
+  check(vkResetFences(ctx_.device(), 1, &f), "vkResetFences (submit ring)");
+  std::lock_guard<std::recursive_mutex> lock(ctx_.submitMutex());
+  endAndSubmit(ctx_, cmd_[slot], f);
+  pending_[slot] = true;
+}
+
+void SubmitRing::wait(uint32_t slot, std::chrono::nanoseconds timeout) {
+  waitForFence(ctx_, fence_[slot].get(), timeout);
+  pending_[slot] = false;
 }
 
 void runOneShot(Context& ctx, const std::function<void(VkCommandBuffer)>& record, std::chrono::nanoseconds timeout) {

@@ -1,7 +1,8 @@
 #pragma once
 // Recording and submitting work: OneShot (one primary command buffer, submit, wait on a fence),
-// the barrier used between dependent dispatches, and chunked 1-D dispatch that respects
-// maxComputeWorkGroupCount.
+// SubmitRing (a few reusable command buffers in flight at once, for streaming chunked jobs), the
+// barriers used between dependent dispatches, and chunked 1-D dispatch that respects
+// maxComputeWorkGroupCount. Both submitters go through the same submit and fence-wait steps.
 #include <shapespline/vk/context.h>
 #include <shapespline/vk/handle.h>
 
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <vector>
 
 namespace shapespline::vk {
 
@@ -42,6 +44,32 @@ class OneShot {
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   FenceHandle fence_;
   bool submitted_ = false;
+};
+
+// `slots` primary command buffers with a fence each, from the ring's own command pool, reused for
+// a stream of submissions: while the GPU runs slot k+1 the caller reads slot k's results. begin()
+// re-records a slot (its previous submission must have been waited for); submit() appends the same
+// host-read barrier as OneShot. The submit mutex is held only inside submit(). The destructor waits
+// for pending slots (a caller that throws mid-stream leaves one in flight).
+class SubmitRing {
+ public:
+  SubmitRing(Context& ctx, uint32_t slots);
+  ~SubmitRing();
+  SubmitRing(const SubmitRing&) = delete;
+  SubmitRing& operator=(const SubmitRing&) = delete;
+
+  uint32_t slots() const { return uint32_t(cmd_.size()); }
+  VkCommandBuffer begin(uint32_t slot);
+  void submit(uint32_t slot);
+  // Throws VulkanError like OneShot::submitAndWait.
+  void wait(uint32_t slot, std::chrono::nanoseconds timeout = kDefaultFenceTimeout);
+
+ private:
+  Context& ctx_;
+  CommandPoolHandle pool_;
+  std::vector<VkCommandBuffer> cmd_;
+  std::vector<FenceHandle> fence_;
+  std::vector<bool> pending_;
 };
 
 // Records into a OneShot and submits it: runOneShot(ctx, [&](VkCommandBuffer cmd) { ... }).

@@ -1,0 +1,71 @@
+#pragma once
+// Internal to host/gpu: the grid and list runs that the curve and surface evaluators share (the
+// α-EB vertex pass, basis tables, the chunk loop streaming through a vk::SubmitRing, list chunks)
+// and the push-constant blocks of a model.
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/gpu/kernels.h>
+#include <shapespline/shaders/layout.h>
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/pipeline.h>
+
+#include <vulkan/vulkan_core.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace shapespline::gpu {
+
+class PlanePool;
+
+inline constexpr FieldMask kCurveFields = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
+inline constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
+                                            fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
+                                            fieldBit(Field::Normal);
+
+// A descriptor set of `pipe` with every binding at the dummy buffer (validation wants a valid
+// descriptor for bindings a variant does not use).
+vk::DescriptorSet makeSet(KernelSet& k, const vk::ComputePipeline& pipe);
+// A buffer of `reals` REALs rounded up to whole REAL4 (the shaders' REAL4 view covers every value).
+size_t realBufferBytes(const KernelSet& k, size_t reals);
+vk::Buffer realBuffer(KernelSet& k, size_t reals, vk::MemoryUse use, const char* label);
+
+// Constants of basis_table.comp for one basis.
+SpecValues basisTableSpec(const SpanBasis& b);
+
+// Throws std::invalid_argument when the evaluator and the model have different precisions.
+void checkPrecision(const KernelSet& k, const GpuModel& m);
+
+// Records basis_table.comp for one direction (coefficients at coefOffset) into `table`.
+void recordTable(KernelSet& k, const GpuModel& m, const SpanBasis& b, uint32_t coefOffset, uint32_t samples,
+                 uint32_t tableOffset, const vk::Buffer& table, VkCommandBuffer cmd,
+                 std::vector<vk::DescriptorSet>& keep);
+
+// Push constants of a model (items and samples left to the caller).
+layout::EvalPush curvePush(const GpuCurve& c);
+layout::KnotEvalPush knotPush(const GpuModel& m, uint32_t itemsV, uint32_t netCols);
+
+template <class Push>
+struct GridJob {
+  Kernel kernel;
+  bool surface;
+  bool knotVector;  // no basis table: bspline_*_eval.comp evaluates de Boor-Cox per point
+  FieldMask allowed;
+  Push push;  // model part filled in; chunk part set per chunk
+  size_t itemTotal;
+};
+
+// A grid job chunk by chunk (gpu/chunk_plan.h), two chunks in flight: the consumer reads chunk k
+// while the GPU computes k+1. Instantiated for layout::EvalPush and layout::KnotEvalPush.
+template <class Push>
+void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& job, const GridSpec& grid,
+             FieldMask fields, const ChunkConsumer& consumer, size_t maxPlaneBytes);
+
+// List mode: packed SAMPLES (gpu/list_packing.h) -> planes of every field in `fields`, read back
+// as doubles (3 per sample, empty for fields not asked).
+template <class Push>
+std::vector<std::vector<double>> runList(KernelSet& k, GpuModel& m, Kernel kernel, bool surface, FieldMask fields,
+                                         Push push, const std::vector<layout::ListSampleD>& samples,
+                                         size_t maxPlaneBytes);
+
+}  // namespace shapespline::gpu
