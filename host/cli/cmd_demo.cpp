@@ -87,7 +87,7 @@ void registerDemo(CLI::App& app) {
   auto a = std::make_shared<DemoArgs>();
   CLI::App* sub = app.add_subcommand("demo", "Write example models and their samples (OBJ, SVG) into ./shapespline-demo/.");
   sub->add_option("--dir", a->dir, "output folder (default ./shapespline-demo)");
-  sub->add_option("--device", a->device, "cpu (default) or vulkan");
+  sub->add_option("--device", a->device, "cpu (default), auto or vulkan (as in sample)");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runDemo(*a); });
 }

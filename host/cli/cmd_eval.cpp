@@ -4,10 +4,10 @@
 // (sin of the angle between du and dv below 0.01); `render_normal` then gives the docs/math.md §5.3
 // rendering normal.
 #include <shapespline/cli/common.h>
-#include <shapespline/cli/sampling.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_list.h>
+#include <shapespline/sampling/session.h>
 
 #include <glm/geometric.hpp>
 
@@ -20,7 +20,7 @@ namespace shapespline::cli {
 namespace {
 
 struct EvalArgs {
-  std::string model, at, device = "vulkan", precision = "double";
+  std::string model, at, device = "auto", precision = "double";
   bool quiet = false, requireDevice = false;
 };
 
@@ -58,29 +58,28 @@ double finiteParameter(double v, const char* field) {
   return v;
 }
 
-std::string evalCurve(const Curve& curve, const json& at, Precision p, bool gpu) {
+// Points of a CPU-path query outside the model's range name the sample (parse checks first, so
+// this is a last line of defence).
+template <class Result, class Run>
+Result evaluated(const json& at, Run&& run) {
+  try {
+    return run();
+  } catch (const sampling::QueryRangeError& e) {
+    throw InputError("samples[" + std::to_string(e.index()) + "]", io::shortValue(at.at("samples")[e.index()]),
+                     std::string("outside the model's parameter range: ") + e.what());
+  }
+}
+
+std::string evalCurve(sampling::Session& session, const Curve& curve, const json& at,
+                      const sampling::DeviceRequest& request) {
+  const Precision p = request.precision;
   const int dim = curve.dimension();
   const std::vector<io::CurveSample> queries = io::parseCurveSamples(at, curve, "--at");
-  std::vector<CurvePoint> points(queries.size());
-  bool onGpu = gpu;
-  for (const auto& q : queries) onGpu = onGpu && !q.global;
-  if (gpu && !onGpu) {
-    std::fprintf(stderr, "shapespline: notice: {\"u\": ...} samples are evaluated on the CPU fp64 path\n");
-  }
-  if (onGpu) {
-    std::vector<std::pair<int, double>> list;
-    for (const auto& q : queries) list.emplace_back(q.span, q.t);
-    points = gpuEvaluateCurve(curve, list, p);
-  } else {
-    for (size_t i = 0; i < queries.size(); ++i) {
-      try {
-        points[i] = queries[i].global ? curve.evaluateAt(queries[i].u) : curve.evaluate(queries[i].span, queries[i].t);
-      } catch (const std::out_of_range& e) {
-        throw InputError("samples[" + std::to_string(i) + "]", io::shortValue(at.at("samples")[i]),
-                         std::string("outside the model's parameter range: ") + e.what());
-      }
-    }
-  }
+  std::vector<sampling::CurveQuery> list;
+  list.reserve(queries.size());
+  for (const auto& q : queries) list.push_back({q.global, q.span, q.t, q.u});
+  auto result = evaluated<sampling::ListResult<CurvePoint>>(at, [&] { return session.evaluate(curve, request, list); });
+  std::vector<CurvePoint>& points = result.points;
   std::string out = "{\"samples\": [";
   if (nanFaultInjected() && !points.empty()) points[0].point.x = std::nan("");
   for (size_t i = 0; i < queries.size(); ++i) {
@@ -99,24 +98,17 @@ std::string evalCurve(const Curve& curve, const json& at, Precision p, bool gpu)
   return out + "\n]}\n";
 }
 
-std::string evalSurface(const Surface& surface, const json& at, Precision p, bool gpu) {
+std::string evalSurface(sampling::Session& session, const Surface& surface, const json& at,
+                        const sampling::DeviceRequest& request) {
+  const Precision p = request.precision;
   std::vector<std::array<double, 4>> queries;
-  for (const io::SurfaceSample& q : io::parseSurfaceSamples(at, surface, "--at"))
+  std::vector<sampling::SurfaceQuery> list;
+  for (const io::SurfaceSample& q : io::parseSurfaceSamples(at, surface, "--at")) {
     queries.push_back({static_cast<double>(q.patchU), static_cast<double>(q.patchV), q.u, q.v});
-  std::vector<SurfacePoint> points(queries.size());
-  if (gpu) {
-    points = gpuEvaluateSurface(surface, queries, p);
-  } else {
-    for (size_t i = 0; i < queries.size(); ++i) {
-      const auto& q = queries[i];
-      try {
-        points[i] = surface.evaluate(static_cast<int>(q[0]), static_cast<int>(q[1]), q[2], q[3]);
-      } catch (const std::out_of_range& e) {
-        throw InputError("samples[" + std::to_string(i) + "]", io::shortValue(at.at("samples")[i]),
-                         std::string("outside the model's patch/parameter range: ") + e.what());
-      }
-    }
+    list.push_back({false, q.patchU, q.patchV, q.u, q.v});
   }
+  auto result = evaluated<sampling::ListResult<SurfacePoint>>(at, [&] { return session.evaluate(surface, request, list); });
+  std::vector<SurfacePoint>& points = result.points;
   const auto& m = surface.model();
   auto global = [&](int idx, double local, const std::vector<double>& knots) {
     return surface.usesKnotVector()
@@ -153,23 +145,24 @@ std::string evalSurface(const Surface& surface, const json& at, Precision p, boo
 }
 
 void runEval(const EvalArgs& args) {
-  const Device requested = parseDevice(args.device);
-  const Precision precision = parsePrecision(args.precision);
+  const sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
   io::Model model = loadModel(args.model);
   const json at = readJsonFile(args.at, "--at");
-  std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
-  const Device device = resolveDevice(requested, precision, args.quiet, args.requireDevice);
+  std::visit([&](const auto& m) { requireFloatRange(m.points, request.precision); }, model);
+  sampling::Session session;
   std::string text;
   if (std::holds_alternative<CurveModel>(model)) {
     const Curve curve = Curve::create(std::get<CurveModel>(std::move(model)));
-    const bool gpu = device == Device::Vulkan && gpuHandles(&curve, nullptr, precision, args.quiet, args.requireDevice);
-    printPrecisionWarnings(curve.model(), gpu && precision == Precision::Float, args.quiet);
-    text = evalCurve(curve, at, precision, gpu);
+    const sampling::Report plan = session.plan(curve, request);
+    printNotices(plan, args.quiet);
+    printPrecisionWarnings(curve.model(), plan.gpu && plan.computedPrecision == Precision::Float, args.quiet);
+    text = evalCurve(session, curve, at, request);
   } else {
     const Surface surface = Surface::create(std::get<SurfaceModel>(std::move(model)));
-    const bool gpu = device == Device::Vulkan && gpuHandles(nullptr, &surface, precision, args.quiet, args.requireDevice);
-    printPrecisionWarnings(surface.model(), gpu && precision == Precision::Float, args.quiet);
-    text = evalSurface(surface, at, precision, gpu);
+    const sampling::Report plan = session.plan(surface, request);
+    printNotices(plan, args.quiet);
+    printPrecisionWarnings(surface.model(), plan.gpu && plan.computedPrecision == Precision::Float, args.quiet);
+    text = evalSurface(session, surface, at, request);
   }
   io::writeStdout(text);
   io::flushStdout();
@@ -185,10 +178,11 @@ void registerEval(CLI::App& app) {
                   "samples file: {\"samples\":[{\"span\":j,\"t\":t}]} (curves), [{\"u\":u}] (knot-vector "
                   "B-splines), [{\"patch\":[i,j],\"uv\":[u,v]}] (surfaces)")
       ->required();
-  sub->add_option("--device", args->device, "vulkan (default; falls back to cpu with a notice) or cpu");
+  sub->add_option("--device", args->device,
+                  "auto (default) or vulkan: the GPU, falling back to the CPU with a notice; cpu: the CPU fp64 path");
   sub->add_option("--precision", args->precision, "float or double (default double)");
   sub->add_flag("--require-device", args->requireDevice,
-                "with --device vulkan: fail (exit 3) instead of falling back to the CPU");
+                "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no warnings");
   sub->footer(kExitCodeHelp);
   sub->callback([args] { runEval(*args); });

@@ -2,10 +2,11 @@
 // the writer chosen by the output extension, through a temporary file renamed at the end.
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
-#include <shapespline/cli/sampling.h>
+#include <shapespline/core/grid_sampler.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/sampling/session.h>
 
 #include <cmath>
 #include <cstdio>
@@ -100,8 +101,8 @@ GridChunk withInjectedNan(const GridChunk& c, std::vector<double>& d, std::vecto
 
 void runSample(const SampleArgs& args) {
   const io::OutputFormat format = io::outputFormatFromPath(args.out, "-o");
-  const Device requested = parseDevice(args.device);
-  const Precision precision = parsePrecision(args.precision);
+  const sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
+  const Precision precision = request.precision;
   const auto [shardK, shardN] = parseShard(args.shard);
   if (args.threads < 0 || args.threads > kMaxThreads) {
     throw InputError("--threads", std::to_string(args.threads),
@@ -223,12 +224,12 @@ void runSample(const SampleArgs& args) {
   if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64) {
     sidecar = &outputs.add(args.out + ".json", "-o");
   }
-  Device device = resolveDevice(requested, precision, args.quiet, args.requireDevice);
-  if (device == Device::Vulkan &&
-      !gpuHandles(curve ? &*curve : nullptr, surface ? &*surface : nullptr, precision, args.quiet, args.requireDevice)) {
-    device = Device::Cpu;
-  }
-  const bool gpuFloat = device == Device::Vulkan && precision == Precision::Float;
+  sampling::Session session;
+  const sampling::Report report = curve ? session.plan(*curve, request) : session.plan(*surface, request);
+  printNotices(report, args.quiet);
+  layout.device = report.device;
+  layout.computedPrecision = report.computedPrecision;
+  const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
   // What the file stores: raw .f32, or PLY/CSV after --precision float.
@@ -239,28 +240,29 @@ void runSample(const SampleArgs& args) {
   writer->begin(layout);
   if (layout.itemCount > 0) {
     Progress progress(layout.pointCount(), args.quiet);
-    GridJob job;
-    job.curve = curve ? &*curve : nullptr;
-    job.surface = surface ? &*surface : nullptr;
-    job.grid.samplesU = su;
-    job.grid.samplesV = sv;
-    job.grid.firstItem = layout.firstItem;
-    job.grid.itemCount = layout.itemCount;
-    job.fields = fields;
-    job.precision = precision;
-    job.device = device;
-    job.threads = args.threads;
-    job.chunkPoints = static_cast<size_t>(args.chunkPoints);
+    GridSpec grid;
+    grid.samplesU = su;
+    grid.samplesV = sv;
+    grid.firstItem = layout.firstItem;
+    grid.itemCount = layout.itemCount;
+    sampling::GridOptions options;
+    options.threads = args.threads;
+    options.chunkPoints = static_cast<size_t>(args.chunkPoints);
     bool injectNan = nanFaultInjected();
     std::vector<double> nanD;
     std::vector<float> nanF;
-    runGrid(job, [&](const GridChunk& chunk) {
+    const ChunkConsumer sink = [&](const GridChunk& chunk) {
       const GridChunk& c = injectNan ? withInjectedNan(chunk, nanD, nanF) : chunk;
       injectNan = false;
       requireFiniteChunk(c, fileFloat);
       writer->consume(c);
       progress.add(c.pointCount());
-    });
+    };
+    if (curve) {
+      session.sampleGrid(*curve, request, grid, fields, sink, options);
+    } else {
+      session.sampleGrid(*surface, request, grid, fields, sink, options);
+    }
   }
   writer->finish();
   outputs.commit();
@@ -280,7 +282,8 @@ void registerSample(CLI::App& app) {
       ->required();
   sub->add_option("--samples", args->samples, "samples per span (curves, default 32; both ends included)");
   sub->add_option("--grid", args->grid, "samples per patch, U or UxV (surfaces, default 16x16)");
-  sub->add_option("--device", args->device, "vulkan (default; falls back to cpu with a notice) or cpu");
+  sub->add_option("--device", args->device,
+                  "auto (default) or vulkan: the GPU, falling back to the CPU with a notice; cpu: the CPU fp64 path");
   sub->add_option("--precision", args->precision, "float or double (default double)");
   sub->add_flag("--derivatives", args->derivatives, "also write derivatives (d1, d2 / du, dv, duu, duv, dvv)");
   sub->add_flag("--normals", args->normals, "also write unit normals (surfaces)");
@@ -291,7 +294,7 @@ void registerSample(CLI::App& app) {
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 262144 "
                   "on the CPU, 4 MiB planes on the GPU; output is identical)");
   sub->add_flag("--require-device", args->requireDevice,
-                "with --device vulkan: fail (exit 3) instead of falling back to the CPU");
+                "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
   sub->footer(kExitCodeHelp);
   sub->callback([args] { runSample(*args); });

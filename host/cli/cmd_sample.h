@@ -5,7 +5,7 @@
 namespace shapespline::cli {
 
 struct SampleArgs {
-  std::string model, out, grid, device = "vulkan", precision = "double", shard;
+  std::string model, out, grid, device = "auto", precision = "double", shard;
   std::string samples;  // --samples as given ("" = not given: the default)
   int threads = 0;
   long long chunkPoints = 0;  // 0 = default (CPU sampler and GPU evaluator defaults)

@@ -73,16 +73,31 @@ glm::dvec3 parsePoint(const std::string& text, const std::string& field, int* di
   return {v[0], v[1], v.size() == 3 ? v[2] : 0.0};
 }
 
-Device parseDevice(const std::string& text) {
-  if (text == "vulkan" || text == "gpu") return Device::Vulkan;
-  if (text == "cpu") return Device::Cpu;
-  throw InputError("--device", text, "expected vulkan or cpu");
+sampling::DeviceKind parseDevice(const std::string& text) {
+  if (text == "auto") return sampling::DeviceKind::Auto;
+  if (text == "vulkan" || text == "gpu") return sampling::DeviceKind::Vulkan;
+  if (text == "cpu") return sampling::DeviceKind::Cpu;
+  throw InputError("--device", text, "expected auto, vulkan or cpu");
 }
 
 Precision parsePrecision(const std::string& text) {
   if (text == "float" || text == "fp32") return Precision::Float;
   if (text == "double" || text == "fp64") return Precision::Double;
   throw InputError("--precision", text, "expected float or double");
+}
+
+sampling::DeviceRequest parseDeviceRequest(const std::string& device, const std::string& precision, bool require) {
+  return {parseDevice(device), parsePrecision(precision), require};
+}
+
+void printNotices(const sampling::Report& report, bool quiet) {
+  if (quiet) return;
+  for (const auto& why : report.fallbacks) {
+    std::fprintf(stderr, "shapespline: notice: %s; falling back to the CPU fp64 path\n", why.c_str());
+  }
+  if (report.fallbacks.empty() && report.computedPrecision != report.outputPrecision) {
+    std::fprintf(stderr, "shapespline: notice: the CPU path computes in fp64; --precision float only rounds the output\n");
+  }
 }
 
 void requireFinite(const glm::dvec3& v, const char* what) {

@@ -1,10 +1,11 @@
 #pragma once
-// Helpers shared by the subcommands: model loading, argument parsing, device choice, progress.
+// Helpers shared by the subcommands: model loading, argument parsing, notices, progress.
 #include <shapespline/cli/exit_codes.h>
 #include <shapespline/core/curve.h>
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/io/model_json.h>
+#include <shapespline/sampling/report.h>
 
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
@@ -38,14 +39,15 @@ glm::dvec3 parsePoint(const std::string& text, const std::string& field, int* di
 // "a,b,c" -> finite numbers.
 std::vector<double> parseNumbers(const std::string& text, const std::string& field);
 
-enum class Device { Vulkan, Cpu };
-Device parseDevice(const std::string& text);
+// --device auto|vulkan|cpu ("gpu" = vulkan), --precision float|double, --require-device.
+sampling::DeviceKind parseDevice(const std::string& text);
 Precision parsePrecision(const std::string& text);
+sampling::DeviceRequest parseDeviceRequest(const std::string& device, const std::string& precision, bool require);
 
-// The GPU path, when the build has one and a device exists; otherwise a notice on stderr and the
-// CPU path, or with `require` (--require-device) a RuntimeError (exit 3). Returns the device that
-// will actually be used.
-Device resolveDevice(Device requested, Precision precision, bool quiet, bool require = false);
+// The report's fallbacks as "shapespline: notice: <reason>; falling back to the CPU fp64 path"
+// lines on stderr, and a notice when the CPU path was asked for fp32 output (it computes fp64);
+// nothing when quiet.
+void printNotices(const sampling::Report& report, bool quiet);
 
 // Throws RuntimeError (exit 3) when a vector is not finite: an evaluation bug or a value beyond
 // the output precision's range, never written.

@@ -1,12 +1,13 @@
 // shapespline: the command line. main catches everything and maps it to the documented exit codes:
 // 0 success, 2 bad input (ModelError, InputError, OutputPathError, argument errors), 3 device or
-// runtime error (RuntimeError, VulkanError, OutputWriteError, internal errors).
+// runtime error (RuntimeError, sampling::DeviceError, OutputWriteError, internal errors).
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/exit_codes.h>
 #include <shapespline/core/model.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/sampling/report.h>
 #include <shapespline/version.h>
 
 #include <CLI/CLI.hpp>
@@ -116,6 +117,9 @@ int main(int argc, char** argv) {
                   kExitRuntime);
   } catch (const RuntimeError& e) {
     return report(e.field(), ruleAndValue(e), kExitRuntime);
+  } catch (const sampling::DeviceError& e) {
+    return report(e.fallbackRefused() ? "--require-device" : "vulkan", std::string(e.what()) + " (no output written)",
+                  kExitRuntime);
   } catch (const std::invalid_argument& e) {
     return report("input", e.what(), kExitBadInput);
   } catch (const std::bad_alloc&) {

@@ -766,6 +766,7 @@ RawSidecar readSidecar(const Where& w, bool float64) {
     refuse(w, "sidecar \"job\" is not 16 hex digits");
   }
   s.computedDouble = r.oneOf("computed_precision", {"double", "float"}) == "double";
+  s.device = r.str("device");
   s.source = r.str("source");
   // Counts follow from the item range; every product overflow-checked.
   uint64_t points = 0, values = 0, bytes = 0;
@@ -814,7 +815,8 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, Atomi
     RawSidecar s = readSidecar(sideWhere, float64);
     const RawSidecar& first = sides.empty() ? s : sides.front();
     checkSequence(s.info, first.info, k, shards.size(), sideWhere);
-    if (s.fields != first.fields || s.computedDouble != first.computedDouble || s.itemsV != first.itemsV) {
+    // The device (and so the computed precision) may differ between shards: the data is the same job.
+    if (s.fields != first.fields || s.itemsV != first.itemsV) {
       refuse(sideWhere, "sidecar describes another job than SHARD[1]'s (fields, precision or grid differ)");
     }
     const uint64_t bytes = s.info.itemCount * s.info.pointsPerItem() * s.valuesPerRecord() * s.valueSize();
@@ -849,6 +851,10 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, Atomi
     data.expectEnd();
   }
   RawSidecar merged = first;
+  for (const RawSidecar& s : sides) {
+    merged.computedDouble = merged.computedDouble && s.computedDouble;  // the least precise shard's
+    if (s.device != first.device) merged.device = "mixed";
+  }
   merged.info = wholeJobOf(first.info);
   merged.spansUOffset = merged.spansVOffset = 0;
   merged.spansU = std::move(spansU);

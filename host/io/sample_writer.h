@@ -46,6 +46,10 @@ struct SampleLayout {
   int shardIndex = 1, shardCount = 1; // 1-based K of N (1/1 when not sharded)
   std::string source;                 // model file, for headers and the sidecar
   std::string job;                    // io/shard_info.h jobFingerprint: the same for every shard of a job
+  // Where the values were computed (sampling/report.h): "cpu" or the Vulkan device's name, and the
+  // precision of the arithmetic (the CPU path computes fp64 whatever `precision` is).
+  std::string device = "cpu";
+  Precision computedPrecision = Precision::Double;
   // SVG only: the control polygon (closed = drawn as a loop) and marked data points.
   std::vector<glm::dvec3> controlPoints;
   bool closed = false;

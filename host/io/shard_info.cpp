@@ -309,7 +309,8 @@ RawSidecar rawSidecarOf(const SampleLayout& l, const std::string& job, bool floa
   s.spansVOffset = w.col0;
   for (uint64_t r = w.row0; r < w.row1 && r < l.spanU.size(); ++r) s.spansU.push_back(l.spanU[r]);
   for (uint64_t c = w.col0; c < w.col1 && c < l.spanV.size(); ++c) s.spansV.push_back(l.spanV[c]);
-  s.computedDouble = l.precision == Precision::Double;
+  s.computedDouble = l.computedPrecision == Precision::Double;
+  s.device = l.device;
   s.source = l.source;
   return s;
 }
@@ -370,6 +371,7 @@ void writeRawSidecar(AtomicFile& out, const RawSidecar& s) {
   key("shard", "{\"index\": " + std::to_string(i.shardIndex) + ", \"count\": " + std::to_string(i.shardCount) + "}");
   key("job", str(i.job));
   key("computed_precision", str(s.computedDouble ? "double" : "float"));
+  key("device", str(s.device));
   key("source", str(s.source), true);
   t += "}\n";
   out.write(t);

@@ -69,7 +69,8 @@ struct RawSidecar {
   uint64_t itemsV = 1;
   uint64_t spansUOffset = 0, spansVOffset = 0;
   std::vector<int> spansU, spansV;
-  bool computedDouble = true;
+  bool computedDouble = true;        // the arithmetic's precision (the CPU path: always fp64)
+  std::string device = "cpu";         // where the values were computed: "cpu" or a Vulkan device name
   std::string source;                 // the model path as given (escaped when written)
 
   uint64_t valueSize() const { return float64 ? 8 : 4; }

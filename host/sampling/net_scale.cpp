@@ -1,0 +1,77 @@
+#include <shapespline/sampling/net_scale.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace shapespline::sampling {
+namespace {
+
+glm::dvec3 ldexp3(const glm::dvec3& p, int k) { return {std::ldexp(p.x, k), std::ldexp(p.y, k), std::ldexp(p.z, k)}; }
+
+std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, int k) {
+  for (auto& p : points) p = ldexp3(p, k);
+  return points;
+}
+
+}  // namespace
+
+int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
+  double m = 0.0;
+  for (const auto& p : points) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  if (!(m > 0.0) || !std::isfinite(m)) return 0;
+  const int e = std::ilogb(m);  // m in [2^e, 2^(e+1)), also for subnormal m (e down to -1074)
+  const int band = precision == Precision::Float ? 20 : 200;
+  return e >= -band && e < band ? 0 : -e;
+}
+
+Curve scaledCurve(const Curve& curve, int k) {
+  CurveModel m = curve.model();
+  m.points = scaled(std::move(m.points), k);
+  return Curve::create(std::move(m));
+}
+
+Surface scaledSurface(const Surface& surface, int k) {
+  SurfaceModel m = surface.model();
+  m.points = scaled(std::move(m.points), k);
+  return Surface::create(std::move(m));
+}
+
+void unscale(std::vector<CurvePoint>& points, int k) {
+  if (k == 0) return;
+  for (auto& p : points) p.point = ldexp3(p.point, -k), p.d1 = ldexp3(p.d1, -k), p.d2 = ldexp3(p.d2, -k);
+}
+
+void unscale(std::vector<SurfacePoint>& points, int k) {
+  if (k == 0) return;
+  for (auto& p : points) {
+    p.point = ldexp3(p.point, -k), p.du = ldexp3(p.du, -k), p.dv = ldexp3(p.dv, -k);
+    p.duu = ldexp3(p.duu, -k), p.duv = ldexp3(p.duv, -k), p.dvv = ldexp3(p.dvv, -k);
+  }
+}
+
+void ChunkUnscaler::operator()(const GridChunk& chunk, const ChunkConsumer& consumer) {
+  if (k_ == 0) return consumer(chunk);
+  GridChunk out = chunk;
+  const size_t n = chunk.pointCount() * 3;
+  for (int f = 0; f < kFieldCount; ++f) {
+    const void* src = chunk.planes[static_cast<size_t>(f)];
+    if (!src || f == static_cast<int>(Field::Normal)) continue;
+    if (chunk.precision == Precision::Double) {
+      auto& buf = doubles_[static_cast<size_t>(f)];
+      buf.resize(n);
+      for (size_t i = 0; i < n; ++i) buf[i] = std::ldexp(static_cast<const double*>(src)[i], k_);
+      out.planes[static_cast<size_t>(f)] = buf.data();
+    } else {
+      auto& buf = floats_[static_cast<size_t>(f)];
+      buf.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        buf[i] = static_cast<float>(std::ldexp(static_cast<double>(static_cast<const float*>(src)[i]), k_));
+      }
+      out.planes[static_cast<size_t>(f)] = buf.data();
+    }
+  }
+  consumer(out);
+}
+
+}  // namespace shapespline::sampling

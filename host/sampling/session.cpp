@@ -1,0 +1,248 @@
+#include <shapespline/sampling/session.h>
+
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/sampling/gpu_limits.h>
+#include <shapespline/sampling/net_scale.h>
+#include <shapespline/vk/error.h>
+
+#include <optional>
+#include <utility>
+
+namespace shapespline::sampling {
+namespace {
+
+// The CPU sampler's chunk when the caller names none: large enough to amortise the per-chunk work
+// of the writers, small enough to stay in cache.
+constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 18;
+
+[[noreturn]] void throwDeviceError(const vk::VulkanError& e) {
+  const char* hint = "--device cpu avoids the GPU";
+  switch (e.result()) {
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+    case VK_ERROR_OUT_OF_HOST_MEMORY:
+      hint = "out of GPU memory: try a smaller --chunk-points, or --device cpu";
+      break;
+    case VK_ERROR_DEVICE_LOST:
+      hint = "retry, or use --device cpu";
+      break;
+    default:
+      break;
+  }
+  throw DeviceError(std::string(e.what()) + "; " + hint, false);
+}
+
+// Runs a GPU job; every Vulkan failure leaves as DeviceError.
+template <class Job>
+auto onDevice(Job&& job) {
+  try {
+    return job();
+  } catch (const vk::VulkanError& e) {
+    throwDeviceError(e);
+  }
+}
+
+const Curve& pick(const std::optional<Curve>& scaled, const Curve& model) { return scaled ? *scaled : model; }
+const Surface& pick(const std::optional<Surface>& scaled, const Surface& model) { return scaled ? *scaled : model; }
+std::optional<Curve> scaledOrNot(const Curve& c, int k) { return k ? std::optional(scaledCurve(c, k)) : std::nullopt; }
+std::optional<Surface> scaledOrNot(const Surface& s, int k) {
+  return k ? std::optional(scaledSurface(s, k)) : std::nullopt;
+}
+
+gpu::EvaluatorOptions evaluatorOptions(const GridOptions& options, Precision precision) {
+  gpu::EvaluatorOptions e;
+  if (options.chunkPoints > 0) {
+    // Planes of chunkPoints points: the evaluator cuts an item larger than that into row ranges.
+    const size_t real = precision == Precision::Double ? 8 : 4;
+    e.maxPlaneBytes = (options.chunkPoints * 3 + 4) * real;
+  }
+  return e;
+}
+
+SamplerOptions samplerOptions(const GridOptions& options) {
+  SamplerOptions s;
+  s.threads = options.threads;
+  s.maxChunkPoints = options.chunkPoints > 0 ? options.chunkPoints : kDefaultCpuChunkPoints;
+  return s;
+}
+
+// The GPU side of each model kind: its mirror, evaluator and list sample type.
+template <class Model>
+struct Gpu;
+template <>
+struct Gpu<Curve> {
+  using Mirror = gpu::GpuCurve;
+  using Evaluator = gpu::CurveEvaluator;
+  using Point = CurvePoint;
+  using Query = CurveQuery;
+  static gpu::CurveSample local(const CurveQuery& q) { return {q.span, q.t}; }
+  static double global(const CurveQuery& q) { return q.u; }
+  static CurvePoint cpu(const Curve& c, const CurveQuery& q) { return q.global ? c.evaluateAt(q.u) : c.evaluate(q.span, q.t); }
+};
+template <>
+struct Gpu<Surface> {
+  using Mirror = gpu::GpuSurface;
+  using Evaluator = gpu::SurfaceEvaluator;
+  using Point = SurfacePoint;
+  using Query = SurfaceQuery;
+  static gpu::SurfaceSample local(const SurfaceQuery& q) { return {q.i, q.j, q.u, q.v}; }
+  static std::pair<double, double> global(const SurfaceQuery& q) { return {q.u, q.v}; }
+  static SurfacePoint cpu(const Surface& s, const SurfaceQuery& q) {
+    return q.global ? s.evaluateAt(q.u, q.v) : s.evaluate(q.i, q.j, q.u, q.v);
+  }
+};
+
+void sampleOnCpu(const Curve& c, const GridSpec& g, FieldMask f, const ChunkConsumer& k, const GridOptions& o) {
+  sampleCurveGrid(c, g, f, k, samplerOptions(o));
+}
+void sampleOnCpu(const Surface& s, const GridSpec& g, FieldMask f, const ChunkConsumer& k, const GridOptions& o) {
+  sampleSurfaceGrid(s, g, f, k, samplerOptions(o));
+}
+
+}  // namespace
+
+Session::Session() = default;
+Session::Session(vk::ContextOptions options) : options_(std::move(options)) {}
+Session::Session(std::shared_ptr<vk::Context> ctx) : ctx_(std::move(ctx)) {
+  if (!ctx_) throw std::invalid_argument("sampling::Session: the context must not be null");
+}
+Session::~Session() = default;
+
+const std::shared_ptr<vk::Context>& Session::context(Precision precision) {
+  if (!ctx_ && !noDevice_) {
+    vk::ContextOptions options = options_;
+    options.preferFp64 = options.preferFp64 || precision == Precision::Double;
+    try {
+      ctx_ = vk::Context::create(options);
+    } catch (const vk::NoDeviceError& e) {
+      noDevice_ = e.reason();
+    } catch (const vk::VulkanError& e) {
+      throwDeviceError(e);
+    }
+  }
+  return ctx_;
+}
+
+template <class Model>
+Report Session::planFor(const Model& model, const DeviceRequest& request) {
+  Report r;
+  r.outputPrecision = request.precision;
+  if (request.device == DeviceKind::Cpu) return r;
+  auto fallBack = [&](const std::string& why) {
+    if (request.require) throw DeviceError(why + "; the CPU fallback is disabled", true);
+    r.fallbacks.push_back(why);
+    return r;
+  };
+  const std::shared_ptr<vk::Context>& ctx = context(request.precision);
+  if (!ctx) return fallBack("no Vulkan device (" + *noDevice_ + ")");
+  if (request.precision == Precision::Double && !ctx->supportsFloat64()) {
+    return fallBack("Vulkan device '" + ctx->deviceName() + "' has no shaderFloat64 (use --precision float for the GPU)");
+  }
+  if (auto why = gpuLimitation(model, request.precision)) return fallBack(*why);
+  r.gpu = true;
+  r.device = ctx->deviceName();
+  r.computedPrecision = request.precision;
+  r.netScaleExponent = netScale(model.model().points, request.precision);
+  return r;
+}
+
+Report Session::plan(const Curve& curve, const DeviceRequest& request) { return planFor(curve, request); }
+Report Session::plan(const Surface& surface, const DeviceRequest& request) { return planFor(surface, request); }
+
+namespace {
+
+template <class Model>
+void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model, const Report& r, const GridSpec& grid,
+                 FieldMask fields, const ChunkConsumer& consumer, const GridOptions& options) {
+  ChunkUnscaler unscale(r.netScaleExponent);
+  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, consumer); };
+  onDevice([&] {
+    const auto scaled = scaledOrNot(model, r.netScaleExponent);
+    typename Gpu<Model>::Evaluator evaluator(ctx, r.computedPrecision, evaluatorOptions(options, r.computedPrecision));
+    typename Gpu<Model>::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
+    evaluator.evaluateGrid(mirror, grid, fields, deliver);
+    return 0;
+  });
+}
+
+// Local and global queries go to evaluateList / evaluateListAt; the results are put back in order.
+template <class Model>
+std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model,
+                                                      const Report& r,
+                                                      std::span<const typename Gpu<Model>::Query> queries) {
+  using G = Gpu<Model>;
+  std::vector<decltype(G::local(queries[0]))> local;
+  std::vector<decltype(G::global(queries[0]))> global;
+  for (const auto& q : queries) q.global ? global.push_back(G::global(q)) : local.push_back(G::local(q));
+  std::vector<typename G::Point> out(queries.size()), atLocal, atGlobal;
+  onDevice([&] {
+    const auto scaled = scaledOrNot(model, r.netScaleExponent);
+    typename G::Evaluator evaluator(ctx, r.computedPrecision);
+    typename G::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
+    if (!local.empty()) atLocal = evaluator.evaluateList(mirror, local);
+    if (!global.empty()) atGlobal = evaluator.evaluateListAt(mirror, global);
+    return 0;
+  });
+  for (size_t i = 0, l = 0, g = 0; i < queries.size(); ++i) {
+    out[i] = queries[i].global ? atGlobal[g++] : atLocal[l++];
+  }
+  unscale(out, r.netScaleExponent);
+  return out;
+}
+
+template <class Model>
+std::vector<typename Gpu<Model>::Point> evaluateOnCpu(const Model& model, std::span<const typename Gpu<Model>::Query> queries) {
+  std::vector<typename Gpu<Model>::Point> out(queries.size());
+  for (size_t i = 0; i < queries.size(); ++i) {
+    try {
+      out[i] = Gpu<Model>::cpu(model, queries[i]);
+    } catch (const std::out_of_range& e) {
+      throw QueryRangeError(i, e.what());
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Report Session::sampleGrid(const Curve& curve, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
+                           const ChunkConsumer& consumer, const GridOptions& options) {
+  const Report r = plan(curve, request);
+  if (r.gpu) {
+    sampleOnGpu(ctx_, curve, r, grid, fields, consumer, options);
+  } else {
+    sampleOnCpu(curve, grid, fields, consumer, options);
+  }
+  return r;
+}
+
+Report Session::sampleGrid(const Surface& surface, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
+                           const ChunkConsumer& consumer, const GridOptions& options) {
+  const Report r = plan(surface, request);
+  if (r.gpu) {
+    sampleOnGpu(ctx_, surface, r, grid, fields, consumer, options);
+  } else {
+    sampleOnCpu(surface, grid, fields, consumer, options);
+  }
+  return r;
+}
+
+ListResult<CurvePoint> Session::evaluate(const Curve& curve, const DeviceRequest& request,
+                                         std::span<const CurveQuery> queries) {
+  ListResult<CurvePoint> result{{}, plan(curve, request)};
+  if (queries.empty()) return result;
+  result.points = result.report.gpu ? evaluateOnGpu(ctx_, curve, result.report, queries) : evaluateOnCpu(curve, queries);
+  return result;
+}
+
+ListResult<SurfacePoint> Session::evaluate(const Surface& surface, const DeviceRequest& request,
+                                           std::span<const SurfaceQuery> queries) {
+  ListResult<SurfacePoint> result{{}, plan(surface, request)};
+  if (queries.empty()) return result;
+  result.points =
+      result.report.gpu ? evaluateOnGpu(ctx_, surface, result.report, queries) : evaluateOnCpu(surface, queries);
+  return result;
+}
+
+}  // namespace shapespline::sampling

@@ -1,0 +1,101 @@
+#pragma once
+// The sampling layer's entry point: a Session evaluates grids and lists of samples of a core Curve
+// or Surface on the device a DeviceRequest asks for, and returns a Report of the path it took.
+//  * Path: DeviceKind::Cpu is the CPU fp64 path (core/grid_sampler.h, Curve/Surface::evaluate);
+//    Auto and Vulkan use the GPU evaluators (gpu/) unless there is no Vulkan device, fp64 is asked
+//    of a device without shaderFloat64, or gpuLimitation (gpu_limits.h) names a reason; then the
+//    CPU path with the reason in Report::fallbacks, or DeviceError when the request requires the
+//    device. Knot-vector B-splines run on the GPU like every other construction.
+//  * Scaling: on the GPU the net is scaled by 2^k (net_scale.h) and the results scaled back.
+//  * Memory: grids stream chunk by chunk in bounded memory on either path (GridOptions).
+//  * Errors: every Vulkan failure becomes DeviceError with a hint what to change.
+// The Vulkan context is created on first GPU use and lives as long as the session.
+#include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/sampling/report.h>
+#include <shapespline/vk/context.h>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace shapespline::sampling {
+
+struct GridOptions {
+  int threads = 0;         // CPU sampler threads (0 = all)
+  size_t chunkPoints = 0;  // points per chunk (0: 2^18 on the CPU, 4 MiB planes on the GPU)
+};
+
+// One sample of a list: local (span, t) / (patch i, j, u, v) or, with `global`, the global
+// parameter u (curves; t unused) / (U, V) = (u, v) (surfaces; i, j unused).
+struct CurveQuery {
+  bool global = false;
+  int span = 0;
+  double t = 0.0, u = 0.0;
+};
+struct SurfaceQuery {
+  bool global = false;
+  int i = 0, j = 0;
+  double u = 0.0, v = 0.0;
+};
+
+// A sample outside the model's parameter range: index() is its position in the list.
+class QueryRangeError : public std::out_of_range {
+ public:
+  QueryRangeError(size_t index, const std::string& what) : std::out_of_range(what), index_(index) {}
+  size_t index() const noexcept { return index_; }
+
+ private:
+  size_t index_;
+};
+
+template <class Point>
+struct ListResult {
+  std::vector<Point> points;  // one per query, in order, as computed (Report::computedPrecision)
+  Report report;
+};
+
+class Session {
+ public:
+  Session();                                           // default context options
+  explicit Session(vk::ContextOptions options);        // used when the context is created
+  explicit Session(std::shared_ptr<vk::Context> ctx);  // an existing context (non-null)
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // The path a job on this model would take, without running it (for notices and file metadata
+  // written before the first chunk). Throws DeviceError as the jobs do.
+  Report plan(const Curve& curve, const DeviceRequest& request);
+  Report plan(const Surface& surface, const DeviceRequest& request);
+
+  // Streams the grid (grid.itemCount > 0) to `consumer` in item order. Chunks hold the computed
+  // precision (GridChunk::precision); the sink rounds to the output precision. Fields as
+  // sampleCurveGrid / sampleSurfaceGrid.
+  Report sampleGrid(const Curve& curve, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
+                    const ChunkConsumer& consumer, const GridOptions& options = {});
+  Report sampleGrid(const Surface& surface, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
+                    const ChunkConsumer& consumer, const GridOptions& options = {});
+
+  // Every field at each query (as Curve::evaluate / evaluateAt, Surface::evaluate / evaluateAt;
+  // on the GPU the surface normalRule is not reported). Throws QueryRangeError (CPU path).
+  ListResult<CurvePoint> evaluate(const Curve& curve, const DeviceRequest& request, std::span<const CurveQuery> queries);
+  ListResult<SurfacePoint> evaluate(const Surface& surface, const DeviceRequest& request,
+                                    std::span<const SurfaceQuery> queries);
+
+ private:
+  template <class Model>
+  Report planFor(const Model& model, const DeviceRequest& request);
+  // The context, created on first call; nullptr (and noDevice_ set) when there is no device.
+  const std::shared_ptr<vk::Context>& context(Precision precision);
+
+  vk::ContextOptions options_;
+  std::shared_ptr<vk::Context> ctx_;
+  std::optional<std::string> noDevice_;  // why creating the context failed
+};
+
+}  // namespace shapespline::sampling

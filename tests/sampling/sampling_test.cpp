@@ -1,0 +1,232 @@
+// The sampling layer (host/sampling): which path a request takes, the fallbacks and their reasons,
+// DeviceError when the device is required, the report's precisions, the exact net scaling round
+// trip, and knot-vector B-splines on the GPU, each against the CPU fp64 core.
+//
+// Tolerances (tests/support/tolerances.h), scale = bounding-box diagonal of the net: points
+// 4 kFp32Rel * scale (the fp32 kernels' few ulps); first derivatives the same times 8 k / h for
+// knot-vector models of order k and smallest knot interval h (tests/gpu/gpu_bspline_test.cpp), and
+// times 16 for the uniform-span constructions (Σ|B'| of their bases stays below 8).
+#include <gtest/gtest.h>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <shapespline/core/curve.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/sampling/gpu_limits.h>
+#include <shapespline/sampling/net_scale.h>
+#include <shapespline/sampling/session.h>
+#include "support/tolerances.h"
+#include "support/vk_fixture.h"
+
+namespace shapespline::test {
+namespace {
+
+using sampling::DeviceKind;
+using sampling::DeviceRequest;
+
+template <class M>
+M exampleModel(const char* name) {
+  return std::get<M>(io::loadModelFile(std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models/" + name));
+}
+
+double bboxDiag(const std::vector<glm::dvec3>& pts) {
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return glm::length(hi - lo);
+}
+
+double smallestInterval(const std::vector<double>& knots) {
+  double h = 1.0;
+  for (size_t i = 1; i < knots.size(); ++i)
+    if (knots[i] > knots[i - 1]) h = std::min(h, knots[i] - knots[i - 1]);
+  return h;
+}
+
+// One plane of a grid job, gathered over its chunks (as fp64).
+std::vector<double> gathered(sampling::Session& session, const Surface& s, const DeviceRequest& request, Field field,
+                             sampling::Report* report = nullptr) {
+  std::vector<double> out;
+  GridSpec grid;
+  grid.samplesU = grid.samplesV = 5;
+  grid.itemCount = surfaceGridItems(s).size();
+  const sampling::Report r = session.sampleGrid(s, request, grid, fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(field),
+                                                [&](const GridChunk& c) {
+                                                  for (size_t p = 0; p < c.pointCount(); ++p)
+                                                    for (int a = 0; a < 3; ++a) out.push_back(c.coord(field, p, a));
+                                                });
+  if (report) *report = r;
+  return out;
+}
+
+void expectNear(const std::vector<double>& expect, const std::vector<double>& got, double tol, const std::string& what) {
+  ASSERT_EQ(expect.size(), got.size()) << what;
+  int failures = 0;
+  for (size_t i = 0; i < expect.size(); ++i) {
+    if (!(std::abs(expect[i] - got[i]) <= tol) && failures++ < 5)
+      ADD_FAILURE() << what << " value " << i << ": expected " << expect[i] << " got " << got[i] << " tol " << tol;
+  }
+}
+
+// ---- without a device ------------------------------------------------------------------------
+
+vk::ContextOptions noSuchDevice() {
+  vk::ContextOptions o;
+  o.deviceName = "no device has this name";
+  return o;
+}
+
+TEST(SamplingNetScale, ExponentBringsLargeAndTinyNetsIntoRange) {
+  EXPECT_EQ(sampling::netScale({{1.0, -3.0, 0.5}}, Precision::Float), 0);
+  EXPECT_EQ(sampling::netScale({{1e30, 0.0, 0.0}}, Precision::Float), -std::ilogb(1e30));
+  EXPECT_EQ(sampling::netScale({{1e30, 0.0, 0.0}}, Precision::Double), 0);  // inside fp64's band
+  EXPECT_EQ(sampling::netScale({{0.0, 3e-310, 0.0}}, Precision::Double), -std::ilogb(3e-310));
+  EXPECT_EQ(sampling::netScale({}, Precision::Float), 0);
+}
+
+TEST(SamplingPath, CpuRequestComputesFp64AndNamesTheCpu) {
+  sampling::Session session(noSuchDevice());
+  const Curve c = Curve::create(exampleModel<CurveModel>("open_aeb.json"));
+  const sampling::Report r = session.plan(c, {DeviceKind::Cpu, Precision::Float, true});
+  EXPECT_FALSE(r.gpu);
+  EXPECT_EQ(r.device, "cpu");
+  EXPECT_TRUE(r.fallbacks.empty());
+  EXPECT_EQ(r.computedPrecision, Precision::Double);
+  EXPECT_EQ(r.outputPrecision, Precision::Float);
+}
+
+TEST(SamplingPath, NoDeviceFallsBackWithTheReasonOrRefusesWhenRequired) {
+  sampling::Session session(noSuchDevice());
+  const Curve c = Curve::create(exampleModel<CurveModel>("open_aeb.json"));
+  for (DeviceKind kind : {DeviceKind::Auto, DeviceKind::Vulkan}) {
+    const sampling::Report r = session.plan(c, {kind, Precision::Float, false});
+    EXPECT_FALSE(r.gpu);
+    EXPECT_EQ(r.device, "cpu");
+    ASSERT_EQ(r.fallbacks.size(), 1u);
+    EXPECT_NE(r.fallbacks[0].find("no Vulkan device (no usable device name contains"), std::string::npos)
+        << r.fallbacks[0];
+    EXPECT_EQ(r.computedPrecision, Precision::Double);
+    try {
+      session.plan(c, {kind, Precision::Float, true});
+      ADD_FAILURE() << "require: no DeviceError";
+    } catch (const sampling::DeviceError& e) {
+      EXPECT_TRUE(e.fallbackRefused());
+      EXPECT_NE(std::string(e.what()).find("no Vulkan device"), std::string::npos) << e.what();
+    }
+  }
+  // The fallback's grid is the CPU sampler's, chunk for chunk.
+  const Surface s = Surface::create(exampleModel<SurfaceModel>("surface_aeb.json"));
+  const std::vector<double> viaLayer = gathered(session, s, {DeviceKind::Auto, Precision::Double, false}, Field::Normal);
+  std::vector<double> direct;
+  GridSpec grid;
+  grid.samplesU = grid.samplesV = 5;
+  grid.itemCount = surfaceGridItems(s).size();
+  sampleSurfaceGrid(s, grid, fieldBit(Field::Normal), [&](const GridChunk& c) {
+    for (size_t p = 0; p < c.pointCount(); ++p)
+      for (int a = 0; a < 3; ++a) direct.push_back(c.coord(Field::Normal, p, a));
+  });
+  EXPECT_EQ(viaLayer, direct);
+}
+
+// ---- on the GPU (validation on) --------------------------------------------------------------
+
+class SamplingGpu : public VulkanTest {};
+
+TEST_F(SamplingGpu, AutoAndVulkanUseTheDeviceInTheRequestedPrecision) {
+  sampling::Session session(ctx_);
+  const Curve c = Curve::create(exampleModel<CurveModel>("open_aeb.json"));
+  for (DeviceKind kind : {DeviceKind::Auto, DeviceKind::Vulkan}) {
+    const sampling::Report r = session.plan(c, {kind, Precision::Float, true});
+    EXPECT_TRUE(r.gpu);
+    EXPECT_EQ(r.device, ctx().deviceName());
+    EXPECT_TRUE(r.fallbacks.empty());
+    EXPECT_EQ(r.computedPrecision, Precision::Float);
+    EXPECT_EQ(r.netScaleExponent, 0);
+  }
+  EXPECT_FALSE(session.plan(c, {DeviceKind::Cpu, Precision::Float, true}).gpu);
+}
+
+TEST_F(SamplingGpu, ModelBeyondTheKernelsFallsBackWithItsReason) {
+  sampling::Session session(ctx_);
+  CurveModel m = exampleModel<CurveModel>("open_aeb.json");
+  std::fill(m.alpha.begin(), m.alpha.end(), 1e-31);
+  const Curve c = Curve::create(m);
+  const sampling::Report r = session.plan(c, {DeviceKind::Auto, Precision::Float, false});
+  EXPECT_FALSE(r.gpu);
+  ASSERT_EQ(r.fallbacks.size(), 1u);
+  EXPECT_EQ(r.fallbacks[0], *sampling::gpuLimitation(c, Precision::Float));
+  EXPECT_NE(r.fallbacks[0].find("alpha = 1e-31 is below 1e-30"), std::string::npos) << r.fallbacks[0];
+  EXPECT_THROW(session.plan(c, {DeviceKind::Vulkan, Precision::Float, true}), sampling::DeviceError);
+  EXPECT_TRUE(session.plan(c, {DeviceKind::Vulkan, Precision::Double, true}).gpu);  // fp64 represents it
+}
+
+TEST_F(SamplingGpu, HugeNetInFp32IsScaledExactlyAndBack) {
+  sampling::Session session(ctx_);
+  SurfaceModel m = exampleModel<SurfaceModel>("surface_aeb.json");
+  for (auto& p : m.points) p *= 1e30;  // fp32 kernels would overflow in |du x dv| (1e60)
+  const Surface s = Surface::create(m);
+  sampling::Report r;
+  const DeviceRequest gpu{DeviceKind::Vulkan, Precision::Float, true};
+  const DeviceRequest cpu{DeviceKind::Cpu, Precision::Double, false};
+  const double scale = bboxDiag(m.points);
+  const std::vector<double> point = gathered(session, s, gpu, Field::Point, &r);
+  EXPECT_TRUE(r.gpu);
+  EXPECT_EQ(r.netScaleExponent, sampling::netScale(m.points, Precision::Float));
+  EXPECT_LT(r.netScaleExponent, -90);
+  expectNear(gathered(session, s, cpu, Field::Point), point, 4 * kFp32Rel * scale, "point");
+  expectNear(gathered(session, s, cpu, Field::Du), gathered(session, s, gpu, Field::Du), 64 * kFp32Rel * scale, "du");
+  // Unit normals are scale-free; the net's magnitude must not reach them as inf/NaN.
+  expectNear(gathered(session, s, cpu, Field::Normal), gathered(session, s, gpu, Field::Normal), 1e-3, "normal");
+  // Lists scale the same way.
+  const std::vector<sampling::SurfaceQuery> q = {{false, 0, 0, 0.25, 0.5}, {true, 0, 0, 0.6, 0.3}};
+  const auto onGpu = session.evaluate(s, gpu, q), onCpu = session.evaluate(s, cpu, q);
+  ASSERT_EQ(onGpu.points.size(), 2u);
+  for (size_t i = 0; i < q.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(onGpu.points[i].point[a], onCpu.points[i].point[a], 4 * kFp32Rel * scale) << i;
+    }
+  }
+}
+
+TEST_F(SamplingGpu, KnotVectorBSplinesRunOnTheGpu) {
+  sampling::Session session(ctx_);
+  const CurveModel cm = exampleModel<CurveModel>("clamped_bspline.json");
+  const Curve c = Curve::create(cm);
+  const double scale = bboxDiag(cm.points), h = smallestInterval(cm.knots);
+  for (Precision p : {Precision::Float, Precision::Double}) {
+    const double rel = p == Precision::Float ? kFp32Rel : kFp64Rel;
+    const DeviceRequest gpu{DeviceKind::Vulkan, p, true};
+    const std::vector<sampling::CurveQuery> q = {{true, 0, 0.0, 0.0}, {true, 0, 0.0, 0.3}, {true, 0, 0.0, 0.5},
+                                                 {true, 0, 0.0, 0.99}, {true, 0, 0.0, 1.0}};
+    const auto onGpu = session.evaluate(c, gpu, q), onCpu = session.evaluate(c, {DeviceKind::Cpu, p, false}, q);
+    EXPECT_TRUE(onGpu.report.gpu);
+    for (size_t i = 0; i < q.size(); ++i) {
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(onGpu.points[i].point[a], onCpu.points[i].point[a], 4 * rel * scale) << "u " << q[i].u;
+        EXPECT_NEAR(onGpu.points[i].d1[a], onCpu.points[i].d1[a], 4 * rel * scale * 8 * 4 / h) << "u " << q[i].u;
+      }
+    }
+  }
+  const SurfaceModel sm = exampleModel<SurfaceModel>("bspline_surface.json");
+  const Surface s = Surface::create(sm);
+  const double sscale = bboxDiag(sm.points), sh = std::min(smallestInterval(sm.knotsU), smallestInterval(sm.knotsV));
+  for (Precision p : {Precision::Float, Precision::Double}) {
+    const double rel = p == Precision::Float ? kFp32Rel : kFp64Rel;
+    sampling::Report r;
+    const std::vector<double> gpuPoints = gathered(session, s, {DeviceKind::Auto, p, true}, Field::Point, &r);
+    EXPECT_TRUE(r.gpu);
+    expectNear(gathered(session, s, {DeviceKind::Cpu, p, false}, Field::Point), gpuPoints, 4 * rel * sscale, "point");
+    expectNear(gathered(session, s, {DeviceKind::Cpu, p, false}, Field::Du),
+               gathered(session, s, {DeviceKind::Auto, p, true}, Field::Du), 4 * rel * sscale * 8 * 3 / sh, "du");
+  }
+}
+
+}  // namespace
+}  // namespace shapespline::test
