@@ -1,17 +1,12 @@
 // `shapespline render`: draws a model headlessly with the Vulkan graphics pipeline (host/render) and
-// writes a PNG. Surfaces are tessellated on the GPU (gpu/tessellator.h) and shaded with normal-based
+// writes a PNG. Surfaces are tessellated on the GPU (render/painter.h) and shaded with normal-based
 // lighting; curves are drawn as lines with their control polygon and data points. --sweep writes a
 // contact sheet of the same model at several λ or α values, with one camera for every tile.
 #include <shapespline/cli/common.h>
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
-#include <shapespline/gpu/gpu_model.h>
-#include <shapespline/gpu/tess_topology.h>
-#include <shapespline/gpu/tessellator.h>
 #include <shapespline/io/png_writer.h>
-#include <shapespline/render/renderer.h>
-#include <shapespline/vk/context.h>
-#include <shapespline/vk/error.h>
+#include <shapespline/render/painter.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -115,12 +110,7 @@ void runRender(const RenderArgs& a) {
   // by a complete new one.
   io::AtomicFile png(a.output, "-o");
 
-  std::shared_ptr<vk::Context> ctx;
-  try {
-    ctx = vk::Context::create();
-  } catch (const vk::NoDeviceError& e) {
-    throw std::runtime_error("render needs a Vulkan device with a graphics queue: " + e.reason());
-  }
+  render::Painter painter(w, h);
   const size_t tiles = std::max<size_t>(1, sweep.values.size());
   Sheet sheet;
   sheet.cols = tiles <= 4 ? int(tiles) : int(std::ceil(std::sqrt(double(tiles))));
@@ -128,7 +118,6 @@ void runRender(const RenderArgs& a) {
   sheet.w = w;
   sheet.h = h;
   sheet.rgba.assign(size_t(sheet.cols) * w * size_t(sheet.rows) * h * 4, 255);
-  render::OffscreenRenderer renderer(ctx, w, h);
 
   // One camera for every tile: the box of the nets and of the (coarsely CPU-evaluated) shapes.
   glm::dvec3 lo(1e300), hi(-1e300);
@@ -144,38 +133,22 @@ void runRender(const RenderArgs& a) {
             for (double v : {0.0, 0.5, 1.0}) grow(lo, hi, s.evaluate(i, j, u, v).point);
     }
     const Surface first = Surface::create(withValue(base, sweep, 0));
-    if (first.usesKnotVector())
-      throw InputError("MODEL", a.model, "knot-vector B-spline surfaces are not tessellated on the GPU yet");
-    gpu::GpuSurface gs(ctx, first, Precision::Float);
-    gpu::SurfaceTessellator tess(ctx, gs, gpu::SurfaceTessellator::uniformRates(gs, a.rate));
-    vk::Buffer wire;
-    std::vector<uint32_t> edges;
-    if (a.wireframe) {
-      edges = gpu::triangleEdges(tess.topology().indices);
-      wire = vk::Buffer::create(*ctx, edges.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                vk::MemoryUse::DeviceLocal, "render.wire");
-      wire.uploadSpan(std::span<const uint32_t>(edges));
+    std::unique_ptr<render::SurfaceDrawing> drawing;
+    try {
+      drawing = painter.tessellate(first, a.rate, a.wireframe);
+    } catch (const render::UnsupportedSurface& e) {
+      throw InputError("MODEL", a.model, e.what());
     }
     const render::Camera cam = render::Camera::frame(lo, hi, az, el, double(w) / h);
     for (size_t k = 0; k < tiles; ++k) {
       if (!sweep.values.empty()) {
         if (sweep.alpha) {
-          gs.setAlphas(std::vector<double>(base.alpha.size(), sweep.values[k]));
+          drawing->setAlphas(std::vector<double>(base.alpha.size(), sweep.values[k]));
         } else {
-          gs.setLambda(sweep.values[k]);
+          drawing->setLambda(sweep.values[k]);
         }
       }
       render::Scene scene;
-      scene.prepare = [&](VkCommandBuffer cmd) { tess.record(cmd); };
-      render::MeshDraw mesh;
-      mesh.vertexBuffer = tess.vertexBuffer().handle();
-      mesh.indexBuffer = tess.indexBuffer().handle();
-      mesh.indexCount = tess.indexCount();
-      if (a.wireframe) {
-        mesh.wireIndexBuffer = wire.handle();
-        mesh.wireIndexCount = uint32_t(edges.size());
-      }
-      scene.meshes.push_back(mesh);
       if (a.controlNet) {
         for (int i = 0; i < base.rows; ++i) {
           std::vector<glm::dvec3> row;
@@ -191,7 +164,7 @@ void runRender(const RenderArgs& a) {
         }
         for (const auto& p : base.points) render::addMarker(scene.markers, p, 5.0f, kDataColour);
       }
-      sheet.place(renderer.render(scene, cam), k);
+      sheet.place(painter.draw(*drawing, scene, cam), k);
       if (!a.quiet && !sweep.values.empty())
         std::fprintf(stderr, "shapespline: tile %zu: %s = %g\n", k + 1, sweep.alpha ? "alpha" : "lambda", sweep.values[k]);
     }
@@ -214,7 +187,7 @@ void runRender(const RenderArgs& a) {
       render::addPolyline(scene.lines, poly, kNetColour);
       render::addPolyline(scene.lines, polylines[k], kCurveColour);
       for (const auto& p : base.points) render::addMarker(scene.markers, p, 6.0f, kDataColour);
-      sheet.place(renderer.render(scene, cam), k);
+      sheet.place(painter.draw(scene, cam), k);
     }
   }
   // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).

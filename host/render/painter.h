@@ -1,0 +1,63 @@
+#pragma once
+// Painter: what `shapespline render` draws with, so that the front end makes no Vulkan call. It
+// owns a Vulkan context with a graphics queue and an OffscreenRenderer of one image size; a
+// SurfaceDrawing is a surface tessellated on the GPU (fp32, gpu/tessellator.h) with its wire edges,
+// whose λ and α can change between frames without re-uploading the net.
+#include <shapespline/core/surface.h>
+#include <shapespline/render/camera.h>
+#include <shapespline/render/renderer.h>
+
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace shapespline::render {
+
+class SurfaceDrawing;
+
+// A surface the GPU tessellator does not handle (knot-vector B-splines).
+class UnsupportedSurface : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+class Painter {
+ public:
+  // Throws std::runtime_error("render needs a Vulkan device with a graphics queue: REASON") when
+  // there is no device, VulkanError for other failures.
+  Painter(int width, int height);
+  ~Painter();
+  Painter(const Painter&) = delete;
+  Painter& operator=(const Painter&) = delete;
+
+  // `rate` segments per patch edge; `wireframe`: also upload the triangle edges. Throws
+  // UnsupportedSurface.
+  std::unique_ptr<SurfaceDrawing> tessellate(const Surface& surface, int rate, bool wireframe);
+
+  // The surface (tessellated in the frame's command buffer) under `overlay`'s lines and markers.
+  Image draw(SurfaceDrawing& surface, const Scene& overlay, const Camera& camera);
+  // Only the overlay (curves, nets, markers).
+  Image draw(const Scene& overlay, const Camera& camera);
+
+ private:
+  std::shared_ptr<vk::Context> ctx_;
+  std::unique_ptr<OffscreenRenderer> renderer_;
+};
+
+class SurfaceDrawing {
+ public:
+  ~SurfaceDrawing();
+  // New parameters, shown at the next Painter::draw (the tessellation pass re-evaluates them).
+  void setLambda(double lambda);
+  void setAlphas(const std::vector<double>& alpha);
+
+ private:
+  friend class Painter;
+  struct Impl;
+  explicit SurfaceDrawing(std::unique_ptr<Impl> impl);
+  MeshDraw mesh() const;
+  void record(VkCommandBuffer cmd);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace shapespline::render
