@@ -10,12 +10,13 @@ include(CMakePackageConfigHelpers)
 set(SHAPESPLINE_PUBLIC_HEADERS
     core/bspline.h core/curve.h core/diagnostics.h core/extension.h core/family.h core/gb_tools.h
     core/grid_sampler.h core/model.h core/sample_grid.h core/span_basis.h core/surface.h
-    core/validate.h
+    core/tess_topology.h core/validate.h
     io/atomic_file.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
     vk/buffer.h vk/context.h vk/error.h vk/handle.h vk/pipeline.h vk/pipeline_cache.h vk/submit.h
     gpu/basis_table_evaluator.h gpu/curve_evaluator.h gpu/evaluator.h gpu/evaluator_options.h gpu/gpu_model.h
-    gpu/surface_evaluator.h gpu/tess_topology.h gpu/tessellator.h
-    render/camera.h render/renderer.h
+    gpu/surface_evaluator.h gpu/tessellator.h
+    sampling/devices.h sampling/gpu_limits.h sampling/net_scale.h sampling/report.h sampling/session.h
+    render/camera.h render/painter.h render/renderer.h
     shaders/tess_layout.h)
 foreach(header IN LISTS SHAPESPLINE_PUBLIC_HEADERS)
   get_filename_component(dir ${header} DIRECTORY)
@@ -25,7 +26,7 @@ endforeach()
 install(FILES ${SHAPESPLINE_INCLUDE_ROOT}/shapespline/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/shapespline)
 
 set(SHAPESPLINE_EXPORTED_TARGETS shapespline_core shapespline_io shapespline_vk shapespline_shaders
-    shapespline_gpu shapespline_render)
+    shapespline_gpu shapespline_sampling shapespline_render)
 install(TARGETS ${SHAPESPLINE_EXPORTED_TARGETS} EXPORT shapespline-targets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 if(TARGET shapespline)

@@ -4,7 +4,7 @@
 // command buffer and written into the caller's vertex and index buffers, ready for vkCmdDrawIndexed.
 //
 // Per rate configuration (constructor / setRates, host side, once): the topology of
-// gpu/tess_topology.h (every unique vertex evaluated once: watertight, bitwise identical shared
+// core/tess_topology.h (every unique vertex evaluated once: watertight, bitwise identical shared
 // edges; per-patch and per-edge rates; transition rings, no T-junctions), the grid pass's patch and
 // row records, the sources of the shared vertices and the uint32 triangle index buffer are built
 // and uploaded.
@@ -28,7 +28,7 @@
 // Limits: the vertex buffer must fit in maxStorageBufferRange (lavapipe: 128 MiB, about 4 M
 // vertices); target vertexOffset must be a multiple of minStorageBufferOffsetAlignment.
 #include <shapespline/gpu/gpu_model.h>
-#include <shapespline/gpu/tess_topology.h>
+#include <shapespline/core/tess_topology.h>
 #include <shapespline/vk/buffer.h>
 #include <shapespline/vk/context.h>
 #include <shapespline/vk/pipeline.h>

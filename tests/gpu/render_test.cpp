@@ -88,13 +88,13 @@ TEST_F(RenderTest, SurfaceSilhouetteMatchesCpuProjectionAndShadingVaries) {
   const Surface cpu = Surface::create(model);
   gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
   gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 12));
-  const gpu::TessTopology& topo = tess.topology();
+  const TessTopology& topo = tess.topology();
 
   // CPU: the same samples evaluated in fp64.
   std::vector<glm::dvec3> cpuPts(topo.vertexCount);
   const PatchRange r = cpu.patches();
   for (uint32_t k = 0; k < topo.vertexCount; ++k) {
-    const gpu::TessSample& s = topo.samples[k];
+    const TessSample& s = topo.samples[k];
     cpuPts[k] = cpu.evaluate(s.a + r.u.first, s.b + r.v.first, s.u, s.v).point;
   }
   glm::dvec3 lo, hi;
@@ -154,7 +154,7 @@ TEST_F(RenderTest, WireframeAndOverlaysDrawOverTheSurface) {
   const Surface cpu = Surface::create(model);
   gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
   gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 6));
-  const std::vector<uint32_t> edges = gpu::triangleEdges(tess.topology().indices);
+  const std::vector<uint32_t> edges = triangleEdges(tess.topology().indices);
   vk::Buffer wire = vk::Buffer::create(ctx(), edges.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                        vk::MemoryUse::DeviceLocal, "test.wire");
   wire.uploadSpan(std::span<const uint32_t>(edges));

@@ -1,4 +1,4 @@
-// SurfaceTessellator and its topology (gpu/tessellator.h, gpu/tess_topology.h):
+// SurfaceTessellator and its topology (gpu/tessellator.h, core/tess_topology.h):
 //  * topology: every interior mesh edge is shared by exactly two triangles of opposite orientation
 //    and every border edge lies on an open boundary — no cracks, no T-junctions — for uniform,
 //    per-patch and per-edge rates, open and closed directions; neighbours see the same edge vertex
@@ -30,8 +30,8 @@
 namespace shapespline::test {
 namespace {
 
-using gpu::TessRates;
-using gpu::TessTopology;
+using shapespline::TessRates;
+using shapespline::TessTopology;
 using gpu::tess_layout::TessVertex;
 
 // Half-edge check: each directed edge at most once; an undirected edge with one triangle must lie
@@ -105,11 +105,11 @@ TEST(TessTopologyTest, WatertightForUniformPerPatchAndPerEdgeRates) {
     for (bool cv : {false, true}) {
       const std::string tag = std::string("closed ") + (cu ? "u" : "-") + (cv ? "v" : "-");
       for (int rate : {1, 2, 5}) {
-        const TessTopology t = gpu::buildTessTopology(TessRates::uniform(3, 4, cu, cv, rate));
+        const TessTopology t = buildTessTopology(TessRates::uniform(3, 4, cu, cv, rate));
         expectWatertight(t, tag + " uniform " + std::to_string(rate));
         expectSharedSides(t, tag + " uniform");
       }
-      const TessTopology m = gpu::buildTessTopology(mixedRates(4, 3, cu, cv));
+      const TessTopology m = buildTessTopology(mixedRates(4, 3, cu, cv));
       expectWatertight(m, tag + " mixed");
       expectSharedSides(m, tag + " mixed");
       // Caller-chosen edge rates (here: 1 + a deterministic pattern, independent of the patches).
@@ -118,7 +118,7 @@ TEST(TessTopologyTest, WatertightForUniformPerPatchAndPerEdgeRates) {
       e.edgeV.resize(size_t(e.boundariesU()) * 3);
       for (size_t k = 0; k < e.edgeU.size(); ++k) e.edgeU[k] = 1 + int(k * 7 % 9);
       for (size_t k = 0; k < e.edgeV.size(); ++k) e.edgeV[k] = 1 + int(k * 5 % 6);
-      const TessTopology te = gpu::buildTessTopology(e);
+      const TessTopology te = buildTessTopology(e);
       expectWatertight(te, tag + " edge rates");
       expectSharedSides(te, tag + " edge rates");
       for (int a = 0; a < 4; ++a)
@@ -129,15 +129,15 @@ TEST(TessTopologyTest, WatertightForUniformPerPatchAndPerEdgeRates) {
 TEST(TessTopologyTest, DefaultEdgeRateIsTheMaxOfTheNeighbours) {
   TessRates r = TessRates::uniform(2, 1, false, false, 3);
   r.rateV = {3, 8};
-  const TessTopology t = gpu::buildTessTopology(r);
+  const TessTopology t = buildTessTopology(r);
   EXPECT_EQ(t.side(0, 0, 1).size(), 9u);  // shared u-boundary: max(3, 8) segments
   EXPECT_EQ(t.side(0, 0, 3).size(), 4u);
   EXPECT_EQ(t.side(1, 0, 1).size(), 9u);
   // Uniform rate n on an open single patch: (n+1)^2 vertices, 2 n^2 triangles.
-  const TessTopology u = gpu::buildTessTopology(TessRates::uniform(1, 1, false, false, 6));
+  const TessTopology u = buildTessTopology(TessRates::uniform(1, 1, false, false, 6));
   EXPECT_EQ(u.vertexCount, 49u);
   EXPECT_EQ(u.indices.size(), 3u * 72u);
-  EXPECT_THROW(gpu::buildTessTopology(TessRates::uniform(2, 2, false, false, 0)), std::invalid_argument);
+  EXPECT_THROW(buildTessTopology(TessRates::uniform(2, 2, false, false, 0)), std::invalid_argument);
 }
 
 // ---- GPU -----------------------------------------------------------------------------------------
@@ -188,7 +188,7 @@ class TessellatorTest : public VulkanTest {
     const PatchRange r = cpu.patches();
     double worst = 0.0;
     for (uint32_t k = 0; k < t.vertexCount; ++k) {
-      const gpu::TessSample& s = t.samples[k];
+      const TessSample& s = t.samples[k];
       const SurfacePoint e = cpu.evaluate(s.a + r.u.first, s.b + r.v.first, s.u, s.v);
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.point[c] - double(v[k].position[c])));
     }
@@ -351,7 +351,7 @@ int expectInteriorNormals(const gpu::SurfaceTessellator& tess, const Surface& cp
   double worstRegular = 0.0, worstFallback = 0.0;
   int fallbacks = 0;
   for (uint32_t k = t.cornerCount + t.edgeVertexCount; k < t.vertexCount; ++k) {
-    const gpu::TessSample& s = t.samples[k];
+    const TessSample& s = t.samples[k];
     const SurfacePoint e = cpu.evaluate(s.a + r.u.first, s.b + r.v.first, s.u, s.v);
     const glm::dvec3 got(v[k].normal[0], v[k].normal[1], v[k].normal[2]);
     const double err = glm::length(got - e.normal);
@@ -415,7 +415,7 @@ TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
     const TessTopology& t = tess.topology();
     double worst = 0.0;
     for (uint32_t k = 0; k < t.vertexCount; ++k) {
-      const gpu::TessSample& s = t.samples[k];
+      const TessSample& s = t.samples[k];
       const SurfacePoint e = cpu.evaluate(s.a + cpu.patches().u.first, s.b + cpu.patches().v.first, s.u, s.v);
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.point[c] - double(v[k].position[c])));
       EXPECT_EQ(v[k].uv[0], float(s.a + cpu.patches().u.first) + float(s.u)) << "vertex " << k;

@@ -22,7 +22,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace shapespline::gpu {
+namespace shapespline {
 
 struct TessRates {
   int patchesU = 0, patchesV = 0;
@@ -79,4 +79,4 @@ TessTopology buildTessTopology(const TessRates& rates);
 // The undirected edges of a triangle list, each once (wireframe index list, 2 per line).
 std::vector<uint32_t> triangleEdges(const std::vector<uint32_t>& triangles);
 
-}  // namespace shapespline::gpu
+}  // namespace shapespline

@@ -1,11 +1,11 @@
-#include <shapespline/gpu/tess_topology.h>
+#include <shapespline/core/tess_topology.h>
 
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <unordered_set>
 
-namespace shapespline::gpu {
+namespace shapespline {
 namespace {
 
 void checkSize(const std::vector<int>& v, size_t expected, bool allowScalar, const char* field) {
@@ -274,4 +274,4 @@ std::vector<uint32_t> triangleEdges(const std::vector<uint32_t>& triangles) {
   return out;
 }
 
-}  // namespace shapespline::gpu
+}  // namespace shapespline
