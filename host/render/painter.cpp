@@ -1,7 +1,7 @@
 #include <shapespline/render/painter.h>
 
-#include <shapespline/gpu/gpu_model.h>
 #include <shapespline/core/tess_topology.h>
+#include <shapespline/gpu/gpu_model.h>
 #include <shapespline/gpu/tessellator.h>
 #include <shapespline/vk/buffer.h>
 #include <shapespline/vk/context.h>

@@ -1,7 +1,8 @@
 // shapespline_consumer: uses the installed shapespline package the way an application does.
 //  * core + io: a surface from a model file and a curve built in memory, evaluated on the CPU (fp64);
 //  * gpu: the application creates its own VkInstance / VkDevice, shapespline adopts them
-//    (vk::Context::adopt), and the GPU evaluators' fp32 results are checked against core.
+//    (vk::Context::adopt), and the GPU evaluators' fp32 results are checked against core;
+//  * sampling: a Session on the same context evaluates the curve on the GPU (device required).
 // Without a Vulkan device the GPU part is skipped with a message (exit 0).
 //
 //   shapespline_consumer SURFACE_MODEL.json       exit 0: results agree, 1: they do not, 2: error
@@ -11,6 +12,7 @@
 #include <shapespline/gpu/evaluator.h>
 #include <shapespline/gpu/gpu_model.h>
 #include <shapespline/io/model_json.h>
+#include <shapespline/sampling/session.h>
 #include <shapespline/version.h>
 #include <shapespline/vk/context.h>
 
@@ -207,6 +209,14 @@ int main(int argc, char** argv) {
       for (size_t k = 0; k < us.size(); ++k) {
         compare("curve point", k, cpuC[k].point, gotC[k].point, kPointTol * extC);
         compare("curve d1", k, cpuC[k].d1, gotC[k].d1, kDerivTol * (extC + glm::length(cpuC[k].d1)));
+      }
+      sampling::Session session(ctx);
+      std::vector<sampling::CurveQuery> queries;
+      for (double u : us) queries.push_back({true, 0, 0.0, u});
+      const auto viaLayer = session.evaluate(curve, {sampling::DeviceKind::Auto, Precision::Float, true}, queries);
+      if (!viaLayer.report.gpu) throw std::runtime_error("sampling::Session did not use the adopted device");
+      for (size_t k = 0; k < us.size(); ++k) {
+        compare("sampling curve point", k, cpuC[k].point, viaLayer.points[k].point, kPointTol * extC);
       }
       std::printf("gpu: S(%g, %g) = (%.6f, %.6f, %.6f); C(%g) = (%.6f, %.6f)\n", uv[5].first, uv[5].second,
                   gotS[5].point.x, gotS[5].point.y, gotS[5].point.z, us[4], gotC[4].point.x, gotC[4].point.y);
