@@ -722,9 +722,9 @@ RawSidecar readSidecar(const Where& w, bool float64) {
   const SidecarReader r(doc, w);
   if (r.str("format") != "shapespline-raw") refuse(w, "sidecar \"format\" is not \"shapespline-raw\"");
   const uint64_t version = r.u64("format_version", 1, 1000);
-  if (version != 2) {
-    refuse(w, "sidecar has format_version " + std::to_string(version) +
-                  ", merge reads 2 (written by another shapespline version? sample again)");
+  if (version != kRawSidecarVersion) {
+    refuse(w, "sidecar has format_version " + std::to_string(version) + ", merge reads " +
+                  std::to_string(kRawSidecarVersion) + " (written by another shapespline version? sample again)");
   }
   RawSidecar s;
   s.dataFile = r.str("data_file");

@@ -324,7 +324,7 @@ void writeRawSidecar(AtomicFile& out, const RawSidecar& s) {
   };
   auto str = [](std::string_view v) { return "\"" + escapeText(v) + "\""; };
   key("format", str("shapespline-raw"));
-  key("format_version", "2");
+  key("format_version", std::to_string(kRawSidecarVersion));
   key("data_file", str(s.dataFile));
   key("dtype", str(s.float64 ? "float64" : "float32"));
   key("byte_order", str("little"));

@@ -84,6 +84,10 @@ struct SpanWindow {
 SpanWindow spanWindow(uint64_t first, uint64_t count, uint64_t itemsV);
 
 // The sidecar of a job from its layout (spans cut to the shard's window).
+// The raw sidecar's format_version: 3 added "device" and made "computed_precision" the precision
+// the path computed in (docs/format.md); merge reads exactly this version.
+inline constexpr int kRawSidecarVersion = 3;
+
 RawSidecar rawSidecarOf(const SampleLayout& layout, const std::string& job, bool float64, const std::string& dataFile);
 // Writes `s` as JSON text (ends with a newline). Counts follow from info, grid and fields.
 void writeRawSidecar(AtomicFile& out, const RawSidecar& s);
