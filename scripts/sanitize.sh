@@ -36,7 +36,7 @@ export LSAN_OPTIONS="suppressions=$root/tests/support/lsan.supp:${LSAN_OPTIONS:-
 # hundreds of MiB: they run in the normal build only.
 excluded="GpuStreamLarge.JobStreamsInBoundedMemory:MemoryBoundRss.*"
 failed=()
-for exe in core_tests io_tests gpu_tests cli_tests; do
+for exe in core_tests io_tests gpu_tests sampling_tests cli_tests; do
   [[ -x build-asan/tests/$exe ]] || continue
   echo "sanitize: $exe" >&2
   # From the repository root, like ctest.
