@@ -73,9 +73,9 @@ class Session {
   Report plan(const Curve& curve, const DeviceRequest& request);
   Report plan(const Surface& surface, const DeviceRequest& request);
 
-  // Streams the grid (grid.itemCount > 0) to `consumer` in item order. Chunks hold the computed
-  // precision (GridChunk::precision); the sink rounds to the output precision. Fields as
-  // sampleCurveGrid / sampleSurfaceGrid.
+  // Streams the grid (itemCount 0: every item from firstItem on) to `consumer` in item order.
+  // Chunks hold the computed precision (GridChunk::precision); the sink rounds to the output
+  // precision. Fields as sampleCurveGrid / sampleSurfaceGrid.
   Report sampleGrid(const Curve& curve, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
                     const ChunkConsumer& consumer, const GridOptions& options = {});
   Report sampleGrid(const Surface& surface, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
