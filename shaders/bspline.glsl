@@ -6,70 +6,25 @@
 
 REAL knotAt(uint knotOffset, int i) { return params[knotOffset + uint(i)]; }
 
-// core/bspline.cpp bsplineBasisDerivs with derivs = min(2, order-1) (The NURBS Book A2.3, same
-// operation order): N_{span-order+1+r}(t) and its first two derivatives in b/d1/d2[r], r < order;
-// derivatives above order-1 are 0. `span` is a non-empty interval index (findKnotSpan).
+// core/bspline.cpp bsplineBasisDerivs with derivs = min(2, order-1) (point_math.h bsplineTriangle
+// and bsplineDerivatives): N_{span-order+1+r}(t) and its first two derivatives in b/d1/d2[r],
+// r < order; derivatives above order-1 are 0. `span` is a non-empty interval index (findKnotSpan).
 void bsplineBasisDerivs(uint knotOffset, uint order, int span, REAL t, out REAL b[kMaxBasis],
                         out REAL d1[kMaxBasis], out REAL d2[kMaxBasis]) {
   const int p = int(order) - 1;
-  REAL ndu[kMaxBasis][kMaxBasis];
   REAL left[kMaxBasis], right[kMaxBasis];
-  REAL a[2][kMaxBasis];
-  ndu[0][0] = REAL(1);
   for (int j = 1; j <= p; ++j) {
     left[j] = t - knotAt(knotOffset, span + 1 - j);
     right[j] = knotAt(knotOffset, span + j) - t;
-    REAL saved = REAL(0);
-    for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];
-      REAL temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
   }
-  REAL ders[3][kMaxBasis];
-  for (int r = 0; r <= p; ++r) {
-    ders[0][r] = ndu[r][p];
-    ders[1][r] = REAL(0);
-    ders[2][r] = REAL(0);
-  }
+  REAL ndu[kMaxBasis][kMaxBasis], ders[kMaxBasis][kMaxBasis];
+  bsplineTriangle(p, left, right, ndu);
   const int n = min(2, p);
-  for (int r = 0; r <= p; ++r) {
-    int s1 = 0, s2 = 1;
-    a[0][0] = REAL(1);
-    for (int k = 1; k <= n; ++k) {
-      REAL d = REAL(0);
-      int rk = r - k, pk = p - k;
-      if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
-      }
-      int j1 = rk >= -1 ? 1 : -rk;
-      int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-      for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
-      }
-      if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
-      }
-      ders[k][r] = d;
-      int sw = s1;
-      s1 = s2;
-      s2 = sw;
-    }
-  }
-  REAL factor = REAL(p);
-  for (int k = 1; k <= n; ++k) {
-    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
-    factor *= REAL(p - k);
-  }
+  bsplineDerivatives(p, n, ndu, ders);
   for (int r = 0; r < kMaxBasis; ++r) {
     b[r] = r <= p ? ders[0][r] : REAL(0);
-    d1[r] = r <= p ? ders[1][r] : REAL(0);
-    d2[r] = r <= p ? ders[2][r] : REAL(0);
+    d1[r] = r <= p ? ders[1][r] : REAL(0);  // p >= 1: row 1 is written
+    d2[r] = r <= p && n >= 2 ? ders[2][r] : REAL(0);
   }
 }
 

@@ -1,5 +1,7 @@
 #include <shapespline/core/bspline.h>
 
+#include <shapespline/core/point_math.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -27,6 +29,8 @@ int findKnotSpan(int order, std::span<const double> knots, int pointCount, doubl
   return left;
 }
 
+static_assert(pm::kMaxBasis == kMaxBasisCount);
+
 namespace {
 
 // Below this width of the knots a span's basis reads, they are scaled (see basisDerivsScaled).
@@ -46,51 +50,13 @@ int basisDerivsScaled(int order, std::span<const double> knots, int span, double
   const int e = width > 0.0 && std::ilogb(width) < kMinKnotWidthExponent ? -std::ilogb(width) : 0;
   double ndu[kMaxBasisCount][kMaxBasisCount];
   double left[kMaxBasisCount], right[kMaxBasisCount];
-  double a[2][kMaxBasisCount];
-  ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[j] = std::ldexp(t - knots[span + 1 - j], e);  // exact: differences of nearby knots, then 2^e
     right[j] = std::ldexp(knots[span + j] - t, e);
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
   }
-  for (int r = 0; r <= p; ++r) out[0][r] = ndu[r][p];
+  pm::bsplineTriangle(p, left, right, ndu);
   const int n = std::min(derivs, p);
-  for (int r = 0; r <= p; ++r) {
-    int s1 = 0, s2 = 1;
-    a[0][0] = 1.0;
-    for (int k = 1; k <= n; ++k) {
-      double d = 0.0;
-      const int rk = r - k, pk = p - k;
-      if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-        d = a[s2][0] * ndu[rk][pk];
-      }
-      const int j1 = rk >= -1 ? 1 : -rk;
-      const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-      for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-        d += a[s2][j] * ndu[rk + j][pk];
-      }
-      if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-        d += a[s2][k] * ndu[r][pk];
-      }
-      out[k][r] = d;
-      std::swap(s1, s2);
-    }
-  }
-  double factor = p;
-  for (int k = 1; k <= n; ++k) {
-    for (int j = 0; j <= p; ++j) out[k][j] *= factor;
-    factor *= (p - k);
-  }
+  pm::bsplineDerivatives(p, n, ndu, out);
   for (int k = n + 1; k <= derivs; ++k)
     for (int j = 0; j <= p; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
   return e;

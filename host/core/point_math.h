@@ -8,6 +8,9 @@
 //   PM_INOUT(T)        C++ `T&`, GLSL `inout T`         (updated in place)
 //   PM_IN4(T, name)    C++ `const T name[4]`, GLSL `in T name[4]` (the four patch corners)
 //   PM_CONST(T, n, v)  C++ `inline constexpr T n = v`, GLSL `const T n = v`
+//   PM_ROW_IN(name), PM_TABLE_IN(name), PM_TABLE_OUT(name)
+//                      a REAL[kMaxBasis] row and a REAL[kMaxBasis][kMaxBasis] table as parameters
+//                      (C++ pointers, GLSL in / out arrays; kMaxBasis is layout.h's in GLSL)
 // REAL / REAL3 are double / glm::dvec3 in C++. Selects (mix with a bvec) instead of branches:
 // llvmpipe runs both sides of a per-lane branch, and a select gives the same bits as the branch.
 //
@@ -22,6 +25,9 @@
 #define PM_INOUT(T) inout T
 #define PM_IN4(T, name) in T name[4]
 #define PM_CONST(T, name, value) const T name = value
+#define PM_ROW_IN(name) in REAL name[kMaxBasis]
+#define PM_TABLE_IN(name) in REAL name[kMaxBasis][kMaxBasis]
+#define PM_TABLE_OUT(name) out REAL name[kMaxBasis][kMaxBasis]
 #else
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -44,6 +50,10 @@ using glm::mix;
 #define PM_INOUT(T) T&
 #define PM_IN4(T, name) const T name[4]
 #define PM_CONST(T, name, value) inline constexpr T name = value
+#define PM_ROW_IN(name) const REAL name[kMaxBasis]
+#define PM_TABLE_IN(name) const REAL name[kMaxBasis][kMaxBasis]
+#define PM_TABLE_OUT(name) REAL name[kMaxBasis][kMaxBasis]
+inline constexpr int kMaxBasis = 10;  // basis functions per span (core kMaxBasisCount, layout.h kMaxBasis)
 #endif
 
 // ---- S(t), docs/math.md §3 ----------------------------------------------------------------------
@@ -242,6 +252,63 @@ PM_FN REAL towardCentre(REAL t) {
 // The last resort of the rule: +z.
 PM_FN REAL3 fixedAxisNormal() { return REAL3(0, 0, 1); }
 
+// ---- Knot-vector B-spline basis, docs/math.md §10.1 (The NURBS Book A2.3) ----------------------
+
+// The triangle of A2.3 for degree p from the knot differences left[j] = t - t_{span+1-j} and
+// right[j] = t_{span+j} - t, j = 1..p (scaled by a common power of two where core/bspline.cpp needs
+// it): ndu[r][p] = N_{span-p+r}(t); the lower triangle holds the knot sums the derivatives divide by.
+PM_FN void bsplineTriangle(int p, PM_ROW_IN(left), PM_ROW_IN(right), PM_TABLE_OUT(ndu)) {
+  ndu[0][0] = REAL(1);
+  for (int j = 1; j <= p; ++j) {
+    REAL saved = REAL(0);
+    for (int r = 0; r < j; ++r) {
+      ndu[j][r] = right[r + 1] + left[j - r];
+      REAL temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[r][j] = saved + right[r + 1] * temp;
+      saved = left[j - r] * temp;
+    }
+    ndu[j][j] = saved;
+  }
+}
+
+// ders[k][r] = d^k/dt^k N_{span-p+r}(t) for k = 0..n (n <= p), r = 0..p, from that triangle; rows
+// above n are left unwritten.
+PM_FN void bsplineDerivatives(int p, int n, PM_TABLE_IN(ndu), PM_TABLE_OUT(ders)) {
+  REAL a[2][kMaxBasis];
+  for (int r = 0; r <= p; ++r) ders[0][r] = ndu[r][p];
+  for (int r = 0; r <= p; ++r) {
+    int s1 = 0, s2 = 1;
+    a[0][0] = REAL(1);
+    for (int k = 1; k <= n; ++k) {
+      REAL d = REAL(0);
+      int rk = r - k, pk = p - k;
+      if (r >= k) {
+        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        d = a[s2][0] * ndu[rk][pk];
+      }
+      int j1 = rk >= -1 ? 1 : -rk;
+      int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+      for (int j = j1; j <= j2; ++j) {
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        d += a[s2][j] * ndu[rk + j][pk];
+      }
+      if (r <= pk) {
+        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        d += a[s2][k] * ndu[r][pk];
+      }
+      ders[k][r] = d;
+      int swap = s1;
+      s1 = s2;
+      s2 = swap;
+    }
+  }
+  REAL factor = REAL(p);
+  for (int k = 1; k <= n; ++k) {
+    for (int j = 0; j <= p; ++j) ders[k][j] *= factor;
+    factor *= REAL(p - k);
+  }
+}
+
 #ifndef SHAPESPLINE_GLSL
 }  // namespace shapespline::pm
 #endif
@@ -250,5 +317,8 @@ PM_FN REAL3 fixedAxisNormal() { return REAL3(0, 0, 1); }
 #undef PM_INOUT
 #undef PM_IN4
 #undef PM_CONST
+#undef PM_ROW_IN
+#undef PM_TABLE_IN
+#undef PM_TABLE_OUT
 
 #endif  // SHAPESPLINE_CORE_POINT_MATH_H
