@@ -224,7 +224,28 @@ CurvePoint Curve::evaluate(int span, double t) const {
   return evalSpan(span, t);
 }
 
-int Curve::spanOfParameter(double u, double& t) const {
+CurvePoint Curve::evaluateAt(double u) const {
+  const auto [lo, hi] = parameterRange();
+  if (!(u >= lo && u <= hi))
+    throw std::out_of_range("u = " + fmt(u) + " outside the parameter range [" + fmt(lo) + ", " + fmt(hi) + "]");
+  if (knotVector()) {
+    // At the knot parameter itself, not a + t (b - a): evalBSplineCurve finds the span of spanAt.
+    const BSplineCurvePoint p = evalBSplineCurve(bspline_, u);
+    return {p.point, p.d1, p.d2};
+  }
+  double t = 0.0;
+  const int span = spanAt(u, t);
+  return evalSpan(span, t);
+}
+
+int Curve::spanAt(double u, double& t) const {
+  if (knotVector()) {
+    const int n = static_cast<int>(bspline_.points.size());
+    const int span = findKnotSpan(bspline_.order, bspline_.knots, n, u);
+    const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
+    t = std::clamp((u - a) / (b - a), 0.0, 1.0);
+    return span;
+  }
   if (!spanKnots_.empty()) {
     const auto it = std::upper_bound(spanKnots_.begin(), spanKnots_.end(), u);
     int s = static_cast<int>(it - spanKnots_.begin()) - 1;
@@ -237,19 +258,6 @@ int Curve::spanOfParameter(double u, double& t) const {
   j = std::clamp(j, spans_.first, spans_.last);
   t = std::clamp(u - j, 0.0, 1.0);
   return j;
-}
-
-CurvePoint Curve::evaluateAt(double u) const {
-  const auto [lo, hi] = parameterRange();
-  if (!(u >= lo && u <= hi))
-    throw std::out_of_range("u = " + fmt(u) + " outside the parameter range [" + fmt(lo) + ", " + fmt(hi) + "]");
-  if (knotVector()) {
-    const BSplineCurvePoint p = evalBSplineCurve(bspline_, u);
-    return {p.point, p.d1, p.d2};
-  }
-  double t = 0.0;
-  const int span = spanOfParameter(u, t);
-  return evalSpan(span, t);
 }
 
 }  // namespace shapespline

@@ -79,6 +79,10 @@ class Curve {
   // Global u in parameterRange(). At an interior joint the span to the right is used, except at
   // u_max. Throws std::out_of_range outside the range.
   CurvePoint evaluateAt(double u) const;
+  // The span of global u and the local t in it, as evaluateAt picks them (u is clamped into the
+  // range, no check): uniform and span-knot spans, or the non-empty knot interval of
+  // core/bspline.h findKnotSpan. The one lookup that CPU and GPU parameter lists share.
+  int spanAt(double u, double& t) const;
 
   // Span basis of the family (not meaningful for knot-vector B-splines).
   const SpanBasis& basis() const { return basis_; }
@@ -100,7 +104,6 @@ class Curve {
  private:
   Curve() = default;
   CurvePoint evalSpan(int span, double t) const;  // no range checks
-  int spanOfParameter(double u, double& t) const;
 
   CurveModel model_;
   SpanBasis basis_;

@@ -314,30 +314,15 @@ SurfacePoint Surface::evaluate(int i, int j, double u, double v) const {
   return evalWithNormal(i, j, u, v);
 }
 
-int Surface::patchOf(double x, const SpanRange& r, double& local) const {
-  int i = static_cast<int>(std::floor(x));
-  i = std::clamp(i, r.first, r.last);
-  local = std::clamp(x - i, 0.0, 1.0);
-  return i;
-}
-
 SurfacePoint Surface::evaluateAt(double U, double V) const {
   const auto [ulo, uhi] = parameterRangeU();
   const auto [vlo, vhi] = parameterRangeV();
   if (!(U >= ulo && U <= uhi) || !(V >= vlo && V <= vhi))
     throw std::out_of_range("(U, V) = (" + fmt(U) + ", " + fmt(V) + ") outside the parameter range [" + fmt(ulo) +
                             ", " + fmt(uhi) + "] x [" + fmt(vlo) + ", " + fmt(vhi) + "]");
-  if (knotVector()) {
-    const int n = bspline_.rows, kU = bspline_.orderU;
-    const int i = findKnotSpan(kU, bspline_.knotsU, n, U);
-    const int j = findKnotSpan(bspline_.orderV, bspline_.knotsV, bspline_.cols, V);
-    const double u = (U - bspline_.knotsU[i]) / (bspline_.knotsU[i + 1] - bspline_.knotsU[i]);
-    const double v = (V - bspline_.knotsV[j]) / (bspline_.knotsV[j + 1] - bspline_.knotsV[j]);
-    return evalWithNormal(i, j, std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0));
-  }
+  int i = 0, j = 0;
   double u = 0.0, v = 0.0;
-  const int i = patchOf(U, patches_.u, u);
-  const int j = patchOf(V, patches_.v, v);
+  patchAt(U, V, i, j, u, v);
   return evalWithNormal(i, j, u, v);
 }
 
@@ -354,6 +339,23 @@ glm::dvec3 Surface::limitNormal(int i, int j, int cornerU, int cornerV) const {
     throw std::logic_error("limitNormal: vertex (" + std::to_string(p) + ", " + std::to_string(q) +
                            ") has alpha != 1");
   return evalWithNormal(i, j, cornerU, cornerV).normal;
+}
+
+void Surface::patchAt(double U, double V, int& i, int& j, double& u, double& v) const {
+  if (knotVector()) {
+    i = findKnotSpan(bspline_.orderU, bspline_.knotsU, bspline_.rows, U);
+    j = findKnotSpan(bspline_.orderV, bspline_.knotsV, bspline_.cols, V);
+    u = std::clamp((U - bspline_.knotsU[i]) / (bspline_.knotsU[i + 1] - bspline_.knotsU[i]), 0.0, 1.0);
+    v = std::clamp((V - bspline_.knotsV[j]) / (bspline_.knotsV[j + 1] - bspline_.knotsV[j]), 0.0, 1.0);
+    return;
+  }
+  auto unitPatch = [](double x, const SpanRange& r, double& local) {
+    const int k = std::clamp(static_cast<int>(std::floor(x)), r.first, r.last);
+    local = std::clamp(x - k, 0.0, 1.0);
+    return k;
+  };
+  i = unitPatch(U, patches_.u, u);
+  j = unitPatch(V, patches_.v, v);
 }
 
 }  // namespace shapespline

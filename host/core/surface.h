@@ -108,6 +108,10 @@ class Surface {
   SurfacePoint evaluate(int i, int j, double u, double v) const;
   // Global (U,V) in the parameter ranges; the patch to the right/above is used at interior joints.
   SurfacePoint evaluateAt(double U, double V) const;
+  // The patch (i,j) of global (U,V) and the local (u,v) in it, as evaluateAt picks them ((U,V)
+  // clamped into the ranges, no check); knot-vector B-splines: the non-empty knot intervals of
+  // core/bspline.h findKnotSpan. The one lookup that CPU and GPU parameter lists share.
+  void patchAt(double U, double V, int& i, int& j, double& u, double& v) const;
 
   // Unit diagonal-limit normal of the α = 1 vertex at corner (cornerU, cornerV) ∈ {0,1}^2 of patch
   // (i,j), as used by evaluate() at that corner (§5.3). Throws std::logic_error when the surface is
@@ -137,7 +141,6 @@ class Surface {
   void evalPatch(int i, int j, double u, double v, PatchDerivs& out, PatchDerivs& base) const;
   SurfacePoint evalWithNormal(int i, int j, double u, double v) const;
   bool cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const;
-  int patchOf(double x, const SpanRange& r, double& local) const;
 
   SurfaceModel model_;
   SpanBasis basisU_, basisV_;
