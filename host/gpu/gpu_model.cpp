@@ -1,7 +1,6 @@
 #include <shapespline/gpu/gpu_model.h>
 
 #include <shapespline/core/bspline.h>
-#include <shapespline/core/validate.h>
 #include <shapespline/gpu/kernels.h>
 #include <shapespline/shaders/layout.h>
 
@@ -13,26 +12,41 @@
 namespace shapespline::gpu {
 namespace {
 
-void checkAlpha(double a, const std::string& field) {
-  if (!(a > 0.0 && a <= 1.0)) throw ModelError(field, std::to_string(a), "alpha must lie in (0, 1] (docs/math.md R13)");
+// The kernels' basis of a knot-vector direction: only count = order and degree = order-1.
+SpanBasis knotBasis(int order) {
+  SpanBasis b;
+  b.count = order;
+  b.degree = order - 1;
+  return b;
 }
 
-SpanBasis surfaceBasisV(const SurfaceModel& m, const SpanBasis& u) {
-  if (m.family.construction == Construction::BSpline && m.orderV > 0) return uniformBSplineSpanBasis(m.orderV);
-  return u;
+// What NET holds: the control points of a knot-vector B-spline, else core's span point list /
+// patch net.
+std::span<const glm::dvec3> netPoints(const Curve& c) {
+  return c.usesKnotVector() ? std::span<const glm::dvec3>(c.model().points) : c.spanPoints();
+}
+std::span<const glm::dvec3> netPoints(const Surface& s) {
+  return s.usesKnotVector() ? std::span<const glm::dvec3>(s.model().points) : s.patchNet();
+}
+
+std::vector<double> inverseSpanLengths(const Curve& c) {
+  std::vector<double> invH;
+  const std::vector<double>& k = c.spanKnots();
+  for (size_t s = 0; s + 1 < k.size(); ++s) invH.push_back(1.0 / (k[s + 1] - k[s]));
+  return invH;
 }
 
 }  // namespace
 
-GpuModel::GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision)
-    : ctx_(std::move(ctx)), precision_(precision) {
+GpuModel::GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision, Parameterization parameterization)
+    : ctx_(std::move(ctx)), precision_(precision), parameterization_(parameterization) {
   requirePrecision(*ctx_, precision_);
 }
 
 uint32_t GpuModel::alphaOffset() const { return layout::kParamHeader; }
 size_t GpuModel::addKnotDirection(int order, const std::vector<double>& knots, int count, uint32_t& knotOffset,
                                   uint32_t& intervalOffset) {
-  const uint32_t base = static_cast<uint32_t>(layout::kParamHeader + alpha_.size() + invH_.size());
+  const uint32_t base = static_cast<uint32_t>(layout::kParamHeader + alphaCount_ + invHCount_);
   knotOffset = base + static_cast<uint32_t>(knotData_.size());
   knotData_.insert(knotData_.end(), knots.begin(), knots.end());
   intervalOffset = base + static_cast<uint32_t>(knotData_.size());
@@ -53,55 +67,68 @@ size_t GpuModel::addKnotDirection(int order, const std::vector<double>& knots, i
 }
 
 void GpuModel::requireUniform(const char* what) const {
-  if (knotVector_)
+  if (knotVector())
     throw std::invalid_argument(std::string(what) + ": a knot-vector B-spline has no family parameters or alpha");
 }
 
-uint32_t GpuModel::invHOffset() const {
-  return invH_.empty() ? layout::kNoOffset : static_cast<uint32_t>(layout::kParamHeader + alpha_.size());
+void GpuModel::requireSameBasisSize(const SpanBasis& u, const SpanBasis& v) const {
+  if (u.count != basisU_.count || v.count != basisV_.count)
+    throw std::invalid_argument("setParameters: the basis size m (" + std::to_string(basisU_.count) +
+                                ") is fixed by the net layout; create a new GpuCurve/GpuSurface");
 }
 
-void GpuModel::createBuffers(std::span<const glm::dvec3> net, size_t alphaCount, size_t invHCount) {
+uint32_t GpuModel::invHOffset() const {
+  return invHCount_ == 0 ? layout::kNoOffset : static_cast<uint32_t>(layout::kParamHeader + alphaCount_);
+}
+
+void GpuModel::createBuffers(std::span<const glm::dvec3> net, std::span<const double> params) {
   const size_t rs = realSize(precision_);
   net_ = vk::Buffer::create(*ctx_, net.size() * 4 * rs, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.net");
   const auto bytes = toReal4(net, precision_);
   net_.upload(bytes);
   stats_.netBytes += bytes.size();
   ++stats_.netWrites;
-  params_ = vk::Buffer::create(*ctx_, (layout::kParamHeader + alphaCount + invHCount + knotData_.size()) * rs, vk::kStorageUsage,
-                               vk::MemoryUse::DeviceLocal, "gpu.params");
-  const size_t vertBytes = alphaEB_ ? 2 * size_t(rows_) * cols_ * 4 * rs : 256;
+  params_ = vk::Buffer::create(*ctx_, params.size() * rs, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.params");
+  const size_t vertBytes = alphaEB() ? 2 * size_t(rows_) * cols_ * 4 * rs : 256;
   verts_ = vk::Buffer::create(*ctx_, vertBytes, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.verts");
-  writeParams();
+  writeParams(params);
 }
 
-void GpuModel::writeParams() {
-  std::vector<double> p(layout::kParamHeader + alpha_.size() + invH_.size() + knotData_.size(), 0.0);
-  for (int r = 0; r < basisU_.count; ++r)
-    for (int d = 0; d <= basisU_.degree; ++d) p[layout::kParamCoefU + r * layout::kCoefStride + d] = basisU_.coef[r][d];
-  for (int r = 0; r < basisV_.count; ++r)
-    for (int d = 0; d <= basisV_.degree; ++d) p[layout::kParamCoefV + r * layout::kCoefStride + d] = basisV_.coef[r][d];
-  std::copy(alpha_.begin(), alpha_.end(), p.begin() + layout::kParamHeader);
-  std::copy(invH_.begin(), invH_.end(), p.begin() + layout::kParamHeader + alpha_.size());
-  std::copy(knotData_.begin(), knotData_.end(), p.begin() + layout::kParamHeader + alpha_.size() + invH_.size());
-  const auto bytes = toReal(p, precision_);
+std::vector<double> GpuModel::paramBlock(const SpanBasis& u, const SpanBasis& v, std::span<const double> alpha,
+                                         std::span<const double> invH) const {
+  std::vector<double> p(layout::kParamHeader + alpha.size() + invH.size() + knotData_.size(), 0.0);
+  for (int r = 0; r < u.count; ++r)
+    for (int d = 0; d <= u.degree; ++d) p[layout::kParamCoefU + r * layout::kCoefStride + d] = u.coef[r][d];
+  for (int r = 0; r < v.count; ++r)
+    for (int d = 0; d <= v.degree; ++d) p[layout::kParamCoefV + r * layout::kCoefStride + d] = v.coef[r][d];
+  auto out = std::copy(alpha.begin(), alpha.end(), p.begin() + layout::kParamHeader);
+  out = std::copy(invH.begin(), invH.end(), out);
+  std::copy(knotData_.begin(), knotData_.end(), out);
+  return p;
+}
+
+void GpuModel::writeParams(std::span<const double> params) {
+  const auto bytes = toReal(params, precision_);
   params_.upload(bytes);
   stats_.paramBytes += bytes.size();
   ++stats_.paramWrites;
-  if (alphaEB_) vertsDirty_ = true;
+  if (alphaEB()) vertsDirty_ = true;
 }
 
-void GpuModel::writeNetEntry(size_t index, const glm::dvec3& p) {
-  const glm::dvec3 one[1] = {p};
-  const auto bytes = toReal4(one, precision_);
-  net_.upload(bytes, index * bytes.size());
-  stats_.netBytes += bytes.size();
-  ++stats_.netWrites;
-  if (alphaEB_) vertsDirty_ = true;
+void GpuModel::writeChangedNetEntries(std::span<const glm::dvec3> current, std::span<const glm::dvec3> next) {
+  for (size_t e = 0; e < next.size(); ++e) {
+    // Bitwise, so that a change of the sign of a zero reaches the GPU too.
+    if (std::memcmp(&current[e], &next[e], sizeof(glm::dvec3)) == 0) continue;
+    const auto bytes = toReal4(next.subspan(e, 1), precision_);
+    net_.upload(bytes, e * bytes.size());
+    stats_.netBytes += bytes.size();
+    ++stats_.netWrites;
+    if (alphaEB()) vertsDirty_ = true;
+  }
 }
 
 std::vector<glm::dvec3> GpuModel::downloadVertices(bool nodes) const {
-  if (!alphaEB_) return {};
+  if (!alphaEB()) return {};
   const size_t n = size_t(rows_) * cols_, rs = realSize(precision_);
   std::vector<std::byte> bytes(n * 4 * rs);
   verts_.download(bytes, nodes ? n * 4 * rs : 0);
@@ -119,196 +146,156 @@ std::vector<glm::dvec3> GpuModel::downloadVertices(bool nodes) const {
   return out;
 }
 
-void GpuModel::setBases(const SpanBasis& u, const SpanBasis& v) {
-  if (u.count != basisU_.count || v.count != basisV_.count)
-    throw std::invalid_argument("setParameters: the basis size m (" + std::to_string(basisU_.count) +
-                                ") is fixed by the net layout; create a new GpuCurve/GpuSurface");
-  basisU_ = u;
-  basisV_ = v;
-}
-
 // ---- GpuCurve -----------------------------------------------------------------------------------
 
 GpuCurve::GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precision precision)
-    : GpuModel(std::move(ctx), precision),
-      model_(curve.model()),
-      spans_(curve.spans()),
-      range_(curve.parameterRange()),
-      spanKnots_(curve.spanKnots()) {
-  if (curve.usesKnotVector()) {
-    knotVector_ = true;
-    const int order = model_.family.order, n = static_cast<int>(model_.points.size());
-    basisU_ = SpanBasis{};
-    basisU_.count = order;
-    basisU_.degree = order - 1;
-    basisV_ = basisU_;
-    rows_ = static_cast<uint32_t>(n);
-    intervalsU_ = addKnotDirection(order, model_.knots, n, knotOffsetU_, intervalOffsetU_);
+    : GpuModel(std::move(ctx), precision, curve.parameterization()), curve_(curve) {
+  const CurveModel& m = curve_.model();
+  rows_ = static_cast<uint32_t>(m.points.size());
+  if (knotVector()) {
+    basisU_ = basisV_ = knotBasis(m.family.order);
+    intervalsU_ = addKnotDirection(m.family.order, m.knots, int(m.points.size()), knotOffsetU_, intervalOffsetU_);
     knotOffsetV_ = knotOffsetU_;
     intervalOffsetV_ = intervalOffsetU_;
-    createBuffers(model_.points, 0, 0);
-    return;
+  } else {
+    basisU_ = basisV_ = curve_.basis();
+    alphaCount_ = m.alpha.size();
+    invHCount_ = inverseSpanLengths(curve_).size();
   }
-  alphaEB_ = model_.family.construction == Construction::AlphaEB;
-  basisU_ = basisV_ = curve.basis();
-  ext_ = extendedIndices(static_cast<int>(model_.points.size()), model_.closed, alphaEB_, basisU_.count,
-                         basisU_.centre, netOffset_);
-  netOffset_ = curve.spanPointOffset();
-  rows_ = static_cast<uint32_t>(model_.points.size());
-  if (alphaEB_) alpha_ = model_.alpha;
-  for (size_t s = 0; s + 1 < curve.spanKnots().size(); ++s)
-    invH_.push_back(1.0 / (curve.spanKnots()[s + 1] - curve.spanKnots()[s]));
-  createBuffers(curve.spanPoints(), alpha_.size(), invH_.size());
+  createBuffers(netPoints(curve_), paramsOf(curve_));
+}
+
+std::vector<double> GpuCurve::paramsOf(const Curve& c) const {
+  if (c.usesKnotVector()) return paramBlock(basisU_, basisV_, {}, {});
+  return paramBlock(c.basis(), c.basis(), c.model().alpha, inverseSpanLengths(c));
+}
+
+void GpuCurve::adoptParameters(Curve next) {
+  requireSameBasisSize(next.basis(), next.basis());
+  writeParams(paramsOf(next));
+  basisU_ = basisV_ = next.basis();
+  curve_ = std::move(next);
 }
 
 void GpuCurve::setLambda(double lambda) {
-  FamilySpec f = model_.family;
+  FamilySpec f = model().family;
   f.lambda = lambda;
   setParameters(f);
 }
 
 void GpuCurve::setParameters(const FamilySpec& family) {
   requireUniform("setParameters");
-  if (family.construction != model_.family.construction)
+  if (family.construction != model().family.construction)
     throw std::invalid_argument("setParameters: the construction cannot change");
-  validateFamily(family, 0, false);
-  const SpanBasis b = makeSpanBasis(family);
-  setBases(b, b);
-  model_.family = family;
-  writeParams();
+  CurveModel m = model();
+  m.family = family;
+  adoptParameters(Curve::create(std::move(m)));
 }
 
 void GpuCurve::setAlpha(int i, double alpha) {
-  if (!alphaEB_) throw std::invalid_argument("setAlpha: not an alpha_eb curve");
-  if (i < 0 || i >= static_cast<int>(alpha_.size())) throw std::out_of_range("setAlpha: index " + std::to_string(i));
-  checkAlpha(alpha, "alpha[" + std::to_string(i) + "]");
-  alpha_[i] = model_.alpha[i] = alpha;
-  writeParams();
+  if (!alphaEB()) throw std::invalid_argument("setAlpha: not an alpha_eb curve");
+  if (i < 0 || i >= static_cast<int>(model().alpha.size()))
+    throw std::out_of_range("setAlpha: index " + std::to_string(i));
+  CurveModel m = model();
+  m.alpha[i] = alpha;
+  adoptParameters(Curve::create(std::move(m)));
 }
 
 void GpuCurve::setAlphas(std::span<const double> alphas) {
-  if (!alphaEB_) throw std::invalid_argument("setAlphas: not an alpha_eb curve");
-  if (alphas.size() != alpha_.size()) throw std::invalid_argument("setAlphas: expected one value per point");
-  for (size_t i = 0; i < alphas.size(); ++i) checkAlpha(alphas[i], "alpha[" + std::to_string(i) + "]");
-  alpha_.assign(alphas.begin(), alphas.end());
-  model_.alpha = alpha_;
-  writeParams();
+  if (!alphaEB()) throw std::invalid_argument("setAlphas: not an alpha_eb curve");
+  CurveModel m = model();
+  m.alpha.assign(alphas.begin(), alphas.end());
+  adoptParameters(Curve::create(std::move(m)));
 }
 
 void GpuCurve::updateControlPoint(int i, const glm::dvec3& p) {
-  if (i < 0 || i >= static_cast<int>(model_.points.size()))
+  if (i < 0 || i >= static_cast<int>(model().points.size()))
     throw std::out_of_range("updateControlPoint: index " + std::to_string(i));
-  model_.points[i] = p;
-  if (knotVector_) {
-    writeNetEntry(static_cast<size_t>(i), p);
-    return;
-  }
-  for (size_t e = 0; e < ext_.size(); ++e) {
-    const ExtendedIndex& x = ext_[e];
-    if (x.i0 != i && !(x.w1 != 0.0 && x.i1 == i)) continue;
-    const glm::dvec3 v = x.w1 == 0.0 ? model_.points[x.i0] : x.w0 * model_.points[x.i0] + x.w1 * model_.points[x.i1];
-    writeNetEntry(e, v);
-  }
+  CurveModel m = model();
+  m.points[i] = p;
+  Curve next = Curve::create(std::move(m));
+  writeChangedNetEntries(netPoints(curve_), netPoints(next));
+  curve_ = std::move(next);
 }
 
 // ---- GpuSurface ---------------------------------------------------------------------------------
 
 GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision)
-    : GpuModel(std::move(ctx), precision),
-      model_(surface.model()),
-      patches_(surface.patches()),
-      rangeU_(surface.parameterRangeU()),
-      rangeV_(surface.parameterRangeV()) {
-  if (surface.usesKnotVector()) {
-    knotVector_ = true;
+    : GpuModel(std::move(ctx), precision, surface.parameterization()), surface_(surface) {
+  const SurfaceModel& m = surface_.model();
+  rows_ = static_cast<uint32_t>(m.rows);
+  cols_ = static_cast<uint32_t>(m.cols);
+  if (knotVector()) {
     // Orders as core/surface.cpp Surface::create reads them (order[1] defaults to order[0]).
-    const int orderU = model_.family.order, orderV = model_.orderV > 0 ? model_.orderV : model_.family.order;
-    basisU_ = SpanBasis{};
-    basisU_.count = orderU;
-    basisU_.degree = orderU - 1;
-    basisV_ = SpanBasis{};
-    basisV_.count = orderV;
-    basisV_.degree = orderV - 1;
-    rows_ = static_cast<uint32_t>(model_.rows);
-    cols_ = static_cast<uint32_t>(model_.cols);
+    const int orderU = m.family.order, orderV = m.orderV > 0 ? m.orderV : m.family.order;
+    basisU_ = knotBasis(orderU);
+    basisV_ = knotBasis(orderV);
     netCols_ = cols_;
-    intervalsU_ = addKnotDirection(orderU, model_.knotsU, model_.rows, knotOffsetU_, intervalOffsetU_);
-    intervalsV_ = addKnotDirection(orderV, model_.knotsV, model_.cols, knotOffsetV_, intervalOffsetV_);
-    createBuffers(model_.points, 0, 0);
-    return;
+    intervalsU_ = addKnotDirection(orderU, m.knotsU, m.rows, knotOffsetU_, intervalOffsetU_);
+    intervalsV_ = addKnotDirection(orderV, m.knotsV, m.cols, knotOffsetV_, intervalOffsetV_);
+  } else {
+    basisU_ = surface_.basisU();
+    basisV_ = surface_.basisV();
+    netCols_ = static_cast<uint32_t>(surface_.netCols());
+    alphaCount_ = m.alpha.size();
   }
-  alphaEB_ = model_.family.construction == Construction::AlphaEB;
-  basisU_ = surface.basisU();
-  basisV_ = surface.basisV();
-  extU_ = extendedIndices(model_.rows, model_.closedU, alphaEB_, basisU_.count, basisU_.centre, offU_);
-  extV_ = extendedIndices(model_.cols, model_.closedV, alphaEB_, basisV_.count, basisV_.centre, offV_);
-  offU_ = surface.netOffsetU();
-  offV_ = surface.netOffsetV();
-  rows_ = static_cast<uint32_t>(model_.rows);
-  cols_ = static_cast<uint32_t>(model_.cols);
-  netCols_ = static_cast<uint32_t>(surface.netCols());
-  if (alphaEB_) alpha_ = model_.alpha;
-  createBuffers(surface.patchNet(), alpha_.size(), 0);
+  createBuffers(netPoints(surface_), paramsOf(surface_));
+}
+
+std::vector<double> GpuSurface::paramsOf(const Surface& s) const {
+  if (s.usesKnotVector()) return paramBlock(basisU_, basisV_, {}, {});
+  return paramBlock(s.basisU(), s.basisV(), s.model().alpha, {});
+}
+
+void GpuSurface::adoptParameters(Surface next) {
+  requireSameBasisSize(next.basisU(), next.basisV());
+  writeParams(paramsOf(next));
+  basisU_ = next.basisU();
+  basisV_ = next.basisV();
+  surface_ = std::move(next);
 }
 
 void GpuSurface::setLambda(double lambda) {
-  FamilySpec f = model_.family;
+  FamilySpec f = model().family;
   f.lambda = lambda;
   setParameters(f);
 }
 
 void GpuSurface::setParameters(const FamilySpec& family) {
   requireUniform("setParameters");
-  if (family.construction != model_.family.construction)
+  if (family.construction != model().family.construction)
     throw std::invalid_argument("setParameters: the construction cannot change");
-  validateFamily(family, model_.orderV, true);
-  const SpanBasis b = makeSpanBasis(family);
-  SurfaceModel m = model_;
+  SurfaceModel m = model();
   m.family = family;
-  setBases(b, surfaceBasisV(m, b));
-  model_.family = family;
-  writeParams();
+  adoptParameters(Surface::create(std::move(m)));
 }
 
 void GpuSurface::setAlpha(int i, int j, double alpha) {
-  if (!alphaEB_) throw std::invalid_argument("setAlpha: not an alpha_eb surface");
-  if (i < 0 || j < 0 || i >= model_.rows || j >= model_.cols)
+  if (!alphaEB()) throw std::invalid_argument("setAlpha: not an alpha_eb surface");
+  const SurfaceModel& cur = model();
+  if (i < 0 || j < 0 || i >= cur.rows || j >= cur.cols)
     throw std::out_of_range("setAlpha: index (" + std::to_string(i) + "," + std::to_string(j) + ")");
-  checkAlpha(alpha, "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]");
-  alpha_[size_t(i) * model_.cols + j] = model_.alpha[size_t(i) * model_.cols + j] = alpha;
-  writeParams();
+  SurfaceModel m = cur;
+  m.alpha[size_t(i) * m.cols + j] = alpha;
+  adoptParameters(Surface::create(std::move(m)));
 }
 
 void GpuSurface::setAlphas(std::span<const double> alphas) {
-  if (!alphaEB_) throw std::invalid_argument("setAlphas: not an alpha_eb surface");
-  if (alphas.size() != alpha_.size()) throw std::invalid_argument("setAlphas: expected rows*cols values");
-  for (size_t i = 0; i < alphas.size(); ++i) checkAlpha(alphas[i], "alpha[" + std::to_string(i) + "]");
-  alpha_.assign(alphas.begin(), alphas.end());
-  model_.alpha = alpha_;
-  writeParams();
+  if (!alphaEB()) throw std::invalid_argument("setAlphas: not an alpha_eb surface");
+  SurfaceModel m = model();
+  m.alpha.assign(alphas.begin(), alphas.end());
+  adoptParameters(Surface::create(std::move(m)));
 }
 
 void GpuSurface::updateControlPoint(int i, int j, const glm::dvec3& p) {
-  if (i < 0 || j < 0 || i >= model_.rows || j >= model_.cols)
+  const SurfaceModel& cur = model();
+  if (i < 0 || j < 0 || i >= cur.rows || j >= cur.cols)
     throw std::out_of_range("updateControlPoint: index (" + std::to_string(i) + "," + std::to_string(j) + ")");
-  model_.points[size_t(i) * model_.cols + j] = p;
-  if (knotVector_) {
-    writeNetEntry(size_t(i) * model_.cols + j, p);
-    return;
-  }
-  const SurfaceModel& m = model_;
-  auto uses = [](const ExtendedIndex& x, int k) { return x.i0 == k || (x.w1 != 0.0 && x.i1 == k); };
-  for (size_t a = 0; a < extU_.size(); ++a) {
-    if (!uses(extU_[a], i)) continue;
-    for (size_t b = 0; b < extV_.size(); ++b) {
-      if (!uses(extV_[b], j)) continue;
-      const ExtendedIndex& x = extU_[a];
-      const ExtendedIndex& y = extV_[b];
-      // Same operation order as core/surface.cpp (rows first, then columns of the rows).
-      auto rowPoint = [&](int r) { return y.w1 == 0.0 ? m.at(r, y.i0) : y.w0 * m.at(r, y.i0) + y.w1 * m.at(r, y.i1); };
-      writeNetEntry(a * netCols_ + b, x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1));
-    }
-  }
+  SurfaceModel m = cur;
+  m.points[size_t(i) * m.cols + j] = p;
+  Surface next = Surface::create(std::move(m));
+  writeChangedNetEntries(netPoints(surface_), netPoints(next));
+  surface_ = std::move(next);
 }
 
 }  // namespace shapespline::gpu

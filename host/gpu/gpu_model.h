@@ -25,24 +25,28 @@ struct UploadStats {
   uint64_t vertexPasses = 0;  // alpha_eb_vertices dispatches run for this model
 };
 
-// Buffers + parameters shared by GpuCurve and GpuSurface.
+// Buffers shared by GpuCurve and GpuSurface. Every parameterization fact comes from the core
+// Curve/Surface the mirror holds; this class only lays it out in NET, PARAMS and VERTS.
 class GpuModel {
  public:
   Precision precision() const { return precision_; }
-  bool alphaEB() const { return alphaEB_; }
+  // Core's parameterization of the held model (Curve/Surface::parameterization()).
+  Parameterization parameterization() const { return parameterization_; }
+  bool alphaEB() const { return parameterization_ == Parameterization::AlphaEB; }
+  // Knot-vector B-spline (docs/math.md §10.1): NET is the plain control net, PARAMS holds the knots and
+  // the interval records of layout.h; basisU()/basisV() carry only count = order, degree = order-1.
+  bool knotVector() const { return parameterization_ == Parameterization::KnotVector; }
   const UploadStats& uploadStats() const { return stats_; }
   const vk::Buffer& netBuffer() const { return net_; }
   const vk::Buffer& paramBuffer() const { return params_; }
   // α-EB: V (rows*cols REAL4) then nodes (rows*cols REAL4); a 256-byte placeholder otherwise.
   const vk::Buffer& vertexBuffer() const { return verts_; }
   bool verticesDirty() const { return vertsDirty_; }
-  // Knot-vector B-spline (docs/math.md §10.1): NET is the plain control net, PARAMS holds the knots and
-  // the interval records of layout.h; basisU()/basisV() carry only count = order, degree = order-1.
-  bool knotVector() const { return knotVector_; }
   uint32_t knotOffsetU() const { return knotOffsetU_; }
   uint32_t knotOffsetV() const { return knotOffsetV_; }
   uint32_t intervalOffsetU() const { return intervalOffsetU_; }
   uint32_t intervalOffsetV() const { return intervalOffsetV_; }
+  // The held model's span bases as the kernels' specialization constants read them.
   const SpanBasis& basisU() const { return basisU_; }
   const SpanBasis& basisV() const { return basisV_; }
   uint32_t alphaOffset() const;
@@ -62,11 +66,16 @@ class GpuModel {
   }
 
  protected:
-  GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision);
-  void createBuffers(std::span<const glm::dvec3> net, size_t alphaCount, size_t invHCount);
-  void writeParams();  // whole PARAMS block (a few hundred bytes)
-  void writeNetEntry(size_t index, const glm::dvec3& p);
-  void setBases(const SpanBasis& u, const SpanBasis& v);
+  GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision, Parameterization parameterization);
+  void createBuffers(std::span<const glm::dvec3> net, std::span<const double> params);
+  // The PARAMS block (a few hundred bytes) of bases u, v, α and 1/h, with the knot tail.
+  std::vector<double> paramBlock(const SpanBasis& u, const SpanBasis& v, std::span<const double> alpha,
+                                 std::span<const double> invH) const;
+  void writeParams(std::span<const double> params);
+  // Writes the entries of `next` that differ bitwise from `current` (same size: the net layout).
+  void writeChangedNetEntries(std::span<const glm::dvec3> current, std::span<const glm::dvec3> next);
+  // Throws std::invalid_argument when a new basis would change the net layout (basis size m).
+  void requireSameBasisSize(const SpanBasis& u, const SpanBasis& v) const;
   // Appends the knots and interval records of one direction to the PARAMS tail (before
   // createBuffers); returns the number of non-empty intervals.
   size_t addKnotDirection(int order, const std::vector<double>& knots, int count, uint32_t& knotOffset,
@@ -75,74 +84,78 @@ class GpuModel {
 
   std::shared_ptr<vk::Context> ctx_;
   Precision precision_;
-  bool alphaEB_ = false;
+  Parameterization parameterization_;
   vk::Buffer net_, params_, verts_;
   SpanBasis basisU_, basisV_;
-  std::vector<double> alpha_, invH_;
+  size_t alphaCount_ = 0, invHCount_ = 0;
   std::vector<double> knotData_;  // PARAMS tail of knot-vector B-splines
   uint32_t rows_ = 1, cols_ = 1, netCols_ = 1;
-  bool vertsDirty_ = false, knotVector_ = false;
+  bool vertsDirty_ = false;
   uint32_t knotOffsetU_ = 0, knotOffsetV_ = 0, intervalOffsetU_ = 0, intervalOffsetV_ = 0;
   UploadStats stats_;
 };
 
+// The GPU mirror of one Curve: it holds that Curve and keeps NET and PARAMS equal to it. Setters
+// build the changed model, validate it once through Curve::create (ModelError naming the field;
+// nothing changes when it throws), adopt the new Curve and rewrite only PARAMS (λ, μ, α) or the
+// changed NET entries (a control point).
 class GpuCurve : public GpuModel {
  public:
   // Uploads the span point list (core/curve.h) and the parameter block; knot-vector B-splines
-  // (Curve::usesKnotVector) upload their control points, knots and interval records instead.
-  // Double needs shaderFloat64.
+  // upload their control points, knots and interval records instead. Double needs shaderFloat64.
   GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precision precision);
 
-  const CurveModel& model() const { return model_; }
-  SpanRange spans() const { return spans_; }
-  size_t spanCount() const { return static_cast<size_t>(spans_.last - spans_.first + 1); }
+  // The core curve this mirrors; GPU evaluation equals its evaluation within fp32/fp64 rounding.
+  const Curve& curve() const { return curve_; }
+  const CurveModel& model() const { return curve_.model(); }
+  SpanRange spans() const { return curve_.spans(); }
+  size_t spanCount() const { return static_cast<size_t>(spans().last - spans().first + 1); }
   // Items of a grid job (core/grid_sampler.h curveGridItems): spans, or the non-empty knot intervals.
-  size_t gridItemCount() const { return knotVector_ ? intervalsU_ : spanCount(); }
-  // Curve::parameterRange() and span knots (empty when uniform), for global-parameter lists.
-  std::pair<double, double> parameterRange() const { return range_; }
-  const std::vector<double>& spanKnots() const { return spanKnots_; }
-  uint32_t netOffset() const { return static_cast<uint32_t>(netOffset_); }
+  size_t gridItemCount() const { return knotVector() ? intervalsU_ : spanCount(); }
+  std::pair<double, double> parameterRange() const { return curve_.parameterRange(); }
+  const std::vector<double>& spanKnots() const { return curve_.spanKnots(); }
+  uint32_t netOffset() const { return static_cast<uint32_t>(curve_.spanPointOffset()); }
 
-  // λ of ExtendedBSpline/AlphaEB/GB/UBP (validated like a model file: std::invalid_argument).
+  // λ of ExtendedBSpline/AlphaEB/GB/UBP.
   void setLambda(double lambda);
   // Any family of the same construction and basis size (the net layout depends on m).
   void setParameters(const FamilySpec& family);
   // α-EB only; α in (0,1].
   void setAlpha(int i, double alpha);
   void setAlphas(std::span<const double> alphas);
-  // Moves control point i: rewrites only the net entries that depend on it (wrapped copies,
-  // phantom points).
+  // Moves control point i: rewrites only the net entries that change (wrapped copies, phantom points).
   void updateControlPoint(int i, const glm::dvec3& p);
 
  private:
-  CurveModel model_;
-  SpanRange spans_;
-  int netOffset_ = 0;
-  std::vector<ExtendedIndex> ext_;
+  // PARAMS of `next` uploaded, then `next` adopted (a failed upload leaves the old state).
+  void adoptParameters(Curve next);
+  std::vector<double> paramsOf(const Curve& c) const;
+
+  Curve curve_;
   size_t intervalsU_ = 0;
-  std::pair<double, double> range_;
-  std::vector<double> spanKnots_;
 };
 
+// The GPU mirror of one Surface, kept equal to it like GpuCurve.
 class GpuSurface : public GpuModel {
  public:
   // Uploads the patch net (core/surface.h) and the parameter block; knot-vector B-spline surfaces
   // upload their control net, knots and interval records. Double needs shaderFloat64.
   GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision);
 
-  const SurfaceModel& model() const { return model_; }
-  PatchRange patches() const { return patches_; }
-  size_t patchesU() const { return static_cast<size_t>(patches_.u.last - patches_.u.first + 1); }
-  size_t patchesV() const { return static_cast<size_t>(patches_.v.last - patches_.v.first + 1); }
+  const Surface& surface() const { return surface_; }
+  const SurfaceModel& model() const { return surface_.model(); }
+  PatchRange patches() const { return surface_.patches(); }
+  size_t patchesU() const { return static_cast<size_t>(patches().u.last - patches().u.first + 1); }
+  size_t patchesV() const { return static_cast<size_t>(patches().v.last - patches().v.first + 1); }
   size_t patchCount() const { return patchesU() * patchesV(); }
   // Grid items (core/grid_sampler.h surfaceGridItems): patches, or the non-empty interval pairs,
   // row-major with gridItemsV() per row.
-  size_t gridItemsV() const { return knotVector_ ? intervalsV_ : patchesV(); }
-  size_t gridItemCount() const { return knotVector_ ? intervalsU_ * intervalsV_ : patchCount(); }
-  std::pair<double, double> parameterRangeU() const { return rangeU_; }
-  std::pair<double, double> parameterRangeV() const { return rangeV_; }
-  uint32_t netOffsetU() const { return static_cast<uint32_t>(offU_); }
-  uint32_t netOffsetV() const { return static_cast<uint32_t>(offV_); }
+  size_t gridItemsV() const { return knotVector() ? intervalsV_ : patchesV(); }
+  size_t gridItemCount() const { return knotVector() ? intervalsU_ * intervalsV_ : patchCount(); }
+  std::pair<double, double> parameterRangeU() const { return surface_.parameterRangeU(); }
+  std::pair<double, double> parameterRangeV() const { return surface_.parameterRangeV(); }
+  uint32_t netOffsetU() const { return static_cast<uint32_t>(surface_.netOffsetU()); }
+  uint32_t netOffsetV() const { return static_cast<uint32_t>(surface_.netOffsetV()); }
 
   void setLambda(double lambda);
   void setParameters(const FamilySpec& family);
@@ -151,12 +164,11 @@ class GpuSurface : public GpuModel {
   void updateControlPoint(int i, int j, const glm::dvec3& p);
 
  private:
-  SurfaceModel model_;
-  PatchRange patches_;
-  int offU_ = 0, offV_ = 0;
-  std::vector<ExtendedIndex> extU_, extV_;
+  void adoptParameters(Surface next);
+  std::vector<double> paramsOf(const Surface& s) const;
+
+  Surface surface_;
   size_t intervalsU_ = 0, intervalsV_ = 0;
-  std::pair<double, double> rangeU_, rangeV_;
 };
 
 }  // namespace shapespline::gpu
