@@ -1,9 +1,12 @@
 // CSV with one header line. Curves: span,t,u,<fields>; surfaces: patch_i,patch_j,u,v,U,V,<fields>
 // (u,v local, U,V global). Each field is written as <name>_x,<name>_y[,<name>_z] (2-D curves have
-// no z column). Numbers in the shortest form that reads back exactly.
+// no z column). Every number (parameters too) in the shortest form that reads back to the value as
+// --precision stores it: fp32 (at most 9 significant digits) or fp64 (at most 17); io/number_text.h.
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/sample_writer.h>
 
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,21 @@ class CsvWriter final : public SampleWriter {
   void begin(const SampleLayout& layout) override {
     layout_ = layout;
     dim_ = layout.surface ? 3 : layout.dimension;
+    // Parameters are printed in the file's precision too: an fp32 file cannot hold one beyond 3.4e38.
+    if (layout.precision == Precision::Float) {
+      for (const auto* ranges : {&layout.paramU, &layout.paramV}) {
+        for (const auto& [a, b] : *ranges) {
+          for (double x : {a, b}) {
+            if (std::abs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
+              char buf[kMaxNumberChars];
+              throw DerivedValueError("global parameter " + std::string(buf, writeNumber(buf, x)) +
+                                      " exceeds the fp32 range of the output (use --precision double); "
+                                      "nothing was written");
+            }
+          }
+        }
+      }
+    }
     std::string h = layout.surface ? "patch_i,patch_j,u,v,U,V" : "span,t,u";
     for (int f = 0; f < kFieldCount; ++f) {
       const Field field = static_cast<Field>(f);
@@ -47,23 +65,22 @@ class CsvWriter final : public SampleWriter {
         const double lv = sv > 1 ? static_cast<double>(b) / (sv - 1) : 0.0;
         e = writeInteger(e, static_cast<long long>(iv));
         *e++ = ',';
-        e = writeNumber(e, lu);
+        e = writeValue(e, lu, layout_.precision);
         *e++ = ',';
-        e = writeNumber(e, lv);
+        e = writeValue(e, lv, layout_.precision);
         *e++ = ',';
-        e = writeNumber(e, gu);
+        e = writeValue(e, gu, layout_.precision);
         *e++ = ',';
-        e = writeNumber(e, gv);
+        e = writeValue(e, gv, layout_.precision);
       } else {
-        e = writeNumber(e, lu);
+        e = writeValue(e, lu, layout_.precision);
         *e++ = ',';
-        e = writeNumber(e, gu);
+        e = writeValue(e, gu, layout_.precision);
       }
       for (Field f : fields_) {
         for (int ax = 0; ax < dim_; ++ax) {
           *e++ = ',';
-          e = layout_.precision == Precision::Double ? writeNumber(e, chunk.coord(f, p, ax))
-                                                   : writeNumber(e, static_cast<float>(chunk.coord(f, p, ax)));
+          e = writeValue(e, chunk.coord(f, p, ax), layout_.precision);
         }
       }
       *e++ = '\n';

@@ -2,7 +2,8 @@
 // grid cell (v/vt/vn share one index); curves: the vertices of a span followed by one `l` polyline.
 // Unsharded files use absolute (1-based) indices for the widest reader support; a shard uses
 // relative (negative) indices, which the OBJ specification allows, so that shard files are valid
-// on their own and `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh.
+// on their own and `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh. Numbers in the
+// shortest form that reads back to the value as --precision stores it (io/number_text.h writeValue).
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
@@ -38,7 +39,7 @@ class ObjWriter final : public SampleWriter {
       *e++ = 'v';
       for (int ax = 0; ax < 3; ++ax) {
         *e++ = ' ';
-        e = writeNumber(e, chunk.coord(Field::Point, p, ax));
+        e = writeValue(e, chunk.coord(Field::Point, p, ax), layout_.precision);
       }
       *e++ = '\n';
       if (layout_.surface) {
@@ -46,15 +47,15 @@ class ObjWriter final : public SampleWriter {
         *e++ = 'v';
         *e++ = 't';
         *e++ = ' ';
-        e = writeNumber(e, tu);
+        e = writeValue(e, tu, layout_.precision);
         *e++ = ' ';
-        e = writeNumber(e, tv);
+        e = writeValue(e, tv, layout_.precision);
         *e++ = '\n';
         *e++ = 'v';
         *e++ = 'n';
         for (int ax = 0; ax < 3; ++ax) {
           *e++ = ' ';
-          e = writeNumber(e, chunk.coord(Field::Normal, p, ax));
+          e = writeValue(e, chunk.coord(Field::Normal, p, ax), layout_.precision);
         }
         *e++ = '\n';
       }
