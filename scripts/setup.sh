@@ -9,6 +9,7 @@ PACKAGES=(
   glslang-tools spirv-tools
   libglm-dev nlohmann-json3-dev libcli11-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
+  python3-numpy
 )
 
 missing=()

@@ -145,7 +145,7 @@ void runSample(const SampleArgs& args) {
     fields |= fieldBit(Field::Normal);
   }
   if (format == io::OutputFormat::Svg && isSurface) {
-    throw InputError("-o", args.out, "SVG output is for curves only (use .obj, .ply, .csv, .f32 or .f64)");
+    throw InputError("-o", args.out, "SVG output is for curves only (use .obj, .ply, .csv, .f32, .f64 or .npy)");
   }
 
   std::optional<Curve> curve;
@@ -221,7 +221,8 @@ void runSample(const SampleArgs& args) {
   io::OutputSet outputs;
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
-  if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64) {
+  if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64 ||
+      (format == io::OutputFormat::Npy && layout.sharded())) {
     sidecar = &outputs.add(args.out + ".json", "-o");
   }
   sampling::Session session;
@@ -232,9 +233,10 @@ void runSample(const SampleArgs& args) {
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
-  // What the file stores: raw .f32, or PLY/CSV after --precision float.
+  // What the file stores: raw .f32, or PLY/CSV/OBJ/.npy after --precision float.
   const bool fileFloat = format == io::OutputFormat::RawF32 ||
-                         (precision == Precision::Float && (format == io::OutputFormat::Ply || format == io::OutputFormat::Csv));
+                         (precision == Precision::Float && format != io::OutputFormat::RawF64 &&
+                          format != io::OutputFormat::Svg);
 
   auto writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
   writer->begin(layout);
@@ -278,7 +280,8 @@ void registerSample(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("sample", "Sample a model on a regular grid per span/patch and write a file.");
   sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
   sub->add_option("-o,--output", args->out,
-                  "output file; format from the extension: .obj .ply .csv .f32 .f64 (+ OUT.json sidecar) .svg")
+                  "output file; format from the extension: .obj .ply .csv .f32 .f64 (+ OUT.json sidecar) .npy (+ OUT.json when "
+                  "sharded) .svg")
       ->required();
   sub->add_option("--samples", args->samples, "samples per span (curves, default 32; both ends included)");
   sub->add_option("--grid", args->grid, "samples per patch, U or UxV (surfaces, default 16x16)");

@@ -2,6 +2,7 @@
 
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
 
@@ -703,7 +704,8 @@ class SidecarReader {
   const Where& w_;
 };
 
-RawSidecar readSidecar(const Where& w, bool float64) {
+// `float64`: the dtype the data file's extension implies (nullopt for .npy, whose header says it).
+RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
   ShardFile f(w);
   if (f.size() > kMaxSidecarBytes) {
     refuse(w, "sidecar is larger than " + std::to_string(kMaxSidecarBytes >> 20) + " MiB");
@@ -729,7 +731,7 @@ RawSidecar readSidecar(const Where& w, bool float64) {
   RawSidecar s;
   s.dataFile = r.str("data_file");
   s.float64 = r.oneOf("dtype", {"float64", "float32"}) == "float64";
-  if (s.float64 != float64) refuse(w, "sidecar dtype does not match the data file's extension");
+  if (float64 && s.float64 != *float64) refuse(w, "sidecar dtype does not match the data file's extension");
   r.oneOf("byte_order", {"little"});
   ShardInfo& i = s.info;
   i.surface = r.oneOf("kind", {"curve", "surface"}) == "surface";
@@ -806,9 +808,14 @@ void placeSpans(std::vector<int>& merged, std::vector<char>& seen, uint64_t offs
   }
 }
 
-MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, AtomicFile& out, AtomicFile& sidecar) {
+// Raw shards (`npy` false: the data file is the records, the merged sidecar is rebuilt) and .npy
+// shards (each file is its .npy header, exactly as the sidecar's fields, dtype and item count give
+// it, then the records; the merged file is the whole job's header and the records, no sidecar).
+MergeResult mergeRaw(const std::vector<std::string>& shards, std::optional<bool> float64, AtomicFile& out,
+                     AtomicFile* sidecar) {
+  const bool npy = sidecar == nullptr;
   std::vector<RawSidecar> sides;
-  std::vector<uint64_t> sizes;
+  std::vector<uint64_t> sizes, offsets;
   for (size_t k = 1; k <= shards.size(); ++k) {
     const Where sideWhere{shardField(k), shards[k - 1] + ".json"};
     ShardFile data({shardField(k), shards[k - 1]});
@@ -816,15 +823,29 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, Atomi
     const RawSidecar& first = sides.empty() ? s : sides.front();
     checkSequence(s.info, first.info, k, shards.size(), sideWhere);
     // The device (and so the computed precision) may differ between shards: the data is the same job.
-    if (s.fields != first.fields || s.itemsV != first.itemsV) {
+    if (s.fields != first.fields || s.itemsV != first.itemsV || s.float64 != first.float64) {
       refuse(sideWhere, "sidecar describes another job than SHARD[1]'s (fields, precision or grid differ)");
     }
-    const uint64_t bytes = s.info.itemCount * s.info.pointsPerItem() * s.valuesPerRecord() * s.valueSize();
-    if (data.size() != bytes) {
-      refuse(data.where(), "is " + std::to_string(data.size()) + " bytes, its sidecar says " + std::to_string(bytes) +
-                               (data.size() < bytes ? " (truncated?)" : ""));
+    const uint64_t points = s.info.itemCount * s.info.pointsPerItem();
+    const uint64_t bytes = points * s.valuesPerRecord() * s.valueSize();
+    uint64_t offset = 0;
+    if (npy) {
+      const std::string expected = npyHeader(s.fields, s.float64, points);
+      std::string header(std::min<uint64_t>(data.size(), expected.size()), '\0');
+      data.readExact(header.data(), header.size());
+      if (header != expected) {
+        refuse(data.where(), "does not start with the .npy header its sidecar describes (" +
+                                 std::to_string(points) + " records of " + (s.float64 ? "<f8" : "<f4") +
+                                 " fields; not a shard of this job, or changed after sampling)");
+      }
+      offset = expected.size();
+    }
+    if (data.size() != offset + bytes) {
+      refuse(data.where(), "is " + std::to_string(data.size()) + " bytes, its sidecar says " +
+                               std::to_string(offset + bytes) + (data.size() < offset + bytes ? " (truncated?)" : ""));
     }
     sizes.push_back(bytes);
+    offsets.push_back(offset);
     sides.push_back(std::move(s));
   }
   // Every shard is verified, so the item total is backed by real data: the span lists fit.
@@ -843,13 +864,22 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, Atomi
       std::find(seenV.begin(), seenV.end(), 0) != seenV.end()) {
     refuse({shardField(1), shards[0] + ".json"}, "the shards' span lists leave rows or columns of the model out");
   }
+  if (npy) {
+    uint64_t points = 0;
+    if (!mulOk(total, first.info.pointsPerItem(), &points)) {
+      refuse({shardField(1), shards[0] + ".json"}, "the merged point count overflows 64 bits");
+    }
+    out.write(npyHeader(first.fields, first.float64, points));
+  }
   std::vector<char> buffer(kMergeBufferBytes);
   for (size_t k = 1; k <= shards.size(); ++k) {
     ShardFile data({shardField(k), shards[k - 1]});
-    if (data.size() != sizes[k - 1]) refuse(data.where(), "changed while merging");
+    if (data.size() != offsets[k - 1] + sizes[k - 1]) refuse(data.where(), "changed while merging");
+    data.seek(offsets[k - 1]);
     copyBytes(data, out, sizes[k - 1], buffer);
     data.expectEnd();
   }
+  if (npy) return {total, out.bytesWritten()};
   RawSidecar merged = first;
   for (const RawSidecar& s : sides) {
     merged.computedDouble = merged.computedDouble && s.computedDouble;  // the least precise shard's
@@ -860,7 +890,7 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool float64, Atomi
   merged.spansU = std::move(spansU);
   merged.spansV = std::move(spansV);
   merged.dataFile = out.target().filename().string();
-  writeRawSidecar(sidecar, merged);
+  writeRawSidecar(*sidecar, merged);
   return {total, out.bytesWritten()};
 }
 
@@ -886,8 +916,9 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
     case OutputFormat::Csv: result = mergeCsv(shards, out); break;
     case OutputFormat::RawF32:
     case OutputFormat::RawF64:
-      result = mergeRaw(shards, format == OutputFormat::RawF64, out, files.add(output + ".json", "-o"));
+      result = mergeRaw(shards, format == OutputFormat::RawF64, out, &files.add(output + ".json", "-o"));
       break;
+    case OutputFormat::Npy: result = mergeRaw(shards, std::nullopt, out, nullptr); break;
     case OutputFormat::Svg: break;
   }
   files.commit();

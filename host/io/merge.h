@@ -2,7 +2,8 @@
 // Joins the outputs of `sample --shard K/N` into the file the unsharded job writes, byte for byte,
 // after verifying that they belong together. Streams: every shard is read through a fixed 1 MiB
 // buffer (PLY: vertex blocks copied, then faces/edges re-offset chunk by chunk; OBJ and CSV line by
-// line), so memory does not grow with the data; raw sidecars are parsed one at a time and the
+// line; .npy: the header checked against the shard's raw sidecar OUT.npy.json, the records copied
+// after the whole job's header), so memory does not grow with the data; raw sidecars are parsed one at a time and the
 // merged one holds the model's span lists (4 bytes per row and column).
 //
 // Verified (io/shard_info.h): every shard carries the same job fingerprint (model, samples per item,
@@ -55,7 +56,7 @@ struct MergeResult {
 inline constexpr size_t kMergeBufferBytes = size_t{1} << 20;
 inline constexpr uint64_t kMaxSidecarBytes = uint64_t{256} << 20;
 
-// Writes `output` (.obj .ply .csv .f32/.f64 + sidecar) from `shards`, given in order 1..N. The format
+// Writes `output` (.obj .ply .csv .f32/.f64 + sidecar, .npy) from `shards`, given in order 1..N. The format
 // comes from the extensions (all equal). Throws MergeError / MergeReadError as above, and
 // OutputPathError / OutputWriteError (io/atomic_file.h) for the output; nothing is left behind on
 // any error.

@@ -3,6 +3,7 @@
 // sidecar's "fields" order, 3 components each (2-D curves carry z = 0). Shards of one job
 // concatenate byte for byte into the unsharded file (their sidecars give each item range, and list
 // the spans of their own items only).
+#include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
 
@@ -11,6 +12,39 @@
 #include <vector>
 
 namespace shapespline::io {
+
+static_assert(std::endian::native == std::endian::little, "the raw/.npy writers assume a little-endian host");
+
+std::vector<Field> recordFields(FieldMask mask) {
+  std::vector<Field> fields;
+  for (int f = 0; f < kFieldCount; ++f) {
+    if (mask & fieldBit(static_cast<Field>(f))) fields.push_back(static_cast<Field>(f));
+  }
+  return fields;
+}
+
+void writeRecords(AtomicFile& out, const GridChunk& chunk, const std::vector<Field>& fields, bool float64) {
+  const size_t n = chunk.pointCount();
+  for (size_t p = 0; p < n; ++p) {
+    char* e = out.space(fields.size() * 24);
+    const char* s = e;
+    for (Field f : fields) {
+      for (int ax = 0; ax < 3; ++ax) {
+        const double v = chunk.coord(f, p, ax);
+        if (float64) {
+          std::memcpy(e, &v, 8);
+          e += 8;
+        } else {
+          const float x = static_cast<float>(v);
+          std::memcpy(e, &x, 4);
+          e += 4;
+        }
+      }
+    }
+    out.advance(static_cast<size_t>(e - s));
+  }
+}
+
 namespace {
 
 class RawWriter final : public SampleWriter {
@@ -20,33 +54,10 @@ class RawWriter final : public SampleWriter {
 
   void begin(const SampleLayout& layout) override {
     layout_ = layout;
-    for (int f = 0; f < kFieldCount; ++f) {
-      if (layout.fields & fieldBit(static_cast<Field>(f))) fields_.push_back(static_cast<Field>(f));
-    }
+    fields_ = recordFields(layout.fields);
   }
 
-  void consume(const GridChunk& chunk) override {
-    const bool dbl = precision_ == Precision::Double;
-    const size_t n = chunk.pointCount();
-    for (size_t p = 0; p < n; ++p) {
-      char* e = out_.space(fields_.size() * 24);
-      const char* s = e;
-      for (Field f : fields_) {
-        for (int ax = 0; ax < 3; ++ax) {
-          const double v = chunk.coord(f, p, ax);
-          if (dbl) {
-            std::memcpy(e, &v, 8);
-            e += 8;
-          } else {
-            const float x = static_cast<float>(v);
-            std::memcpy(e, &x, 4);
-            e += 4;
-          }
-        }
-      }
-      out_.advance(static_cast<size_t>(e - s));
-    }
-  }
+  void consume(const GridChunk& chunk) override { writeRecords(out_, chunk, fields_, precision_ == Precision::Double); }
 
   // The sidecar describes this file's own items only (io/shard_info.h), so its size follows the
   // shard, not the model; `merge` rebuilds the unsharded job's sidecar from the shards'.

@@ -16,9 +16,10 @@ OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::
   if (ext == ".csv") return OutputFormat::Csv;
   if (ext == ".f32") return OutputFormat::RawF32;
   if (ext == ".f64") return OutputFormat::RawF64;
+  if (ext == ".npy") return OutputFormat::Npy;
   if (ext == ".svg") return OutputFormat::Svg;
   throw OutputPathError(option, path.string(),
-                        "unknown extension '" + ext + "' (expected .obj, .ply, .csv, .f32, .f64 or .svg)");
+                        "unknown extension '" + ext + "' (expected .obj, .ply, .csv, .f32, .f64, .npy or .svg)");
 }
 
 std::string_view outputFormatName(OutputFormat format) {
@@ -28,6 +29,7 @@ std::string_view outputFormatName(OutputFormat format) {
     case OutputFormat::Csv: return "csv";
     case OutputFormat::RawF32: return "f32";
     case OutputFormat::RawF64: return "f64";
+    case OutputFormat::Npy: return "npy";
     case OutputFormat::Svg: return "svg";
   }
   return "?";
@@ -149,6 +151,7 @@ std::unique_ptr<SampleWriter> makeUncheckedWriter(OutputFormat format, AtomicFil
     case OutputFormat::Ply: return makePlyWriter(out);
     case OutputFormat::Csv: return makeCsvWriter(out);
     case OutputFormat::Svg: return makeSvgWriter(out);
+    case OutputFormat::Npy: return makeNpyWriter(out, sidecar);
     case OutputFormat::RawF32:
     case OutputFormat::RawF64:
       if (!sidecar) throw std::logic_error("raw output needs a sidecar file");

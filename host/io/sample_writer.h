@@ -3,6 +3,7 @@
 // and never holds more than one chunk plus a fixed-size buffer, so 10^9 points stream through
 // in bounded memory. Formats: OBJ (surfaces: two triangles per grid cell with normals and uv;
 // curves: one polyline per span), PLY (binary little endian), CSV, raw f32/f64 with a JSON sidecar,
+// NumPy .npy (the raw records as a structured array; shards add the raw sidecar),
 // and SVG (curves only, 2-D projection; buffers its points, so the caller caps the count).
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/atomic_file.h>
@@ -19,7 +20,7 @@
 
 namespace shapespline::io {
 
-enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Svg };
+enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Npy, Svg };
 
 // Format from the file extension (case-insensitive); throws OutputPathError(option, ...) otherwise.
 OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option = "-o");
@@ -87,7 +88,8 @@ class SampleWriter {
   virtual void finish() = 0;
 };
 
-// `out` must outlive the writer. `sidecar` (raw formats only) receives the JSON layout description.
+// `out` must outlive the writer. `sidecar` (raw formats, and .npy when sharded) receives the JSON
+// layout description.
 // The writer checks the layout's derived values in begin() and turns a DerivedValueError of any
 // call into OutputWriteError(out.option(), out.target(), ...).
 std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar = nullptr);
@@ -100,5 +102,7 @@ std::unique_ptr<SampleWriter> makePlyWriter(AtomicFile& out);
 std::unique_ptr<SampleWriter> makeCsvWriter(AtomicFile& out);
 std::unique_ptr<SampleWriter> makeRawWriter(AtomicFile& out, AtomicFile& sidecar, Precision filePrecision);
 std::unique_ptr<SampleWriter> makeSvgWriter(AtomicFile& out);
+// `sidecar` may be null for an unsharded job (the .npy stands alone).
+std::unique_ptr<SampleWriter> makeNpyWriter(AtomicFile& out, AtomicFile* sidecar);
 
 }  // namespace shapespline::io

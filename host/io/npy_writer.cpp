@@ -1,0 +1,73 @@
+// NumPy .npy (format 1.0, NEP 1): a structured array of shape (points,) whose fields are the
+// sampled fields by name, each ('<f4' or '<f8', (3,)), so the data after the header is exactly the
+// raw .f32/.f64 file of the same job (io/raw_records.h) and numpy.load(mmap_mode="r") maps it.
+// The shape follows from the grid, so the header is written first and the records stream. A
+// shard (--shard K/N, N > 1) is the .npy of its own items plus the raw sidecar OUT.npy.json (the
+// job, shard and item range, which a .npy header cannot hold); `merge` rebuilds the unsharded
+// .npy byte for byte (no sidecar: the unsharded file stands alone).
+#include <shapespline/io/raw_records.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/shard_info.h>
+
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace shapespline::io {
+
+std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records) {
+  std::string dict = "{'descr': [";
+  for (size_t k = 0; k < fieldNames.size(); ++k) {
+    dict += (k ? ", ('" : "('") + fieldNames[k] + (float64 ? "', '<f8', (3,))" : "', '<f4', (3,))");
+  }
+  dict += "], 'fortran_order': False, 'shape': (" + std::to_string(records) + ",), }";
+  // magic (6) + version (2) + length (2) + dict + padding + '\n' = a multiple of 64 (NEP 1).
+  const size_t unpadded = 10 + dict.size() + 1;
+  dict.append((64 - unpadded % 64) % 64, ' ');
+  dict += '\n';
+  if (dict.size() > std::numeric_limits<uint16_t>::max()) throw std::logic_error(".npy header exceeds version 1.0");
+  const uint16_t len = static_cast<uint16_t>(dict.size());
+  std::string h("\x93NUMPY\x01\x00", 8);
+  h += static_cast<char>(len & 0xff);
+  h += static_cast<char>(len >> 8);
+  return h + dict;
+}
+
+namespace {
+
+class NpyWriter final : public SampleWriter {
+ public:
+  NpyWriter(AtomicFile& out, AtomicFile* sidecar) : out_(out), sidecar_(sidecar) {}
+
+  void begin(const SampleLayout& layout) override {
+    if (layout.sharded() && !sidecar_) throw std::logic_error("a .npy shard needs its sidecar");
+    layout_ = layout;
+    fields_ = recordFields(layout.fields);
+    std::vector<std::string> names;
+    for (Field f : fields_) names.emplace_back(fieldName(f));
+    out_.write(npyHeader(names, float64(), layout.pointCount()));
+  }
+
+  void consume(const GridChunk& chunk) override { writeRecords(out_, chunk, fields_, float64()); }
+
+  void finish() override {
+    if (layout_.sharded()) {
+      writeRawSidecar(*sidecar_, rawSidecarOf(layout_, layout_.job, float64(), out_.target().filename().string()));
+    }
+  }
+
+ private:
+  bool float64() const { return layout_.precision == Precision::Double; }
+  AtomicFile& out_;
+  AtomicFile* sidecar_;
+  SampleLayout layout_;
+  std::vector<Field> fields_;
+};
+
+}  // namespace
+
+std::unique_ptr<SampleWriter> makeNpyWriter(AtomicFile& out, AtomicFile* sidecar) {
+  return std::make_unique<NpyWriter>(out, sidecar);
+}
+
+}  // namespace shapespline::io

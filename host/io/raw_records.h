@@ -1,0 +1,24 @@
+#pragma once
+// The raw record path shared by the .f32/.f64 writer, the .npy writer and `merge`: one record per
+// point, every requested field in Field order, x y z each, little-endian fp32 or fp64.
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/io/atomic_file.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace shapespline::io {
+
+// The fields of `mask` in record order.
+std::vector<Field> recordFields(FieldMask mask);
+// Appends the records of every point of `chunk` to `out`.
+void writeRecords(AtomicFile& out, const GridChunk& chunk, const std::vector<Field>& fields, bool float64);
+
+// The NumPy format 1.0 header (NEP 1, numpy.lib.format) of `records` raw records of `fieldNames`:
+// magic, version 1.0, header length, then the dict {'descr': [('point', '<f8', (3,)), ...],
+// 'fortran_order': False, 'shape': (records,), } padded with spaces and a newline to a multiple of
+// 64 bytes. The data that follows is byte for byte the raw file's.
+std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records);
+
+}  // namespace shapespline::io
