@@ -2,9 +2,10 @@
 // Curve evaluation on the CPU in fp64 (docs/math.md §1, §2, §4, §7–§10).
 //
 // Two tiers, as in tinynurbs: raw kernels over plain arrays (no allocation, fixed maximum order)
-// that the GLSL compute shaders mirror line for line, and the typed `Curve`, built once from a
-// validated CurveModel, that owns the precomputed data (span basis, span point list, α-EB nodes and
-// V points) and maps spans / global parameters to kernel calls.
+// built from the per-point formulas of core/point_math.h, which the GLSL kernels include too, and
+// the typed `Curve`, built once from a validated CurveModel, that owns the precomputed data (span
+// basis, span point list, α-EB nodes and V points) and maps spans / global parameters to kernel
+// calls.
 //
 // Span point list ("span points"): every uniform construction is stored as one contiguous array
 // `spanPoints()` such that span j reads the m = basis.count points spanPoints()[j + spanPointOffset()
@@ -33,7 +34,7 @@ struct SpanRange {
   int first = 0, last = -1;
 };
 
-// ---- Raw kernels (mirrored by GLSL) -------------------------------------------------------------
+// ---- Raw kernels (their formulas: core/point_math.h, shared with GLSL) ------------------------
 
 // One span of a local family: C(t) = sum_r B_r(t) pts[r], r < basis.count (docs/math.md §1), and its
 // derivatives times invH^1 and invH^2 (invH = 1/h_s for span knots, else 1).

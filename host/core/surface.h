@@ -43,7 +43,7 @@ struct PatchRange {
   SpanRange u, v;
 };
 
-// ---- Raw kernels (mirrored by GLSL) -------------------------------------------------------------
+// ---- Raw kernels (their formulas: core/point_math.h, shared with GLSL) ------------------------
 
 // Partials of a tensor patch sum_r sum_s B_r(u) B'_s(v) net[r*stride + s] (docs/math.md §1, §6):
 // bu.count rows, bv.count columns of `net` starting at the patch's first point.

@@ -206,43 +206,41 @@ std::vector<typename Gpu<Model>::Point> evaluateOnCpu(const Model& model, std::s
 
 }  // namespace
 
+template <class Model>
+Report Session::sampleGridFor(const Model& model, const DeviceRequest& request, const GridSpec& grid,
+                              FieldMask fields, const ChunkConsumer& consumer, const GridOptions& options) {
+  const Report r = planFor(model, request);
+  if (r.gpu) {
+    sampleOnGpu(ctx_, model, r, grid, fields, consumer, options);
+  } else {
+    sampleOnCpu(model, grid, fields, consumer, options);
+  }
+  return r;
+}
+
+template <class Model, class Query>
+auto Session::evaluateFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries) {
+  ListResult<typename Gpu<Model>::Point> result{{}, planFor(model, request)};
+  if (queries.empty()) return result;
+  result.points = result.report.gpu ? evaluateOnGpu(ctx_, model, result.report, queries) : evaluateOnCpu(model, queries);
+  return result;
+}
+
 Report Session::sampleGrid(const Curve& curve, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
                            const ChunkConsumer& consumer, const GridOptions& options) {
-  const Report r = plan(curve, request);
-  if (r.gpu) {
-    sampleOnGpu(ctx_, curve, r, grid, fields, consumer, options);
-  } else {
-    sampleOnCpu(curve, grid, fields, consumer, options);
-  }
-  return r;
+  return sampleGridFor(curve, request, grid, fields, consumer, options);
 }
-
 Report Session::sampleGrid(const Surface& surface, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
                            const ChunkConsumer& consumer, const GridOptions& options) {
-  const Report r = plan(surface, request);
-  if (r.gpu) {
-    sampleOnGpu(ctx_, surface, r, grid, fields, consumer, options);
-  } else {
-    sampleOnCpu(surface, grid, fields, consumer, options);
-  }
-  return r;
+  return sampleGridFor(surface, request, grid, fields, consumer, options);
 }
-
 ListResult<CurvePoint> Session::evaluate(const Curve& curve, const DeviceRequest& request,
                                          std::span<const CurveQuery> queries) {
-  ListResult<CurvePoint> result{{}, plan(curve, request)};
-  if (queries.empty()) return result;
-  result.points = result.report.gpu ? evaluateOnGpu(ctx_, curve, result.report, queries) : evaluateOnCpu(curve, queries);
-  return result;
+  return evaluateFor(curve, request, queries);
 }
-
 ListResult<SurfacePoint> Session::evaluate(const Surface& surface, const DeviceRequest& request,
                                            std::span<const SurfaceQuery> queries) {
-  ListResult<SurfacePoint> result{{}, plan(surface, request)};
-  if (queries.empty()) return result;
-  result.points =
-      result.report.gpu ? evaluateOnGpu(ctx_, surface, result.report, queries) : evaluateOnCpu(surface, queries);
-  return result;
+  return evaluateFor(surface, request, queries);
 }
 
 }  // namespace shapespline::sampling

@@ -88,8 +88,14 @@ class Session {
                                     std::span<const SurfaceQuery> queries);
 
  private:
+  // One body for curves and surfaces each (session.cpp).
   template <class Model>
   Report planFor(const Model& model, const DeviceRequest& request);
+  template <class Model>
+  Report sampleGridFor(const Model& model, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
+                       const ChunkConsumer& consumer, const GridOptions& options);
+  template <class Model, class Query>
+  auto evaluateFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries);
   // The context, created on first call; nullptr (and noDevice_ set) when there is no device.
   const std::shared_ptr<vk::Context>& context(Precision precision);
 

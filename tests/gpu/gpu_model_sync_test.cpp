@@ -17,6 +17,7 @@
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/gpu/evaluator.h>
+#include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 
@@ -132,19 +133,7 @@ class GpuModelSyncTest : public VulkanTest {
   std::unique_ptr<gpu::SurfaceEvaluator> surfaceEval_;
 };
 
-SurfaceModel aebSurface() {
-  SurfaceModel m;
-  m.family.construction = Construction::AlphaEB;
-  m.family.degree = 5;
-  m.family.lambda = 0.0;
-  m.rows = 5;
-  m.cols = 4;
-  m.closedV = true;
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j) m.points.push_back({i * 1.0, std::cos(j * 1.5708), std::sin(j * 1.5708) + 0.1 * i});
-  m.alpha.assign(size_t(m.rows) * m.cols, 0.5);
-  return m;
-}
+SurfaceModel aebSurface() { return alphaEBTube(5, 4); }
 
 CurveModel aebCurve() {
   CurveModel m;

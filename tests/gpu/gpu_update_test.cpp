@@ -11,25 +11,14 @@
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/gpu/evaluator.h>
+#include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 
 namespace shapespline::test {
 namespace {
 
-SurfaceModel aebSurface() {
-  SurfaceModel m;
-  m.family.construction = Construction::AlphaEB;
-  m.family.degree = 5;
-  m.family.lambda = 0.0;
-  m.rows = 6;
-  m.cols = 5;
-  m.closedV = true;
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j) m.points.push_back({i * 1.0, std::cos(j * 1.2566), std::sin(j * 1.2566) + 0.1 * i});
-  m.alpha.assign(m.rows * m.cols, 0.5);
-  return m;
-}
+SurfaceModel aebSurface() { return alphaEBTube(6, 5); }
 
 double maxPointError(const Surface& cpu, gpu::SurfaceEvaluator& ev, gpu::GpuSurface& state) {
   std::vector<gpu::SurfaceSample> s;
