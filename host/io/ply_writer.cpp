@@ -4,6 +4,7 @@
 // Vertex properties: x y z, nx ny nz (surfaces and --normals), s t (surfaces: uv in [0,1] over the
 // model), then <field>_x/_y/_z for every other requested field, in the precision of the samples.
 // Shards merge with `shapespline merge` (vertex blocks concatenated, indices offset).
+#include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
 
@@ -69,16 +70,7 @@ class PlyWriter final : public SampleWriter {
     for (size_t p = 0; p < n; ++p) {
       char* s = out_.space(512);
       char* e = s;
-      auto put = [&](double v) {
-        if (dbl) {
-          std::memcpy(e, &v, 8);
-          e += 8;
-        } else {
-          const float f = static_cast<float>(v);
-          std::memcpy(e, &f, 4);
-          e += 4;
-        }
-      };
+      auto put = [&](double v) { e = putBinaryValue(e, v, dbl); };
       for (Field f : fields_) {
         for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
       }

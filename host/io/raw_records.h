@@ -5,10 +5,23 @@
 #include <shapespline/io/atomic_file.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
 namespace shapespline::io {
+
+// Stores v at e as a little-endian fp64 or fp32 (rounded once) and returns the end: the one value
+// encoding of the binary sample files (raw, .npy, binary PLY).
+inline char* putBinaryValue(char* e, double v, bool float64) {
+  if (float64) {
+    std::memcpy(e, &v, 8);
+    return e + 8;
+  }
+  const float x = static_cast<float>(v);
+  std::memcpy(e, &x, 4);
+  return e + 4;
+}
 
 // The fields of `mask` in record order.
 std::vector<Field> recordFields(FieldMask mask);

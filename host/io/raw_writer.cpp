@@ -8,7 +8,6 @@
 #include <shapespline/io/shard_info.h>
 
 #include <bit>
-#include <cstring>
 #include <vector>
 
 namespace shapespline::io {
@@ -29,17 +28,7 @@ void writeRecords(AtomicFile& out, const GridChunk& chunk, const std::vector<Fie
     char* e = out.space(fields.size() * 24);
     const char* s = e;
     for (Field f : fields) {
-      for (int ax = 0; ax < 3; ++ax) {
-        const double v = chunk.coord(f, p, ax);
-        if (float64) {
-          std::memcpy(e, &v, 8);
-          e += 8;
-        } else {
-          const float x = static_cast<float>(v);
-          std::memcpy(e, &x, 4);
-          e += 4;
-        }
-      }
+      for (int ax = 0; ax < 3; ++ax) e = putBinaryValue(e, chunk.coord(f, p, ax), float64);
     }
     out.advance(static_cast<size_t>(e - s));
   }
