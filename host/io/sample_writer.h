@@ -51,6 +51,13 @@ struct SampleLayout {
   // precision of the arithmetic (the CPU path computes fp64 whatever `precision` is).
   std::string device = "cpu";
   Precision computedPrecision = Precision::Double;
+  // Mesh formats (OBJ, PLY, glTF): welded (io/welded_mesh.h: every grid point once, shared by
+  // index) or per item as the chunks come (each patch/span on its own, shared edges repeated).
+  // Closed directions (surfaces; curves use `closed`) share their seam. `reversed`: the winding
+  // and the normals are flipped so that a closed surface's normals point outwards.
+  bool welded = true;
+  bool closedU = false, closedV = false;
+  bool reversed = false;
   // SVG only: the control polygon (closed = drawn as a loop) and marked data points.
   std::vector<glm::dvec3> controlPoints;
   bool closed = false;
