@@ -11,7 +11,7 @@ set(SHAPESPLINE_PUBLIC_HEADERS
     core/bspline.h core/curve.h core/diagnostics.h core/extension.h core/family.h core/gb_tools.h
     core/grid_sampler.h core/model.h core/sample_grid.h core/span_basis.h core/surface.h
     core/tess_topology.h core/validate.h
-    io/atomic_file.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
+    io/atomic_file.h io/job_metadata.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
     vk/buffer.h vk/context.h vk/error.h vk/handle.h vk/pipeline.h vk/pipeline_cache.h vk/submit.h
     gpu/basis_table_evaluator.h gpu/curve_evaluator.h gpu/evaluator.h gpu/evaluator_options.h gpu/gpu_model.h
     gpu/surface_evaluator.h gpu/tessellator.h
@@ -56,7 +56,7 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
 
 # pkg-config: relocatable (prefix from the .pc file's own folder), so an unpacked .deb works too.
 # The libraries are static, so their dependencies are Requires, not Requires.private.
-set(pc_requires "glm nlohmann_json >= 3.10 vulkan")
+set(pc_requires "glm nlohmann_json >= 3.10 vulkan libcrypto")
 if(PNG_FOUND)
   string(APPEND pc_requires " libpng16")
 endif()
@@ -80,9 +80,9 @@ find_program(DPKG_SHLIBDEPS dpkg-shlibdeps)
 if(DPKG_SHLIBDEPS)
   set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 else()
-  set(CPACK_DEBIAN_PACKAGE_DEPENDS "libc6, libstdc++6, libgcc-s1, libvulkan1, libpng16-16")
+  set(CPACK_DEBIAN_PACKAGE_DEPENDS "libc6, libstdc++6, libgcc-s1, libvulkan1, libpng16-16, libssl3")
 endif()
-set(deb_recommends "libglm-dev, nlohmann-json3-dev (>= 3.10), libvulkan-dev")
+set(deb_recommends "libglm-dev, nlohmann-json3-dev (>= 3.10), libvulkan-dev, libssl-dev")
 if(PNG_FOUND)
   string(APPEND deb_recommends ", libpng-dev")
 endif()

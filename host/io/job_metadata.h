@@ -1,0 +1,106 @@
+#pragma once
+// What a sampled file says about the job that made it (issue 15, requirement 6): the tool version,
+// the model file (its name as given and the SHA-256 of its bytes), the construction and its
+// parameters (degree/order, λ, μ, α per vertex), the α = 1 ("singular") vertices where the normal is
+// a convention, where and in which precision the values were computed, the output precision and
+// the grid. Not the shard: a shard says which part it is in its job line / sidecar "shard", and the
+// metadata is the same for every shard of a job, so `merge` copies it into the merged file.
+//
+// Two renderings of one struct: comment lines for text headers (PLY `comment`, OBJ `#`) and a JSON
+// object (the raw / .npy sidecar's "metadata", SVG <metadata>, glTF extras). metadataFromJson reads
+// the JSON back (merge), and metadataJson(metadataFromJson(j)) reproduces j.
+#include <shapespline/core/model.h>
+#include <shapespline/core/sample_grid.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace shapespline::io {
+
+struct JobMetadata {
+  std::string toolVersion;            // SHAPESPLINE_VERSION_STRING of the writer
+  std::string toolCommit;             // SHAPESPLINE_GIT_COMMIT of the writer
+  std::string modelFile;              // the model path as given (command line); unescaped
+  std::string modelSha256;            // 64 lowercase hex digits of the file's bytes; empty: unknown
+  bool surface = false;
+  Construction construction = Construction::ExtendedBSpline;
+  int degree = 0;                     // written when the family uses a degree
+  int order = 0, orderV = 0;          // written when it uses an order (surfaces of two orders: both)
+  double lambda = 0.0;                // written when it uses λ
+  std::vector<double> mu;             // written when it uses μ
+  // α per vertex when the family uses α (curves: one per point; surfaces: rows x cols, row-major).
+  std::vector<double> alpha;
+  int rows = 0, cols = 0;             // surfaces: the net's shape (alpha.size() == rows * cols)
+  std::string device = "cpu";         // "cpu" or the Vulkan device's name; unescaped
+  Precision computedPrecision = Precision::Double;
+  Precision outputPrecision = Precision::Double;  // what the file stores
+  int samplesU = 2, samplesV = 1;     // grid per span (curves: samplesV = 1) or patch
+
+  bool usesAlpha() const;
+  // "UxV" (surfaces) or "S" (curves).
+  std::string grid() const;
+  // The vertices with α == 1, in index order: curves (i, 0), surfaces (i, j).
+  std::vector<std::pair<int, int>> singularVertices() const;
+
+  friend bool operator==(const JobMetadata&, const JobMetadata&) = default;
+};
+
+// Comment lines show α and the singular vertices in full up to this many values; beyond it, α as
+// count/min/max and the singular vertices as a count (the JSON always lists both in full).
+inline constexpr size_t kMetadataCommentListMax = 64;
+
+// One line per key, "<linePrefix><key>: <value>\n", in a fixed order: tool_version, model_file,
+// model_sha256, kind, construction, degree / order, lambda, mu, alpha, singular_vertices, device,
+// computed_precision, output_precision, grid. `linePrefix` is written as given ("# " for OBJ,
+// "comment " for PLY). Text values are escapeText'ed (io/shard_info.h), so every value stays on its
+// line; numbers are the shortest decimals that read back exactly.
+std::string metadataComments(const JobMetadata& m, std::string_view linePrefix);
+
+// The JSON object: "tool" ("shapespline"), "tool_version", "tool_commit", "model_file",
+// "model_sha256", "kind", "construction", ["degree"], ["order"] (an [u, v] pair for two-order
+// surfaces), ["lambda"], ["mu"], ["alpha"] (curves: a list; surfaces: rows of lists, as in model
+// files), ["singular_vertices"] (curves: [i, ...]; surfaces: [[i, j], ...]; present with "alpha"),
+// "device", "computed_precision", "output_precision" ("float" | "double"), "grid" ("UxV" | "S").
+nlohmann::json metadataJson(const JobMetadata& m);
+
+// A "metadata" object that is not what metadataJson writes: `key()` names the offending key.
+class MetadataError : public std::invalid_argument {
+ public:
+  MetadataError(std::string key, const std::string& rule)
+      : std::invalid_argument("\"" + key + "\" " + rule), key_(std::move(key)) {}
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string key_;
+};
+
+// The inverse of metadataJson; throws MetadataError (keys named "metadata.<key>") unless `j` has
+// exactly the keys metadataJson writes for its construction, with valid values (the singular
+// vertices must be those of the α list).
+JobMetadata metadataFromJson(const nlohmann::json& j);
+
+// The JSON key of the first field in which a and b differ ("alpha", "device", ...); empty if equal.
+std::string metadataDifference(const JobMetadata& a, const JobMetadata& b);
+
+// SHA-256 of a regular file's bytes as 64 lowercase hex digits, read in 64 KiB pieces (OpenSSL
+// EVP). Throws std::runtime_error when the file cannot be opened or read, or is not a regular file.
+std::string sha256OfFile(const std::filesystem::path& path);
+// SHA-256 of bytes in memory, the same digits.
+std::string sha256Of(std::string_view bytes);
+
+// The metadata of sampling `model`, read from `modelPath` (hashed with sha256OfFile, so the same
+// errors), on `device` in `computedPrecision`, stored in `outputPrecision`, samplesU per span or
+// samplesU x samplesV per patch. The tool version and commit are this build's (shapespline/version.h).
+JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string_view device,
+                          Precision computedPrecision, Precision outputPrecision, int samplesU);
+JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath, std::string_view device,
+                          Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV);
+
+}  // namespace shapespline::io
