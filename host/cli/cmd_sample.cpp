@@ -230,6 +230,19 @@ void runSample(const SampleArgs& args) {
   printNotices(report, args.quiet);
   layout.device = report.device;
   layout.computedPrecision = report.computedPrecision;
+  // The job metadata (io/job_metadata.h), the same for every shard; every .npy gets OUT.npy.json for it.
+  try {
+    const Precision stored = format == io::OutputFormat::RawF32   ? Precision::Float
+                             : format == io::OutputFormat::RawF64 ? Precision::Double
+                                                                  : precision;
+    layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, report.device, report.computedPrecision,
+                                                stored, su)
+                            : io::jobMetadataOf(surface->model(), args.model, report.device,
+                                                report.computedPrecision, stored, su, sv);
+  } catch (const std::runtime_error& e) {
+    throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());
+  }
+  if (format == io::OutputFormat::Npy && !sidecar) sidecar = &outputs.add(args.out + ".json", "-o");
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);

@@ -215,9 +215,17 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix) 
     }
     const auto singular = m.singularVertices();
     if (singular.size() <= kMetadataCommentListMax) {
+      // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string.
       line("singular_vertices", listText(singular, [&](const std::pair<int, int>& v) {
-             return m.surface ? "[" + std::to_string(v.first) + ", " + std::to_string(v.second) + "]"
-                              : std::to_string(v.first);
+             std::string t;
+             if (m.surface) t += '[';
+             t += std::to_string(v.first);
+             if (m.surface) {
+               t += ", ";
+               t += std::to_string(v.second);
+               t += ']';
+             }
+             return t;
            }));
     } else {
       line("singular_vertices", std::to_string(singular.size()) + " vertices with alpha = 1");

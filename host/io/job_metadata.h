@@ -8,7 +8,8 @@
 //
 // Two renderings of one struct: comment lines for text headers (PLY `comment`, OBJ `#`) and a JSON
 // object (the raw / .npy sidecar's "metadata", SVG <metadata>, glTF extras). metadataFromJson reads
-// the JSON back (merge), and metadataJson(metadataFromJson(j)) reproduces j.
+// the JSON back (merge), and metadataJson(metadataFromJson(j)) reproduces j. Text that is not
+// valid UTF-8 (a model path) is written as U+FFFD in the JSON and escaped in comment lines.
 #include <shapespline/core/model.h>
 #include <shapespline/core/sample_grid.h>
 

@@ -770,6 +770,11 @@ RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
   s.computedDouble = r.oneOf("computed_precision", {"double", "float"}) == "double";
   s.device = r.str("device");
   s.source = r.str("source");
+  try {
+    s.metadata = metadataFromJson(r.at("metadata"));
+  } catch (const MetadataError& e) {
+    refuse(w, std::string("sidecar ") + e.what());
+  }
   // Counts follow from the item range; every product overflow-checked.
   uint64_t points = 0, values = 0, bytes = 0;
   if (!mulOk(i.itemCount, i.pointsPerItem(), &points) || !mulOk(points, s.valuesPerRecord(), &values) ||
@@ -808,12 +813,12 @@ void placeSpans(std::vector<int>& merged, std::vector<char>& seen, uint64_t offs
   }
 }
 
-// Raw shards (`npy` false: the data file is the records, the merged sidecar is rebuilt) and .npy
-// shards (each file is its .npy header, exactly as the sidecar's fields, dtype and item count give
-// it, then the records; the merged file is the whole job's header and the records, no sidecar).
-MergeResult mergeRaw(const std::vector<std::string>& shards, std::optional<bool> float64, AtomicFile& out,
-                     AtomicFile* sidecar) {
-  const bool npy = sidecar == nullptr;
+// Raw shards (`npy` false: the data file is the records) and .npy shards (`npy` true: each file is
+// its .npy header, exactly as the sidecar's fields, dtype and item count give it, then the records;
+// the merged file is the whole job's header and the records). Either way the merged sidecar is
+// rebuilt: the unsharded job's, but for its data_file name.
+MergeResult mergeRaw(const std::vector<std::string>& shards, bool npy, std::optional<bool> float64, AtomicFile& out,
+                     AtomicFile& sidecar) {
   std::vector<RawSidecar> sides;
   std::vector<uint64_t> sizes, offsets;
   for (size_t k = 1; k <= shards.size(); ++k) {
@@ -825,6 +830,13 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, std::optional<bool>
     // The device (and so the computed precision) may differ between shards: the data is the same job.
     if (s.fields != first.fields || s.itemsV != first.itemsV || s.float64 != first.float64) {
       refuse(sideWhere, "sidecar describes another job than SHARD[1]'s (fields, precision or grid differ)");
+    }
+    // The metadata is the job's, the same in every shard (device and computed precision aside, as above).
+    JobMetadata meta = s.metadata;
+    meta.device = first.metadata.device;
+    meta.computedPrecision = first.metadata.computedPrecision;
+    if (const std::string key = metadataDifference(meta, first.metadata); !key.empty()) {
+      refuse(sideWhere, "sidecar \"metadata." + key + "\" differs from SHARD[1]'s (another model, job or build)");
     }
     const uint64_t points = s.info.itemCount * s.info.pointsPerItem();
     const uint64_t bytes = points * s.valuesPerRecord() * s.valueSize();
@@ -879,18 +891,19 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, std::optional<bool>
     copyBytes(data, out, sizes[k - 1], buffer);
     data.expectEnd();
   }
-  if (npy) return {total, out.bytesWritten()};
   RawSidecar merged = first;
   for (const RawSidecar& s : sides) {
     merged.computedDouble = merged.computedDouble && s.computedDouble;  // the least precise shard's
     if (s.device != first.device) merged.device = "mixed";
   }
+  merged.metadata.device = merged.device;
+  merged.metadata.computedPrecision = merged.computedDouble ? Precision::Double : Precision::Float;
   merged.info = wholeJobOf(first.info);
   merged.spansUOffset = merged.spansVOffset = 0;
   merged.spansU = std::move(spansU);
   merged.spansV = std::move(spansV);
   merged.dataFile = out.target().filename().string();
-  writeRawSidecar(*sidecar, merged);
+  writeRawSidecar(sidecar, merged);
   return {total, out.bytesWritten()};
 }
 
@@ -916,9 +929,9 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
     case OutputFormat::Csv: result = mergeCsv(shards, out); break;
     case OutputFormat::RawF32:
     case OutputFormat::RawF64:
-      result = mergeRaw(shards, format == OutputFormat::RawF64, out, &files.add(output + ".json", "-o"));
+      result = mergeRaw(shards, false, format == OutputFormat::RawF64, out, files.add(output + ".json", "-o"));
       break;
-    case OutputFormat::Npy: result = mergeRaw(shards, std::nullopt, out, nullptr); break;
+    case OutputFormat::Npy: result = mergeRaw(shards, true, std::nullopt, out, files.add(output + ".json", "-o")); break;
     case OutputFormat::Svg: break;
   }
   files.commit();

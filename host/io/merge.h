@@ -3,8 +3,10 @@
 // after verifying that they belong together. Streams: every shard is read through a fixed 1 MiB
 // buffer (PLY: vertex blocks copied, then faces/edges re-offset chunk by chunk; OBJ and CSV line by
 // line; .npy: the header checked against the shard's raw sidecar OUT.npy.json, the records copied
-// after the whole job's header), so memory does not grow with the data; raw sidecars are parsed one at a time and the
-// merged one holds the model's span lists (4 bytes per row and column).
+// after the whole job's header), so memory does not grow with the data; raw sidecars (.f32/.f64 and
+// .npy) are parsed one at a time and the merged one holds the model's span lists (4 bytes per row
+// and column) and the job metadata (io/job_metadata.h), which must be the same in every shard but
+// for the device and computed precision (the merged sidecar says "mixed" / the least precise).
 //
 // Verified (io/shard_info.h): every shard carries the same job fingerprint (model, samples per item,
 // fields, precision, format), kind, grid and item total; shard k of the list is shard k/N and all N
@@ -56,7 +58,7 @@ struct MergeResult {
 inline constexpr size_t kMergeBufferBytes = size_t{1} << 20;
 inline constexpr uint64_t kMaxSidecarBytes = uint64_t{256} << 20;
 
-// Writes `output` (.obj .ply .csv .f32/.f64 + sidecar, .npy) from `shards`, given in order 1..N. The format
+// Writes `output` (.obj .ply .csv, .f32/.f64/.npy + sidecar) from `shards`, given in order 1..N. The format
 // comes from the extensions (all equal). Throws MergeError / MergeReadError as above, and
 // OutputPathError / OutputWriteError (io/atomic_file.h) for the output; nothing is left behind on
 // any error.

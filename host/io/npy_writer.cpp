@@ -1,10 +1,10 @@
 // NumPy .npy (format 1.0, NEP 1): a structured array of shape (points,) whose fields are the
 // sampled fields by name, each ('<f4' or '<f8', (3,)), so the data after the header is exactly the
 // raw .f32/.f64 file of the same job (io/raw_records.h) and numpy.load(mmap_mode="r") maps it.
-// The shape follows from the grid, so the header is written first and the records stream. A
-// shard (--shard K/N, N > 1) is the .npy of its own items plus the raw sidecar OUT.npy.json (the
-// job, shard and item range, which a .npy header cannot hold); `merge` rebuilds the unsharded
-// .npy byte for byte (no sidecar: the unsharded file stands alone).
+// The shape follows from the grid, so the header is written first and the records stream. Beside
+// every .npy the command line writes the raw sidecar OUT.npy.json (the job metadata, and for a
+// shard the job, shard and item range, none of which a .npy header can hold); `merge` rebuilds the
+// unsharded .npy byte for byte, and its sidecar but for the data_file name.
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
@@ -51,7 +51,7 @@ class NpyWriter final : public SampleWriter {
   void consume(const GridChunk& chunk) override { writeRecords(out_, chunk, fields_, float64()); }
 
   void finish() override {
-    if (layout_.sharded()) {
+    if (sidecar_) {
       writeRawSidecar(*sidecar_, rawSidecarOf(layout_, layout_.job, float64(), out_.target().filename().string()));
     }
   }

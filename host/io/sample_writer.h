@@ -7,6 +7,7 @@
 // and SVG (curves only, 2-D projection; buffers its points, so the caller caps the count).
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/job_metadata.h>
 
 #include <glm/vec3.hpp>
 
@@ -51,6 +52,9 @@ struct SampleLayout {
   // precision of the arithmetic (the CPU path computes fp64 whatever `precision` is).
   std::string device = "cpu";
   Precision computedPrecision = Precision::Double;
+  // Tool, model file and SHA-256, parameters, device, precisions, grid (io/job_metadata.h); the same
+  // for every shard of the job. Written into every format that can carry it.
+  JobMetadata metadata;
   // Mesh formats (OBJ, PLY, glTF): welded (io/welded_mesh.h: every grid point once, shared by
   // index) or per item as the chunks come (each patch/span on its own, shared edges repeated).
   // Closed directions (surfaces; curves use `closed`) share their seam. `reversed`: the winding

@@ -312,6 +312,7 @@ RawSidecar rawSidecarOf(const SampleLayout& l, const std::string& job, bool floa
   s.computedDouble = l.computedPrecision == Precision::Double;
   s.device = l.device;
   s.source = l.source;
+  s.metadata = l.metadata;
   return s;
 }
 
@@ -372,6 +373,8 @@ void writeRawSidecar(AtomicFile& out, const RawSidecar& s) {
   key("job", str(i.job));
   key("computed_precision", str(s.computedDouble ? "double" : "float"));
   key("device", str(s.device));
+  // One line; text that is not UTF-8 was replaced by U+FFFD in metadataJson.
+  key("metadata", metadataJson(s.metadata).dump());
   key("source", str(s.source), true);
   t += "}\n";
   out.write(t);

@@ -6,6 +6,7 @@
 // headers, and as JSON keys into the raw sidecar; CSV stays plain (see io/merge.h).
 #include <shapespline/core/model.h>
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/job_metadata.h>
 #include <shapespline/io/sample_writer.h>
 
 #include <cstdint>
@@ -56,8 +57,8 @@ inline constexpr std::string_view kPlyJobPrefix = "comment ";
 inline constexpr std::string_view kObjSourcePrefix = "# shapespline sample of ";
 inline constexpr std::string_view kObjJobPrefix = "# ";
 
-// The raw sidecar (OUT.json), format_version 2. A shard lists the model spans of its own items
-// only: spans_u from row spans_u_offset on (the rows its items touch), spans_v from column
+// The raw sidecar (OUT.json, and OUT.npy.json beside every .npy), format_version
+// kRawSidecarVersion. A shard lists the model spans of its own items only: spans_u from row spans_u_offset on (the rows its items touch), spans_v from column
 // spans_v_offset on (the columns of its row when its items lie in one row, else all). Item k of
 // the model is patch (spans_u[k / items_v - spans_u_offset], spans_v[k % items_v - spans_v_offset])
 // (curves: span spans_u[k - spans_u_offset]).
@@ -72,6 +73,9 @@ struct RawSidecar {
   bool computedDouble = true;        // the arithmetic's precision (the CPU path: always fp64)
   std::string device = "cpu";         // where the values were computed: "cpu" or a Vulkan device name
   std::string source;                 // the model path as given (escaped when written)
+  // "metadata" (io/job_metadata.h metadataJson): the same in every shard of a job but for device and
+  // computed precision, which follow "device" and "computed_precision" (a merge may mix devices).
+  JobMetadata metadata;
 
   uint64_t valueSize() const { return float64 ? 8 : 4; }
   uint64_t valuesPerRecord() const { return static_cast<uint64_t>(fields.size()) * 3; }
@@ -85,8 +89,9 @@ SpanWindow spanWindow(uint64_t first, uint64_t count, uint64_t itemsV);
 
 // The sidecar of a job from its layout (spans cut to the shard's window).
 // The raw sidecar's format_version: 3 added "device" and made "computed_precision" the precision
-// the path computed in (docs/format.md); merge reads exactly this version.
-inline constexpr int kRawSidecarVersion = 3;
+// the path computed in (docs/format.md); 4 added "metadata" (tool, model SHA-256, parameters,
+// singular vertices, precisions, grid). Merge reads exactly this version.
+inline constexpr int kRawSidecarVersion = 4;
 
 RawSidecar rawSidecarOf(const SampleLayout& layout, const std::string& job, bool float64, const std::string& dataFile);
 // Writes `s` as JSON text (ends with a newline). Counts follow from info, grid and fields.

@@ -1,5 +1,6 @@
 #include <shapespline/io/svg_writer.h>
 
+#include <shapespline/io/job_metadata.h>
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/sample_writer.h>
 
@@ -88,6 +89,7 @@ std::string SvgPlot::render(int widthPx, int heightPx) const {
                   std::to_string(widthPx) + "\" height=\"" + std::to_string(heightPx) + "\" viewBox=\"0 0 " +
                   std::to_string(widthPx) + " " + std::to_string(heightPx) + "\">\n" +
                   "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  if (!metadata_.empty()) s += "<metadata id=\"shapespline-job\">" + escape(metadata_) + "</metadata>\n";
   if (!title_.empty()) {
     s += "<text x=\"" + num(widthPx / 2.0) + "\" y=\"24\" text-anchor=\"middle\" font-family=\"sans-serif\" "
          "font-size=\"16\">" + escape(title_) + "</text>\n";
@@ -174,6 +176,7 @@ class SvgSampleWriter final : public SampleWriter {
   }
   void finish() override {
     SvgPlot plot(true, layout_.source);
+    plot.setMetadata(metadataJson(layout_.metadata).dump());
     SvgPolyline poly;
     for (const auto& p : layout_.controlPoints) poly.points.emplace_back(p.x, p.y);
     poly.color = "#888888";

@@ -7,6 +7,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shapespline::io {
@@ -42,6 +43,9 @@ class SvgPlot {
   void add(SvgMarkers markers) { markers_.push_back(std::move(markers)); }
   // Draw x/y axes with the data range printed at the ends (function plots).
   void setAxes(bool axes) { axes_ = axes; }
+  // Text for a <metadata> element right after the <svg> tag (`sample`: the job metadata as JSON,
+  // io/job_metadata.h); XML-escaped when written. Empty (the default): no element.
+  void setMetadata(std::string text) { metadata_ = std::move(text); }
   // Throws SvgValueError if a coordinate or label would not be finite (a non-finite input point).
   std::string render(int widthPx = 800, int heightPx = 600) const;
   // render() into `out`; an SvgValueError becomes OutputWriteError(out.option(), out.target(), ...).
@@ -49,7 +53,7 @@ class SvgPlot {
 
  private:
   bool equal_ = true, axes_ = false;
-  std::string title_;
+  std::string title_, metadata_;
   std::vector<SvgPolyline> lines_;
   std::vector<SvgMarkers> markers_;
 };

@@ -1,7 +1,7 @@
 // Issue 15 (requirements 4 and 5), checked by readers we did not write: numpy (Debian
 // python3-numpy, run by /usr/bin/python3) loads `sample -o OUT.npy` memory-mapped, and its dtype,
 // shape, field names and data bytes equal the raw .f32/.f64 output of the same job; sharded .npy
-// files merge into the unsharded file byte for byte; every number of a float / double OBJ and CSV
+// files merge into the unsharded file byte for byte (and their sidecars into its OUT.npy.json); every number of a float / double OBJ and CSV
 // reads back (Python's float() then numpy.float32 / float64) to exactly the raw output's value, with
 // the digits of numpy's own shortest round-trip form (at most 9 / 17 significant digits).
 #include "cli_runner.h"
@@ -105,7 +105,8 @@ TEST(NumpyOutput, LoadsMemoryMappedAndEqualsRawBytes) {
       const std::string opts = std::string(c.opts) + " --precision " + precision;
       sampleTo(dir, c.model, stem + ".npy", opts);
       sampleTo(dir, c.model, raw, opts);
-      EXPECT_FALSE(fs::exists(dir / (stem + ".npy.json"))) << "an unsharded .npy stands alone";
+      // Every .npy has the raw sidecar OUT.npy.json (its job metadata; docs/cli.md).
+      EXPECT_TRUE(fs::exists(dir / (stem + ".npy.json"))) << "an unsharded .npy has its sidecar too";
       SCOPED_TRACE(std::string(c.model) + " " + opts);
       python(dir, kNpyCheck, {(dir / (stem + ".npy")).string(), (dir / raw).string(), (dir / (raw + ".json")).string(),
                               c.fields});
@@ -134,7 +135,11 @@ TEST(NumpyOutput, ShardsAreNpyFilesAndMergeByteForByte) {
   const CliResult r = runCli(args, dir.path());
   ASSERT_EQ(r.rc, 0) << r.err;
   EXPECT_EQ(readText(dir / "merged.npy"), readText(dir / "whole.npy"));
-  EXPECT_FALSE(fs::exists(dir / "merged.npy.json"));
+  // The merged sidecar is the unsharded one but for its data_file name.
+  std::string wholeSide = readText(dir / "whole.npy.json");
+  ASSERT_NE(wholeSide.find("\"whole.npy\""), std::string::npos);
+  wholeSide.replace(wholeSide.find("\"whole.npy\""), 11, "\"merged.npy\"");
+  EXPECT_EQ(readText(dir / "merged.npy.json"), wholeSide);
 
   // Out of order, and a shard whose header was altered: refused, nothing written.
   const CliResult swapped = runCli("merge -o " + quote((dir / "bad.npy").string()) + " " + quote(shards[1]) + " " +

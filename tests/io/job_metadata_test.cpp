@@ -266,6 +266,8 @@ TEST(JobMetadata, JsonRoundTripsAndRefusesOthers) {
     EXPECT_EQ(j["tool"], "shapespline");
     EXPECT_EQ(j["grid"], m.surface ? "3x4" : "7");
   }
+  // A layout's default metadata (a writer used without the command line) reads back too.
+  EXPECT_EQ(metadataFromJson(metadataJson(JobMetadata{})), JobMetadata{});
   const json good = metadataJson(curveMetadata());
   auto refusedKey = [&](const std::function<void(json&)>& change) {
     json j = good;
