@@ -56,7 +56,7 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
 
 # pkg-config: relocatable (prefix from the .pc file's own folder), so an unpacked .deb works too.
 # The libraries are static, so their dependencies are Requires, not Requires.private.
-set(pc_requires "glm nlohmann_json >= 3.10 vulkan libcrypto")
+set(pc_requires "glm nlohmann_json >= 3.10 vulkan libcrypto tinygltf")
 if(PNG_FOUND)
   string(APPEND pc_requires " libpng16")
 endif()
@@ -80,9 +80,9 @@ find_program(DPKG_SHLIBDEPS dpkg-shlibdeps)
 if(DPKG_SHLIBDEPS)
   set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 else()
-  set(CPACK_DEBIAN_PACKAGE_DEPENDS "libc6, libstdc++6, libgcc-s1, libvulkan1, libpng16-16, libssl3")
+  set(CPACK_DEBIAN_PACKAGE_DEPENDS "libc6, libstdc++6, libgcc-s1, libvulkan1, libpng16-16, libssl3, libtinygltf2d")
 endif()
-set(deb_recommends "libglm-dev, nlohmann-json3-dev (>= 3.10), libvulkan-dev, libssl-dev")
+set(deb_recommends "libglm-dev, nlohmann-json3-dev (>= 3.10), libvulkan-dev, libssl-dev, libtinygltf-dev")
 if(PNG_FOUND)
   string(APPEND deb_recommends ", libpng-dev")
 endif()

@@ -89,11 +89,11 @@ std::string evalCurve(sampling::Session& session, const Curve& curve, const json
     requireInRange(rounded(cp.point, p), "point", p);
     requireInRange(rounded(cp.d1, p), "d1", p);
     requireInRange(rounded(cp.d2, p), "d2", p);
-    const std::string head = q.global ? "\"u\": " + number17(q.u)
-                                      : "\"span\": " + std::to_string(q.span) + ", \"t\": " + number17(q.t) +
-                                            ", \"u\": " + number17(finiteParameter(curve.parameterOf(q.span, q.t), "u"));
-    out += std::string(i ? ",\n  " : "\n  ") + "{" + head + ", \"point\": " + vector17(rounded(cp.point, p), dim) +
-           ", \"d1\": " + vector17(rounded(cp.d1, p), dim) + ", \"d2\": " + vector17(rounded(cp.d2, p), dim) + "}";
+    const std::string head = q.global ? "\"u\": " + numberText(q.u, Precision::Double)
+                                      : "\"span\": " + std::to_string(q.span) + ", \"t\": " + numberText(q.t, Precision::Double) +
+                                            ", \"u\": " + numberText(finiteParameter(curve.parameterOf(q.span, q.t), "u"), Precision::Double);
+    out += std::string(i ? ",\n  " : "\n  ") + "{" + head + ", \"point\": " + vectorText(cp.point, dim, p) +
+           ", \"d1\": " + vectorText(cp.d1, dim, p) + ", \"d2\": " + vectorText(cp.d2, dim, p) + "}";
   }
   return out + "\n]}\n";
 }
@@ -132,14 +132,14 @@ std::string evalSurface(sampling::Session& session, const Surface& surface, cons
     const glm::dvec3 cross = glm::cross(du, dv);
     const double denom = glm::length(du) * glm::length(dv);
     const bool defined = denom > 0.0 && glm::length(cross) >= 0.01 * denom;
-    const std::string normal = defined ? vector17(rounded(glm::normalize(cross), p), 3) : "null";
+    const std::string normal = defined ? vectorText(glm::normalize(cross), 3, p) : "null";
     out += std::string(i ? ",\n  " : "\n  ") + "{\"patch\": [" + std::to_string(pi) + ", " + std::to_string(pj) +
-           "], \"uv\": [" + number17(u) + ", " + number17(v) + "], \"UV\": [" + number17(finiteParameter(global(pi, u, m.knotsU), "UV")) +
-           ", " + number17(finiteParameter(global(pj, v, m.knotsV), "UV")) + "], \"point\": " + vector17(rounded(sp.point, p), 3) +
-           ", \"du\": " + vector17(rounded(sp.du, p), 3) + ", \"dv\": " + vector17(rounded(sp.dv, p), 3) +
-           ", \"duu\": " + vector17(rounded(sp.duu, p), 3) + ", \"duv\": " + vector17(rounded(sp.duv, p), 3) +
-           ", \"dvv\": " + vector17(rounded(sp.dvv, p), 3) + ", \"normal\": " + normal +
-           (defined ? std::string() : ", \"render_normal\": " + vector17(rounded(sp.normal, p), 3)) + "}";
+           "], \"uv\": [" + numberText(u, Precision::Double) + ", " + numberText(v, Precision::Double) + "], \"UV\": [" + numberText(finiteParameter(global(pi, u, m.knotsU), "UV"), Precision::Double) +
+           ", " + numberText(finiteParameter(global(pj, v, m.knotsV), "UV"), Precision::Double) + "], \"point\": " + vectorText(sp.point, 3, p) +
+           ", \"du\": " + vectorText(sp.du, 3, p) + ", \"dv\": " + vectorText(sp.dv, 3, p) +
+           ", \"duu\": " + vectorText(sp.duu, 3, p) + ", \"duv\": " + vectorText(sp.duv, 3, p) +
+           ", \"dvv\": " + vectorText(sp.dvv, 3, p) + ", \"normal\": " + normal +
+           (defined ? std::string() : ", \"render_normal\": " + vectorText(sp.normal, 3, p)) + "}";
   }
   return out + "\n]}\n";
 }

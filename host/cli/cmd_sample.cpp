@@ -3,9 +3,11 @@
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
 #include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/orientation.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/session.h>
 
 #include <cmath>
@@ -104,6 +106,10 @@ void runSample(const SampleArgs& args) {
   const sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
   const Precision precision = request.precision;
   const auto [shardK, shardN] = parseShard(args.shard);
+  if (io::isGltf(format) && shardN > 1) {
+    throw InputError("--shard", args.shard,
+                     "glTF files are re-centred fp32 meshes held in memory and are not merged; shard to .ply or .obj");
+  }
   if (args.threads < 0 || args.threads > kMaxThreads) {
     throw InputError("--threads", std::to_string(args.threads),
                      "must be in [0, " + std::to_string(kMaxThreads) + "] (0 = all hardware threads)");
@@ -159,6 +165,14 @@ void runSample(const SampleArgs& args) {
   layout.source = args.model;
   layout.shardIndex = shardK;
   layout.shardCount = shardN;
+  const bool meshFormat = io::isMesh(format);
+  if (args.meshLayout != "welded" && args.meshLayout != "per-item") {
+    throw InputError("--mesh-layout", args.meshLayout, "expected welded or per-item");
+  }
+  if (args.meshLayout == "per-item" && (!meshFormat || io::isGltf(format))) {
+    throw InputError("--mesh-layout", args.meshLayout, "per-item layouts are for .obj and .ply outputs");
+  }
+  layout.welded = meshFormat && args.meshLayout == "welded";
   if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
     const auto items = surfaceGridItems(*surface);
@@ -172,6 +186,8 @@ void runSample(const SampleArgs& args) {
       throw std::logic_error("surface items do not form a grid");
     }
     const auto& sm = surface->model();
+    layout.closedU = sm.closedU;
+    layout.closedV = sm.closedV;
     auto interval = [&](int i, const std::vector<double>& knots) {
       return surface->usesKnotVector() ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
                                        : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
@@ -206,11 +222,23 @@ void runSample(const SampleArgs& args) {
   layout.firstItem = shardBound(shardK - 1);
   layout.itemCount = shardBound(shardK) - layout.firstItem;
   // Every shard of this job (and the unsharded job) carries the same fingerprint; `merge` checks it.
+  // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
+  if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
   layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
                      : io::jobFingerprint(surface->model(), layout, format);
-  if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max()) {
+  // A welded shard also holds the foreign vertices of its items; at most its points either way.
+  if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max() &&
+      (!layout.welded || io::WeldedNumbering(io::WeldGrid::of(layout), layout.firstItem,
+                                             layout.firstItem + layout.itemCount)
+                                 .vertexCount() > std::numeric_limits<uint32_t>::max())) {
     throw InputError(countField, std::to_string(layout.pointCount()) + " vertices",
                      "PLY holds at most 2^32-1 vertices; use --shard or a raw format");
+  }
+  if (io::isGltf(format) && io::WeldGrid::of(layout).pointCount() > io::kMaxGltfVertices) {
+    throw InputError(countField, isSurface ? std::to_string(su) + "x" + std::to_string(sv) : std::to_string(su),
+                     "the mesh would have " + std::to_string(io::WeldGrid::of(layout).pointCount()) +
+                         " vertices; glTF output holds at most 2^24 = " + std::to_string(io::kMaxGltfVertices) +
+                         " (distinct grid points; the whole mesh is held in memory): use fewer samples, or .ply or .npy");
   }
   if (format == io::OutputFormat::Svg && layout.pointCount() > kMaxSvgPoints) {
     throw InputError(countField, std::to_string(layout.pointCount()) + " points",
@@ -222,9 +250,10 @@ void runSample(const SampleArgs& args) {
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
   if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64 ||
-      (format == io::OutputFormat::Npy && layout.sharded())) {
+      format == io::OutputFormat::Npy) {
     sidecar = &outputs.add(args.out + ".json", "-o");
   }
+  if (format == io::OutputFormat::Gltf) sidecar = &outputs.add(io::gltfBufferPath(args.out), "-o");  // OUT.bin
   sampling::Session session;
   const sampling::Report report = curve ? session.plan(*curve, request) : session.plan(*surface, request);
   printNotices(report, args.quiet);
@@ -242,12 +271,11 @@ void runSample(const SampleArgs& args) {
   } catch (const std::runtime_error& e) {
     throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());
   }
-  if (format == io::OutputFormat::Npy && !sidecar) sidecar = &outputs.add(args.out + ".json", "-o");
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
   // What the file stores: raw .f32, or PLY/CSV/OBJ/.npy after --precision float.
-  const bool fileFloat = format == io::OutputFormat::RawF32 ||
+  const bool fileFloat = format == io::OutputFormat::RawF32 || io::isGltf(format) ||
                          (precision == Precision::Float && format != io::OutputFormat::RawF64 &&
                           format != io::OutputFormat::Svg);
 
@@ -271,12 +299,20 @@ void runSample(const SampleArgs& args) {
       injectNan = false;
       requireFiniteChunk(c, fileFloat);
       writer->consume(c);
-      progress.add(c.pointCount());
+      const bool context = c.firstItem < layout.firstItem || c.firstItem >= layout.firstItem + layout.itemCount;
+      if (!context) progress.add(c.pointCount());
     };
-    if (curve) {
-      session.sampleGrid(*curve, request, grid, fields, sink, options);
-    } else {
-      session.sampleGrid(*surface, request, grid, fields, sink, options);
+    // A welded shard also samples its context (the outside items that share its points), in item
+    // order around its own items, so that its vertices equal the unsharded file's (io/welded_mesh.h).
+    for (const auto& [a, b] : io::streamedItemRanges(format, layout)) {
+      GridSpec g = grid;
+      g.firstItem = a;
+      g.itemCount = b - a;
+      if (curve) {
+        session.sampleGrid(*curve, request, g, fields, sink, options);
+      } else {
+        session.sampleGrid(*surface, request, g, fields, sink, options);
+      }
     }
   }
   writer->finish();
@@ -284,7 +320,9 @@ void runSample(const SampleArgs& args) {
   if (!args.quiet) {
     std::fprintf(stderr, "shapespline: wrote %s (%zu %s, %zu points%s)\n", args.out.c_str(), layout.itemCount,
                  isSurface ? "patches" : "spans", layout.pointCount(),
-                 sidecar ? (", layout in " + args.out + ".json").c_str() : "");
+                 sidecar ? ((format == io::OutputFormat::Gltf ? ", buffer in " : ", layout in ") +
+                            sidecar->target().string()).c_str()
+                         : "");
   }
 }
 
@@ -293,10 +331,13 @@ void registerSample(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("sample", "Sample a model on a regular grid per span/patch and write a file.");
   sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
   sub->add_option("-o,--output", args->out,
-                  "output file; format from the extension: .obj .ply .csv .f32 .f64 (+ OUT.json sidecar) .npy (+ OUT.json when "
-                  "sharded) .svg")
+                  "output file; format from the extension: .obj .ply .csv .svg .glb .gltf (+ OUT.bin) .f32 .f64 .npy "
+                  "(each + OUT.json sidecar)")
       ->required();
   sub->add_option("--samples", args->samples, "samples per span (curves, default 32; both ends included)");
+  sub->add_option("--mesh-layout", args->meshLayout,
+                  "welded (default): .obj/.ply/.glb/.gltf list every grid point once, shared edges and closed seams "
+                  "by index; per-item (.obj/.ply): each patch/span on its own, shared edges repeated");
   sub->add_option("--grid", args->grid, "samples per patch, U or UxV (surfaces, default 16x16)");
   sub->add_option("--device", args->device,
                   "auto (default) or vulkan: the GPU, falling back to the CPU with a notice; cpu: the CPU fp64 path");

@@ -246,6 +246,17 @@ std::string number17(double v) {
   return std::string(buf, io::writeNumber17(buf, v));
 }
 
+std::string numberText(double v, Precision precision) {
+  char buf[io::kMaxNumberChars];
+  return std::string(buf, io::writeValue(buf, v, precision));
+}
+
+std::string vectorText(const glm::dvec3& v, int dims, Precision precision) {
+  std::string s = "[" + numberText(v.x, precision) + ", " + numberText(v.y, precision);
+  if (dims == 3) s += ", " + numberText(v.z, precision);
+  return s + "]";
+}
+
 std::string vector17(const glm::dvec3& v, int dims) {
   std::string s = "[" + number17(v.x) + ", " + number17(v.y);
   if (dims == 3) s += ", " + number17(v.z);

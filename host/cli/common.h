@@ -88,6 +88,10 @@ class Progress {
 // JSON output with 17 significant digits (the `eval` promise).
 std::string number17(double v);
 std::string vector17(const glm::dvec3& v, int dims);
+// Output values: the shortest text that reads back to v as `precision` stores it (fp32: v rounded
+// to float, at most 9 significant digits; fp64: at most 17), io/number_text.h writeValue.
+std::string numberText(double v, Precision precision);
+std::string vectorText(const glm::dvec3& v, int dims, Precision precision);
 
 }  // namespace shapespline::cli
 

@@ -5,6 +5,8 @@
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/welded_formats.h>
+#include <shapespline/io/welded_mesh.h>
 
 #include <nlohmann/json.hpp>
 
@@ -229,11 +231,42 @@ uint64_t perItem(const ShardInfo& s, uint64_t each, const Where& w, const char* 
   return r;
 }
 
+// The welded numbering of a shard's items; refuses a mesh line that does not fit the job line.
+std::unique_ptr<WeldedNumbering> weldedNumbering(const ShardInfo& s, const MeshInfo& m, const Where& w) {
+  if (m.patchesU * m.patchesV != s.totalItems || (!s.surface && (m.patchesV != 1 || m.closedV))) {
+    refuse(w, "has a mesh line for " + std::to_string(m.patchesU) + "x" + std::to_string(m.patchesV) +
+                  " items, but its job line says " + std::to_string(s.totalItems) + " " +
+                  (s.surface ? "patches" : "spans"));
+  }
+  const WeldGrid grid(m.patchesU, m.patchesV, s.samplesU, s.surface ? s.samplesV : 1, m.closedU, m.closedV);
+  return std::make_unique<WeldedNumbering>(grid, s.firstItem, s.endItem());
+}
+
+// The first metadata comment line in which a shard differs from SHARD[1]. Mesh shards must agree
+// on every line (device and precision too): their welded vertices are then the unsharded file's.
+std::string commentMismatch(const std::string& mine, const std::string& first) {
+  size_t at = 0;
+  while (at < mine.size() && at < first.size() && mine[at] == first[at]) ++at;
+  const size_t start = mine.rfind('\n', at == 0 ? 0 : at - 1);
+  const size_t from = start == std::string::npos || at == 0 ? 0 : start + 1;
+  const size_t end = mine.find('\n', from);
+  return "has the metadata line " + snippet(std::string_view(mine).substr(from, end == std::string::npos ? end : end - from)) +
+         " where SHARD[1] differs (another job, device or precision; mesh shards must agree on every line)";
+}
+
+bool sameMesh(const MeshInfo& a, const MeshInfo& b) {
+  return a.patchesU == b.patchesU && a.patchesV == b.patchesV && a.closedU == b.closedU && a.closedV == b.closedV &&
+         a.reversed == b.reversed;
+}
+
 // ---- PLY ---------------------------------------------------------------------------------------
 
 struct PlyShard {
   ShardInfo info;
   std::string source, properties;  // escaped source as written; vertex property lines
+  std::optional<MeshInfo> mesh;    // welded files
+  std::string comments;            // the other comment lines (job metadata), copied to the merged file
+  std::unique_ptr<WeldedNumbering> numbering;
   bool faces = false;
   uint64_t vertices = 0, records = 0, vertexBytes = 0, recordBytes = 0, headerBytes = 0, fileBytes = 0;
 };
@@ -274,7 +307,18 @@ PlyShard readPlyHeader(ShardFile& f) {
   if (startsWith(line, kPlyJobPrefix)) info = parseShardInfoLine(std::string_view(line).substr(kPlyJobPrefix.size()));
   if (!info) bad("'comment shapespline job ...' (written by an older shapespline? sample again)");
   p.info = *info;
-  next("element vertex");
+  while (true) {
+    next("element vertex");
+    if (!startsWith(line, kPlyJobPrefix)) break;
+    const std::string_view text = std::string_view(line).substr(kPlyJobPrefix.size());
+    if (startsWith(text, kMeshLinePrefix)) {
+      if (p.mesh) bad("one 'comment shapespline mesh' line");
+      p.mesh = parseMeshInfoLine(text);
+      if (!p.mesh) bad("'comment shapespline mesh welded items PUxPV closed C orientation O'");
+    } else {
+      p.comments += line + "\n";
+    }
+  }
   p.vertices = count("element vertex ", "'element vertex N'");
   std::string type;
   while (true) {
@@ -325,8 +369,16 @@ PlyShard readPlyHeader(ShardFile& f) {
                   (s.surface ? "surface" : "curve"));
   }
   const uint64_t su = static_cast<uint64_t>(s.samplesU), sv = static_cast<uint64_t>(s.samplesV);
-  const uint64_t v = perItem(s, s.pointsPerItem(), w, "vertices");
+  // Welded or not, the connectivity has the same count per item; checked first, so the welded
+  // numbering below (which visits every item's boundary) is bounded by the file's size.
   const uint64_t r = perItem(s, s.surface ? 2 * (su - 1) * (sv - 1) : su - 1, w, s.surface ? "faces" : "edges");
+  if (p.records != r) {
+    refuse(w, "has " + std::to_string(p.records) + (p.faces ? " faces" : " edges") + ", but " +
+                  std::to_string(s.itemCount) + " items of grid " + std::to_string(su) + "x" + std::to_string(sv) +
+                  " have " + std::to_string(r));
+  }
+  if (p.mesh) p.numbering = weldedNumbering(s, *p.mesh, w);
+  const uint64_t v = p.numbering ? p.numbering->vertexCount() : perItem(s, s.pointsPerItem(), w, "vertices");
   if (p.vertices != v || p.records != r) {
     refuse(w, "has " + std::to_string(p.vertices) + " vertices and " + std::to_string(p.records) +
                   (p.faces ? " faces" : " edges") + ", but " + std::to_string(s.itemCount) + " items of grid " +
@@ -347,7 +399,13 @@ MergeResult mergePly(const std::vector<std::string>& shards, AtomicFile& out) {
     if (p.properties != headers.front().properties) {
       refuse(f.where(), "has other vertex properties than SHARD[1] (another job)");
     }
-    vertices += p.vertices;  // each < 2^62 / 12 by the size check, and their sum is bounded below
+    const PlyShard& first = headers.front();
+    if (p.mesh.has_value() != first.mesh.has_value() || (p.mesh && !sameMesh(*p.mesh, *first.mesh))) {
+      refuse(f.where(), "has another mesh layout than SHARD[1] (another job)");
+    }
+    if (p.comments != first.comments) refuse(f.where(), commentMismatch(p.comments, first.comments));
+    // Welded: the vertices each shard owns (its foreign ones are the next shards').
+    vertices += p.numbering ? p.numbering->ownedCount() : p.vertices;  // each < 2^62 / 12 by the size check
     records += p.records;
     if (vertices > std::numeric_limits<uint32_t>::max()) {
       refuse(f.where(),
@@ -356,13 +414,34 @@ MergeResult mergePly(const std::vector<std::string>& shards, AtomicFile& out) {
   }
   const PlyShard& first = headers.front();
   const ShardInfo whole = wholeJobOf(first.info);
-  std::string h = "ply\nformat binary_little_endian 1.0\n" + plyInfoComments(whole, first.source) + "element vertex " +
-                  std::to_string(vertices) + "\n" + first.properties;
-  h += first.faces ? "element face " + std::to_string(records) + "\nproperty list uchar uint vertex_indices\n"
-                   : "element edge " + std::to_string(records) + "\nproperty uint vertex1\nproperty uint vertex2\n";
+  std::string h = "ply\nformat binary_little_endian 1.0\n" + plyInfoComments(whole, first.source);
+  std::unique_ptr<WeldedNumbering> wholeNumbering;
+  if (first.mesh) {
+    h += std::string(kPlyJobPrefix) + meshInfoLine(*first.mesh) + "\n";
+    wholeNumbering = weldedNumbering(whole, *first.mesh, {shardField(1), shards[0]});
+  }
+  h += first.comments + "element vertex " + std::to_string(vertices) + "\n" + first.properties;
+  if (wholeNumbering) {
+    h += plyConnectivityHeader(*wholeNumbering);
+  } else {
+    h += first.faces ? "element face " + std::to_string(records) + "\nproperty list uchar uint vertex_indices\n"
+                     : "element edge " + std::to_string(records) + "\nproperty uint vertex1\nproperty uint vertex2\n";
+  }
   h += "end_header\n";
   out.write(h);
   std::vector<char> buffer(kMergeBufferBytes);
+  if (wholeNumbering) {
+    // The vertices each shard owns, in shard order, then the connectivity of the whole grid.
+    for (size_t k = 1; k <= shards.size(); ++k) {
+      const PlyShard& p = headers[k - 1];
+      ShardFile f({shardField(k), shards[k - 1]});
+      if (f.size() != p.fileBytes) refuse(f.where(), "changed while merging");
+      f.seek(p.headerBytes);
+      copyBytes(f, out, p.numbering->ownedCount() * p.vertexBytes, buffer);
+    }
+    writePlyConnectivity(out, *wholeNumbering, first.mesh->reversed);
+    return {whole.totalItems, out.bytesWritten()};
+  }
   // Pass 1: the vertex blocks, in shard order.
   for (size_t k = 1; k <= shards.size(); ++k) {
     const PlyShard& p = headers[k - 1];
@@ -426,9 +505,76 @@ bool numbers(std::string_view s, int count) {
   return true;
 }
 
+// The body of a welded OBJ shard after its header (`line` holds the first body line): its vertex
+// lines (v, vt, vn per vertex; curves: v), of which the first ownedCount() are copied to `out`,
+// then its triangles or its one polyline, which are checked for shape and count only: `merge`
+// writes the whole grid's connectivity itself.
+void mergeWeldedObjBody(ShardFile& f, const ShardInfo& s, const WeldedNumbering& n, std::string& line, bool more,
+                        uint64_t lineNo, AtomicFile& out) {
+  const Where& w = f.where();
+  auto at = [&] { return "line " + std::to_string(lineNo) + " "; };
+  bool complete = true;
+  const int per = objLinesPerVertex(s.surface);
+  static constexpr const char* kPrefix[3] = {"v ", "vt ", "vn "};
+  const uint64_t lines = n.vertexCount() * static_cast<uint64_t>(per), copied = n.ownedCount() * static_cast<uint64_t>(per);
+  for (uint64_t k = 0; k < lines; ++k) {
+    if (k > 0) {
+      more = f.line(line, kMaxLineBytes, &complete);
+      ++lineNo;
+    }
+    if (!more) refuse(w, "ends after " + std::to_string(k / per) + " of its " + std::to_string(n.vertexCount()) + " vertices");
+    if (!complete) refuse(w, at() + "does not end with a newline (truncated?)");
+    const int slot = static_cast<int>(k % static_cast<uint64_t>(per));
+    const std::string_view prefix = kPrefix[slot];
+    if (!startsWith(line, prefix) || !numbers(std::string_view(line).substr(prefix.size()), slot == 1 ? 2 : 3)) {
+      refuse(w, at() + "is not the " + std::string(prefix.substr(0, prefix.size() - 1)) +
+                    " line of a vertex with finite numbers: " + snippet(line));
+    }
+    if (k < copied) {
+      out.write(line);
+      out.write("\n", 1);
+    }
+  }
+  if (s.surface) {
+    uint64_t faces = 0;
+    while (f.line(line, kMaxLineBytes, &complete)) {
+      ++lineNo;
+      if (!complete) refuse(w, at() + "does not end with a newline (truncated?)");
+      if (!startsWith(line, "f ")) refuse(w, at() + "is not a face line: " + snippet(line));
+      ++faces;
+    }
+    if (faces != n.triangleCount()) {
+      refuse(w, "has " + std::to_string(faces) + " faces, but its " + std::to_string(s.itemCount) + " items have " +
+                    std::to_string(n.triangleCount()) + " (truncated or extended?)");
+    }
+    return;
+  }
+  // Curves: one `l` line to the end of the file, read in blocks (it has a number per vertex).
+  char head[2] = {0, 0};
+  const size_t got = f.read(head, 2);
+  if (n.polylineLength() == 0 ? got != 0 : got != 2 || head[0] != 'l' || head[1] != ' ') {
+    refuse(w, "line " + std::to_string(lineNo + 1) + " is not the curve's one 'l' polyline line");
+  }
+  if (got == 0) return;
+  std::vector<char> block(kMergeBufferBytes);
+  char last = ' ';
+  while (true) {
+    const size_t r = f.read(block.data(), block.size());
+    if (r == 0) break;
+    const void* nl = std::memchr(block.data(), '\n', r);
+    if (nl && static_cast<const char*>(nl) != block.data() + r - 1) {
+      refuse(w, "has more after its 'l' polyline line (extended?)");
+    }
+    last = block[r - 1];
+  }
+  if (last != '\n') refuse(w, "does not end its 'l' polyline line with a newline (truncated?)");
+}
+
 MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
   uint64_t total[3] = {0, 0, 0};  // v, vt, vn written so far
   std::optional<ShardInfo> first;
+  std::optional<MeshInfo> firstMesh;
+  std::string firstComments;
   std::string line, o;
   for (size_t k = 1; k <= shards.size(); ++k) {
     ShardFile f({shardField(k), shards[k - 1]});
@@ -436,6 +582,8 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
     const uint64_t start[3] = {total[0], total[1], total[2]};
     std::optional<ShardInfo> info;
     std::optional<std::string> source;
+    std::optional<MeshInfo> mesh;
+    std::string comments;  // the other header comments (job metadata), copied to the merged file
     bool header = true, complete = false;
     uint64_t lineNo = 0, faces = 0, polylines = 0;
     auto at = [&] { return "line " + std::to_string(lineNo) + " "; };
@@ -446,9 +594,25 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
                   "sample again)");
       }
       checkSequence(*info, first ? *first : *info, k, shards.size(), w);
+      if (first && (mesh.has_value() != firstMesh.has_value() || (mesh && !sameMesh(*mesh, *firstMesh)))) {
+        refuse(w, "has another mesh layout than SHARD[1] (another job)");
+      }
+      if (first && comments != firstComments) refuse(w, commentMismatch(comments, firstComments));
+      if (mesh) {
+        // Each item brings at least 2 (Su-1)(Sv-1) face lines of 12+ bytes or Su-1 indices of 2+
+        // bytes: a header claiming more items than the file can hold is refused before the
+        // numbering visits them.
+        const uint64_t su = static_cast<uint64_t>(info->samplesU), sv = static_cast<uint64_t>(info->samplesV);
+        const uint64_t least = perItem(*info, info->surface ? 24 * (su - 1) * (sv - 1) : 2 * (su - 1), w, "bytes");
+        if (least > f.size()) refuse(w, "is too short for the " + std::to_string(info->itemCount) + " items its job line names");
+      }
       if (!first) {
         first = info;
-        out.write(objHeader(wholeJobOf(*info), *source));
+        firstMesh = mesh;
+        firstComments = comments;
+        std::string h = objHeader(wholeJobOf(*info), *source, mesh.has_value());
+        if (mesh) h += std::string(kObjJobPrefix) + meshInfoLine(*mesh) + "\n";
+        out.write(h + comments);
       }
     };
     // Index part `s` of vertex slot `slot` -> absolute index in the merged file.
@@ -465,6 +629,7 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
       }
       return negative ? total[slot] - *v + 1 : start[slot] + *v;
     };
+    bool welded = false;
     while (f.line(line, kMaxLineBytes, &complete)) {
       ++lineNo;
       if (!complete) refuse(w, at() + "does not end with a newline (truncated?)");
@@ -474,10 +639,25 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
         } else if (startsWith(line, "# shapespline job ")) {
           info = parseShardInfoLine(std::string_view(line).substr(kObjJobPrefix.size()));
           if (!info) refuse(w, at() + "is not a valid '# shapespline job' line");
+        } else if (startsWith(std::string_view(line).substr(std::min<size_t>(line.size(), kObjJobPrefix.size())),
+                              kMeshLinePrefix) &&
+                   startsWith(line, kObjJobPrefix)) {
+          if (mesh) refuse(w, at() + "is a second '# shapespline mesh' line");
+          mesh = parseMeshInfoLine(std::string_view(line).substr(kObjJobPrefix.size()));
+          if (!mesh) refuse(w, at() + "is not a valid '# shapespline mesh' line");
+        } else if (!startsWith(line, "# patches ") && !startsWith(line, "# spans ")) {
+          comments += line + "\n";  // the item-range line is regenerated, the rest copied
         }
         continue;
       }
       if (header) endHeader();
+      if (mesh) {
+        const std::unique_ptr<WeldedNumbering> n = weldedNumbering(*info, *mesh, w);
+        mergeWeldedObjBody(f, *info, *n, line, true, lineNo, out);
+        total[0] += n->ownedCount();
+        welded = true;
+        break;
+      }
       const ShardInfo& s = *info;
       if (startsWith(line, "v ") || startsWith(line, "vn ") || startsWith(line, "vt ")) {
         const int slot = line[1] == ' ' ? 0 : line[1] == 't' ? 1 : 2;
@@ -525,6 +705,12 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
       }
     }
     if (header) endHeader();
+    if (mesh && !welded) {  // a header without a body: an empty shard
+      const std::unique_ptr<WeldedNumbering> n = weldedNumbering(*info, *mesh, w);
+      if (n->vertexCount() != 0) refuse(w, "ends after its header, before its " + std::to_string(n->vertexCount()) + " vertices");
+      welded = true;
+    }
+    if (welded) continue;
     const ShardInfo& s = *info;
     const uint64_t su = static_cast<uint64_t>(s.samplesU), sv = static_cast<uint64_t>(s.samplesV);
     const uint64_t v = perItem(s, s.pointsPerItem(), w, "vertices");
@@ -537,6 +723,11 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
                     ", but its " + std::to_string(s.itemCount) + " items have " + std::to_string(v) + " v and " +
                     std::to_string(cells) + " (truncated or extended?)");
     }
+  }
+  if (firstMesh) {
+    const ShardInfo whole = wholeJobOf(*first);
+    const std::unique_ptr<WeldedNumbering> n = weldedNumbering(whole, *firstMesh, {shardField(1), shards[0]});
+    writeObjConnectivity(out, *n, firstMesh->reversed);
   }
   return {first->totalItems, out.bytesWritten()};
 }
@@ -912,6 +1103,7 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool npy, std::opti
 MergeResult mergeShards(const std::vector<std::string>& shards, const std::string& output) {
   const OutputFormat format = outputFormatFromPath(output, "-o");
   if (format == OutputFormat::Svg) throw MergeError("-o", shown(output), "SVG files do not merge");
+  if (isGltf(format)) throw MergeError("-o", shown(output), "glTF files do not merge (sample them unsharded)");
   if (shards.empty()) throw MergeError("SHARD", "", "give the shard files 1..N");
   for (size_t k = 1; k <= shards.size(); ++k) {
     if (outputFormatFromPath(shards[k - 1], shardField(k)) != format) {
@@ -932,7 +1124,9 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
       result = mergeRaw(shards, false, format == OutputFormat::RawF64, out, files.add(output + ".json", "-o"));
       break;
     case OutputFormat::Npy: result = mergeRaw(shards, true, std::nullopt, out, files.add(output + ".json", "-o")); break;
-    case OutputFormat::Svg: break;
+    case OutputFormat::Svg:
+    case OutputFormat::Glb:
+    case OutputFormat::Gltf: break;
   }
   files.commit();
   return result;

@@ -1,14 +1,22 @@
-// Wavefront OBJ. Surfaces: per patch its Su x Sv vertices (v, vt, vn) followed by two triangles per
-// grid cell (v/vt/vn share one index); curves: the vertices of a span followed by one `l` polyline.
-// Unsharded files use absolute (1-based) indices for the widest reader support; a shard uses
-// relative (negative) indices, which the OBJ specification allows, so that shard files are valid
-// on their own and `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh. Numbers in the
-// shortest form that reads back to the value as --precision stores it (io/number_text.h writeValue).
+// Wavefront OBJ, welded (the default) or per item.
+// Welded (io/welded_mesh.h): every grid point once as v, vt, vn lines (curves: v), in the welded
+// order, then the triangles (`f i/i/i ...`, v/vt/vn share one index) or the curve's one `l`
+// polyline, with 1-based absolute indices; a shard is a mesh of its own items (its foreign
+// vertices last) and `merge` renumbers the shards into the unsharded file.
+// Per item: per patch its Su x Sv vertices followed by two triangles per grid cell; curves: the
+// vertices of a span followed by one `l` polyline. Unsharded files use absolute indices for the
+// widest reader support; a shard uses relative (negative) indices, which the OBJ specification
+// allows, so that `cat shard1.obj shard2.obj ... > whole.obj` is the merged mesh.
+// Numbers in the shortest form that reads back to the value as --precision stores it
+// (io/number_text.h writeValue).
+#include <shapespline/io/job_metadata.h>
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/welded_formats.h>
 
 #include <cstring>
+#include <memory>
 #include <string>
 
 namespace shapespline::io {
@@ -20,16 +28,75 @@ class ObjWriter final : public SampleWriter {
 
   void begin(const SampleLayout& layout) override {
     layout_ = layout;
-    relative_ = layout.sharded();
+    relative_ = layout.sharded() && !layout.welded;
     // Source, item range and the job line `merge` verifies (io/shard_info.h); the path escaped so
-    // that it stays one comment line.
-    const std::string h = objHeader(shardInfoOf(layout), escapeText(layout.source));
+    // that it stays one comment line. Welded files add the mesh line `merge` renumbers by.
+    std::string h = objHeader(shardInfoOf(layout), escapeText(layout.source), layout.welded);
+    if (layout.welded) {
+      h += std::string(kObjJobPrefix) + meshInfoLine(meshInfoOf(layout)) + "\n";
+    }
+    h += metadataComments(layout.metadata, kObjJobPrefix);  // the same in every shard: merge copies it
+    if (layout.welded) {
+      numbering_ = std::make_unique<WeldedNumbering>(WeldGrid::of(layout), layout.firstItem,
+                                                     layout.firstItem + layout.itemCount);
+      stream_ = std::make_unique<WeldedVertexStream>(*numbering_, layout.fields, layout.reversed,
+                                                     [this](const WeldedVertex& v) { writeVertex(v); });
+    }
     out_.write(h);
   }
 
-  // A patch larger than a chunk arrives as row ranges: its vertices stream chunk by chunk and its
-  // faces (index arithmetic only) follow its last vertex, so the bytes do not depend on the chunking.
   void consume(const GridChunk& chunk) override {
+    if (stream_) {
+      stream_->consume(chunk);
+    } else {
+      consumeItems(chunk);
+    }
+  }
+
+  void finish() override {
+    if (!stream_) return;
+    stream_->finish();
+    writeObjConnectivity(out_, *numbering_, layout_.reversed);
+  }
+
+ private:
+  void writeVertex(const WeldedVertex& v) {
+    char* s = out_.space(256);
+    char* e = s;
+    *e++ = 'v';
+    for (int ax = 0; ax < 3; ++ax) {
+      *e++ = ' ';
+      e = writeValue(e, v.value(Field::Point, ax), layout_.precision);
+    }
+    *e++ = '\n';
+    if (layout_.surface) {
+      const auto [tu, tv] = layout_.texCoord(v.item, v.a, v.b);
+      e = writeTexCoord(e, tu, tv);
+      *e++ = 'v';
+      *e++ = 'n';
+      for (int ax = 0; ax < 3; ++ax) {
+        *e++ = ' ';
+        e = writeValue(e, v.value(Field::Normal, ax), layout_.precision);
+      }
+      *e++ = '\n';
+    }
+    out_.advance(static_cast<size_t>(e - s));
+  }
+  char* writeTexCoord(char* e, double tu, double tv) const {
+    *e++ = 'v';
+    *e++ = 't';
+    *e++ = ' ';
+    e = writeValue(e, tu, layout_.precision);
+    *e++ = ' ';
+    e = writeValue(e, tv, layout_.precision);
+    *e++ = '\n';
+    return e;
+  }
+
+  // Per item. A patch larger than a chunk arrives as row ranges: its vertices stream chunk by chunk
+  // and its faces (index arithmetic only) follow its last vertex, so the bytes do not depend on the
+  // chunking.
+  void consumeItems(const GridChunk& chunk) {
     const size_t ppi = chunk.pointsPerItem, sv = static_cast<size_t>(layout_.samplesV);
     const size_t n = chunk.pointCount();
     for (size_t p = 0; p < n; ++p) {
@@ -44,13 +111,7 @@ class ObjWriter final : public SampleWriter {
       *e++ = '\n';
       if (layout_.surface) {
         const auto [tu, tv] = layout_.texCoord(item, static_cast<int>(q / sv), static_cast<int>(q % sv));
-        *e++ = 'v';
-        *e++ = 't';
-        *e++ = ' ';
-        e = writeValue(e, tu, layout_.precision);
-        *e++ = ' ';
-        e = writeValue(e, tv, layout_.precision);
-        *e++ = '\n';
+        e = writeTexCoord(e, tu, tv);
         *e++ = 'v';
         *e++ = 'n';
         for (int ax = 0; ax < 3; ++ax) {
@@ -67,9 +128,6 @@ class ObjWriter final : public SampleWriter {
     }
   }
 
-  void finish() override {}
-
- private:
   // Index of vertex `local` of the item just written.
   long long index(size_t local) const {
     const long long ppi = static_cast<long long>(layout_.pointsPerItem());
@@ -127,6 +185,8 @@ class ObjWriter final : public SampleWriter {
   SampleLayout layout_;
   bool relative_ = false;
   size_t vertices_ = 0;
+  std::unique_ptr<WeldedNumbering> numbering_;  // welded files
+  std::unique_ptr<WeldedVertexStream> stream_;
 };
 
 }  // namespace

@@ -1,16 +1,21 @@
-// Binary little-endian PLY. The header's counts follow from the grid alone (items x Su x Sv
-// vertices; 2 (Su-1)(Sv-1) triangles or Su-1 edges per item), so it is written first and the
-// vertices stream; the connectivity is regenerated from the grid in finish() without storing any.
+// Binary little-endian PLY, welded (the default, io/welded_mesh.h: every grid point once) or per
+// item (items x Su x Sv vertices; 2 (Su-1)(Sv-1) triangles or Su-1 edges per item). The header's
+// counts follow from the grid alone, so it is written first and the vertices stream; the
+// connectivity is regenerated from the grid in finish() without storing any.
 // Vertex properties: x y z, nx ny nz (surfaces and --normals), s t (surfaces: uv in [0,1] over the
 // model), then <field>_x/_y/_z for every other requested field, in the precision of the samples.
-// Shards merge with `shapespline merge` (vertex blocks concatenated, indices offset).
+// Shards merge with `shapespline merge` (welded: each shard's owned vertices, the connectivity
+// regenerated; per item: vertex blocks concatenated, indices offset).
+#include <shapespline/io/job_metadata.h>
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/welded_formats.h>
 
 #include <bit>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 
 namespace shapespline::io {
@@ -24,16 +29,23 @@ class PlyWriter final : public SampleWriter {
 
   void begin(const SampleLayout& layout) override {
     layout_ = layout;
-    const size_t vertices = layout.pointCount();
+    if (layout.welded) {
+      numbering_ = std::make_unique<WeldedNumbering>(WeldGrid::of(layout), layout.firstItem,
+                                                     layout.firstItem + layout.itemCount);
+    }
+    const uint64_t vertices = numbering_ ? numbering_->vertexCount() : layout.pointCount();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
       throw std::invalid_argument("PLY stores 32-bit vertex indices: " + std::to_string(vertices) +
                                   " vertices do not fit; use --shard or a raw format");
     }
     const bool dbl = layout.precision == Precision::Double;
     const char* type = dbl ? "double" : "float";
-    // Source (escaped: one comment line) and the job line `merge` verifies (io/shard_info.h).
+    // Source (escaped: one comment line), the job line `merge` verifies (io/shard_info.h) and, for
+    // welded files, the mesh line it renumbers by.
     std::string h = "ply\nformat binary_little_endian 1.0\n" +
                     plyInfoComments(shardInfoOf(layout), escapeText(layout.source));
+    if (numbering_) h += std::string(kPlyJobPrefix) + meshInfoLine(meshInfoOf(layout)) + "\n";
+    h += metadataComments(layout.metadata, kPlyJobPrefix);  // the same in every shard: merge copies it
     h += "element vertex " + std::to_string(vertices) + "\n";
     fields_.clear();
     for (const char* a : {"x", "y", "z"}) h += std::string("property ") + type + " " + a + "\n";
@@ -52,7 +64,9 @@ class PlyWriter final : public SampleWriter {
       }
     }
     const size_t su = static_cast<size_t>(layout.samplesU), sv = static_cast<size_t>(layout.samplesV);
-    if (layout.surface) {
+    if (numbering_) {
+      h += plyConnectivityHeader(*numbering_);
+    } else if (layout.surface) {
       h += "element face " + std::to_string(layout.itemCount * 2 * (su - 1) * (sv - 1)) +
            "\nproperty list uchar uint vertex_indices\n";
     } else {
@@ -61,33 +75,34 @@ class PlyWriter final : public SampleWriter {
     }
     h += "end_header\n";
     out_.write(h);
+    if (numbering_) {
+      stream_ = std::make_unique<WeldedVertexStream>(
+          *numbering_, layout.fields, layout.reversed, [this](const WeldedVertex& v) {
+            putVertex([&](Field f, int ax) { return v.value(f, ax); }, v.item, v.a, v.b);
+          });
+    }
   }
 
   void consume(const GridChunk& chunk) override {
-    const bool dbl = layout_.precision == Precision::Double;
+    if (stream_) {
+      stream_->consume(chunk);
+      return;
+    }
     const size_t sv = static_cast<size_t>(layout_.samplesV);
     const size_t n = chunk.pointCount();  // whole items or a row range of one (the faces come in finish())
     for (size_t p = 0; p < n; ++p) {
-      char* s = out_.space(512);
-      char* e = s;
-      auto put = [&](double v) { e = putBinaryValue(e, v, dbl); };
-      for (Field f : fields_) {
-        for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
-      }
-      if (layout_.surface) {
-        const size_t q = chunk.pointInItem(p);
-        const auto [tu, tv] = layout_.texCoord(chunk.itemOf(p), static_cast<int>(q / sv), static_cast<int>(q % sv));
-        put(tu);
-        put(tv);
-      }
-      for (Field f : extra_) {
-        for (int ax = 0; ax < 3; ++ax) put(chunk.coord(f, p, ax));
-      }
-      out_.advance(static_cast<size_t>(e - s));
+      const size_t q = chunk.pointInItem(p);
+      putVertex([&](Field f, int ax) { return chunk.coord(f, p, ax); }, chunk.itemOf(p), static_cast<int>(q / sv),
+                static_cast<int>(q % sv));
     }
   }
 
   void finish() override {
+    if (stream_) {
+      stream_->finish();
+      writePlyConnectivity(out_, *numbering_, layout_.reversed);
+      return;
+    }
     const uint32_t su = static_cast<uint32_t>(layout_.samplesU), sv = static_cast<uint32_t>(layout_.samplesV);
     const uint32_t ppi = su * sv;
     for (size_t item = 0; item < layout_.itemCount; ++item) {
@@ -115,9 +130,32 @@ class PlyWriter final : public SampleWriter {
   }
 
  private:
+  // One vertex record: the header's properties in order; `value(field, axis)`.
+  template <class Value>
+  void putVertex(const Value& value, uint64_t item, int a, int b) {
+    const bool dbl = layout_.precision == Precision::Double;
+    char* s = out_.space(512);
+    char* e = s;
+    auto put = [&](double v) { e = putBinaryValue(e, v, dbl); };
+    for (Field f : fields_) {
+      for (int ax = 0; ax < 3; ++ax) put(value(f, ax));
+    }
+    if (layout_.surface) {
+      const auto [tu, tv] = layout_.texCoord(item, a, b);
+      put(tu);
+      put(tv);
+    }
+    for (Field f : extra_) {
+      for (int ax = 0; ax < 3; ++ax) put(value(f, ax));
+    }
+    out_.advance(static_cast<size_t>(e - s));
+  }
+
   AtomicFile& out_;
   SampleLayout layout_;
   std::vector<Field> fields_, extra_;
+  std::unique_ptr<WeldedNumbering> numbering_;  // welded files
+  std::unique_ptr<WeldedVertexStream> stream_;
 };
 
 }  // namespace

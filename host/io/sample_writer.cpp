@@ -1,4 +1,5 @@
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/io/welded_mesh.h>
 
 #include <shapespline/io/number_text.h>
 
@@ -18,8 +19,11 @@ OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::
   if (ext == ".f64") return OutputFormat::RawF64;
   if (ext == ".npy") return OutputFormat::Npy;
   if (ext == ".svg") return OutputFormat::Svg;
+  if (ext == ".glb") return OutputFormat::Glb;
+  if (ext == ".gltf") return OutputFormat::Gltf;
   throw OutputPathError(option, path.string(),
-                        "unknown extension '" + ext + "' (expected .obj, .ply, .csv, .f32, .f64, .npy or .svg)");
+                        "unknown extension '" + ext +
+                            "' (expected .obj, .ply, .csv, .f32, .f64, .npy, .svg, .glb or .gltf)");
 }
 
 std::string_view outputFormatName(OutputFormat format) {
@@ -31,6 +35,8 @@ std::string_view outputFormatName(OutputFormat format) {
     case OutputFormat::RawF64: return "f64";
     case OutputFormat::Npy: return "npy";
     case OutputFormat::Svg: return "svg";
+    case OutputFormat::Glb: return "glb";
+    case OutputFormat::Gltf: return "gltf";
   }
   return "?";
 }
@@ -152,6 +158,10 @@ std::unique_ptr<SampleWriter> makeUncheckedWriter(OutputFormat format, AtomicFil
     case OutputFormat::Csv: return makeCsvWriter(out);
     case OutputFormat::Svg: return makeSvgWriter(out);
     case OutputFormat::Npy: return makeNpyWriter(out, sidecar);
+    case OutputFormat::Glb: return makeGltfWriter(out, nullptr);
+    case OutputFormat::Gltf:
+      if (!sidecar) throw std::logic_error(".gltf output needs its .bin file");
+      return makeGltfWriter(out, sidecar);
     case OutputFormat::RawF32:
     case OutputFormat::RawF64:
       if (!sidecar) throw std::logic_error("raw output needs a sidecar file");
@@ -164,12 +174,29 @@ std::unique_ptr<SampleWriter> makeUncheckedWriter(OutputFormat format, AtomicFil
 
 FieldMask requiredFields(OutputFormat format, bool surface) {
   FieldMask m = fieldBit(Field::Point);
-  if (surface && (format == OutputFormat::Obj || format == OutputFormat::Ply)) m |= fieldBit(Field::Normal);
+  if (surface && (format == OutputFormat::Obj || format == OutputFormat::Ply || isGltf(format))) {
+    m |= fieldBit(Field::Normal);
+  }
   return m;
 }
 
 std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar) {
   return std::make_unique<CheckedWriter>(makeUncheckedWriter(format, out, sidecar), out);
+}
+
+std::vector<std::pair<size_t, size_t>> streamedItemRanges(OutputFormat format, const SampleLayout& layout) {
+  const std::pair<size_t, size_t> own{layout.firstItem, layout.firstItem + layout.itemCount};
+  if (!isMesh(format) || !layout.welded || !layout.sharded() || layout.itemCount == 0) return {own};
+  std::vector<std::pair<size_t, size_t>> ranges;
+  const auto context = WeldedNumbering(WeldGrid::of(layout), own.first, own.second).contextItems();
+  for (const auto& [a, b] : context) {
+    if (a < own.first) ranges.emplace_back(a, b);
+  }
+  ranges.push_back(own);
+  for (const auto& [a, b] : context) {
+    if (a >= own.second) ranges.emplace_back(a, b);
+  }
+  return ranges;
 }
 
 }  // namespace shapespline::io

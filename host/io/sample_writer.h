@@ -1,10 +1,13 @@
 #pragma once
 // Streaming writers of sampled grids (core/sample_grid.h): each consumes GridChunks in item order
 // and never holds more than one chunk plus a fixed-size buffer, so 10^9 points stream through
-// in bounded memory. Formats: OBJ (surfaces: two triangles per grid cell with normals and uv;
-// curves: one polyline per span), PLY (binary little endian), CSV, raw f32/f64 with a JSON sidecar,
-// NumPy .npy (the raw records as a structured array; shards add the raw sidecar),
-// and SVG (curves only, 2-D projection; buffers its points, so the caller caps the count).
+// in bounded memory. Formats: OBJ and PLY (binary little endian) meshes, welded (io/welded_mesh.h;
+// surfaces: two triangles per grid cell with normals and uv; curves: one polyline) or per item,
+// CSV, raw f32/f64 with a JSON sidecar, NumPy .npy (the raw records as a structured array, with the
+// raw sidecar beside it),
+// SVG (curves only, 2-D projection; buffers its points, so the caller caps the count), and glTF 2.0
+// (.glb, or .gltf + OUT.bin: a welded mesh held in memory by tinygltf, so the caller caps the
+// vertex count at kMaxGltfVertices and never shards it; io/gltf_writer.cpp).
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/job_metadata.h>
@@ -21,7 +24,14 @@
 
 namespace shapespline::io {
 
-enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Npy, Svg };
+enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Npy, Svg, Glb, Gltf };
+
+// glTF output holds its welded mesh in memory (fp32 positions re-centred on the bounding box): at
+// most this many vertices (distinct grid points, io/welded_mesh.h WeldGrid::pointCount).
+inline constexpr uint64_t kMaxGltfVertices = uint64_t{1} << 24;
+inline bool isGltf(OutputFormat f) { return f == OutputFormat::Glb || f == OutputFormat::Gltf; }
+// The buffer file a .gltf refers to: the same path with the extension .bin (OUT.gltf -> OUT.bin).
+std::filesystem::path gltfBufferPath(const std::filesystem::path& gltf);
 
 // Format from the file extension (case-insensitive); throws OutputPathError(option, ...) otherwise.
 OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option = "-o");
@@ -99,11 +109,18 @@ class SampleWriter {
   virtual void finish() = 0;
 };
 
-// `out` must outlive the writer. `sidecar` (raw formats, and .npy when sharded) receives the JSON
-// layout description.
+// `out` must outlive the writer. `sidecar` (raw formats and .npy; glTF: the .bin) receives the JSON
+// layout description; for .gltf it is the buffer file (gltfBufferPath).
 // The writer checks the layout's derived values in begin() and turns a DerivedValueError of any
 // call into OutputWriteError(out.option(), out.target(), ...).
 std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar = nullptr);
+
+// The formats that write meshes (OBJ, PLY, glTF), welded when layout.welded (io/welded_mesh.h).
+inline bool isMesh(OutputFormat f) { return f == OutputFormat::Obj || f == OutputFormat::Ply || isGltf(f); }
+// The item ranges [a, b) a writer of `format` must be given, in this order: a welded shard's
+// context before its items, its items, its context after (the outside items that share its
+// points); otherwise its items alone.
+std::vector<std::pair<size_t, size_t>> streamedItemRanges(OutputFormat format, const SampleLayout& layout);
 
 // Fields every writer of `format` needs for the given kind (e.g. OBJ/PLY surfaces need normals).
 FieldMask requiredFields(OutputFormat format, bool surface);
@@ -113,7 +130,10 @@ std::unique_ptr<SampleWriter> makePlyWriter(AtomicFile& out);
 std::unique_ptr<SampleWriter> makeCsvWriter(AtomicFile& out);
 std::unique_ptr<SampleWriter> makeRawWriter(AtomicFile& out, AtomicFile& sidecar, Precision filePrecision);
 std::unique_ptr<SampleWriter> makeSvgWriter(AtomicFile& out);
-// `sidecar` may be null for an unsharded job (the .npy stands alone).
+// `sidecar` (OUT.npy.json: the job, its items and its metadata) may be null for a library caller
+// that wants the .npy alone.
 std::unique_ptr<SampleWriter> makeNpyWriter(AtomicFile& out, AtomicFile* sidecar);
+// `bin` null: .glb; else .gltf whose buffer goes to `bin` (committed in the same io::OutputSet).
+std::unique_ptr<SampleWriter> makeGltfWriter(AtomicFile& out, AtomicFile* bin);
 
 }  // namespace shapespline::io

@@ -73,6 +73,11 @@ void job(Fnv1a& h, const SampleLayout& l, OutputFormat format) {
   h.u64(l.precision == Precision::Double ? 1 : 0);
   h.u64(l.totalItems);
   h.u64(l.itemsV);
+  // Mesh formats: a welded and a per-item file of one model are different jobs.
+  if (format == OutputFormat::Obj || format == OutputFormat::Ply) {
+    h.u64(l.welded ? 1 : 0);
+    h.u64(l.reversed ? 1 : 0);
+  }
 }
 
 bool validUtf8At(std::string_view s, size_t i, size_t* length) {
@@ -266,15 +271,60 @@ std::string plyInfoComments(const ShardInfo& info, std::string_view escapedSourc
          shardInfoLine(info) + "\n";
 }
 
-std::string objHeader(const ShardInfo& s, std::string_view escapedSource) {
-  const bool relative = s.shardCount > 1;
+std::string objHeader(const ShardInfo& s, std::string_view escapedSource, bool welded) {
+  const bool relative = s.shardCount > 1 && !welded;
   return std::string(kObjSourcePrefix) + std::string(escapedSource) + "\n# " + (s.surface ? "patches " : "spans ") +
          std::to_string(s.firstItem) + ".." + std::to_string(s.endItem()) + " of " + std::to_string(s.totalItems) +
          ", grid " + std::to_string(s.samplesU) + (s.surface ? "x" + std::to_string(s.samplesV) : std::string()) +
-         (relative ? ", shard " + std::to_string(s.shardIndex) + "/" + std::to_string(s.shardCount) +
-                         " (relative indices: concatenate shards)"
-                   : std::string()) +
+         (s.shardCount > 1 ? ", shard " + std::to_string(s.shardIndex) + "/" + std::to_string(s.shardCount) +
+                                 (relative ? " (relative indices: concatenate shards)" : " (merge with shapespline merge)")
+                           : std::string()) +
          "\n" + std::string(kObjJobPrefix) + shardInfoLine(s) + "\n";
+}
+
+MeshInfo meshInfoOf(const SampleLayout& l) {
+  MeshInfo m;
+  m.patchesV = l.surface ? (l.itemsV == 0 ? 1 : l.itemsV) : 1;
+  m.patchesU = l.totalItems / m.patchesV;
+  m.closedU = l.surface ? l.closedU : l.closed;
+  m.closedV = l.surface && l.closedV;
+  m.reversed = l.reversed;
+  return m;
+}
+
+std::string meshInfoLine(const MeshInfo& m) {
+  const char* closed = m.closedU && m.closedV ? "uv" : m.closedU ? "u" : m.closedV ? "v" : "none";
+  return "shapespline mesh welded items " + std::to_string(m.patchesU) + "x" + std::to_string(m.patchesV) +
+         " closed " + closed + " orientation " + (m.reversed ? "reversed" : "du-x-dv");
+}
+
+std::optional<MeshInfo> parseMeshInfoLine(std::string_view line) {
+  std::vector<std::string_view> t;
+  if (!splitSpaces(line, t) || t.size() != 9 || t[0] != "shapespline" || t[1] != "mesh" || t[2] != "welded" ||
+      t[3] != "items" || t[5] != "closed" || t[7] != "orientation") {
+    return std::nullopt;
+  }
+  constexpr uint64_t kMaxItems = (uint64_t{1} << 62) - 1;
+  const auto items = parsePair(t[4], "x", kMaxItems);
+  if (!items || items->first == 0 || items->second == 0 || items->first > kMaxItems / items->second) return std::nullopt;
+  MeshInfo m;
+  m.patchesU = items->first;
+  m.patchesV = items->second;
+  if (t[6] == "uv") {
+    m.closedU = m.closedV = true;
+  } else if (t[6] == "u") {
+    m.closedU = true;
+  } else if (t[6] == "v") {
+    m.closedV = true;
+  } else if (t[6] != "none") {
+    return std::nullopt;
+  }
+  if (t[8] == "reversed") {
+    m.reversed = true;
+  } else if (t[8] != "du-x-dv") {
+    return std::nullopt;
+  }
+  return m;
 }
 
 SpanWindow spanWindow(uint64_t first, uint64_t count, uint64_t itemsV) {

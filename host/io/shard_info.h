@@ -51,7 +51,21 @@ std::optional<ShardInfo> parseShardInfoLine(std::string_view line);
 // Header lines naming the source and the job, shared by the writers and `merge` so that a merged
 // file is byte-identical to the unsharded one. `escapedSource` is escapeText(model path).
 std::string plyInfoComments(const ShardInfo& info, std::string_view escapedSource);
-std::string objHeader(const ShardInfo& info, std::string_view escapedSource);
+// `welded`: absolute indices in a shard too (welded shards are merged, not concatenated).
+std::string objHeader(const ShardInfo& info, std::string_view escapedSource, bool welded);
+// A welded mesh file (io/welded_mesh.h) also carries its grid of items, closed directions and
+// orientation on the line after the job line, which is all `merge` needs to renumber its shards:
+// "shapespline mesh welded items PUxPV closed uv|u|v|none orientation du-x-dv|reversed".
+struct MeshInfo {
+  uint64_t patchesU = 1, patchesV = 1;
+  bool closedU = false, closedV = false;
+  bool reversed = false;
+};
+MeshInfo meshInfoOf(const SampleLayout& layout);
+std::string meshInfoLine(const MeshInfo& mesh);
+std::optional<MeshInfo> parseMeshInfoLine(std::string_view line);
+inline constexpr std::string_view kMeshLinePrefix = "shapespline mesh ";
+
 inline constexpr std::string_view kPlySourcePrefix = "comment shapespline sample of ";
 inline constexpr std::string_view kPlyJobPrefix = "comment ";
 inline constexpr std::string_view kObjSourcePrefix = "# shapespline sample of ";

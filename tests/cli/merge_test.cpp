@@ -170,8 +170,9 @@ TEST(CliMerge, PlyCountsThatOverflowAreRefused) {
 
 TEST(CliMerge, ObjIndicesNearInt64MaxAndGarbageAreRefused) {
   ScratchDir dir("merge_obj_overflow");
-  sampleTo(dir, model("butterfly_aeb.json"), "p1.obj", "--samples 3 --shard 1/2");
-  sampleTo(dir, model("butterfly_aeb.json"), "p2.obj", "--samples 3 --shard 2/2");
+  // Per-item shards: their polylines' indices are parsed and renumbered.
+  sampleTo(dir, model("butterfly_aeb.json"), "p1.obj", "--samples 3 --shard 1/2 --mesh-layout per-item");
+  sampleTo(dir, model("butterfly_aeb.json"), "p2.obj", "--samples 3 --shard 2/2 --mesh-layout per-item");
   const std::string good = readText(dir / "p2.obj");
   const size_t l = good.find("\nl ");
   ASSERT_NE(l, std::string::npos);

@@ -74,7 +74,7 @@ Obj parseObj(const std::string& text) {
 TEST(CliSample, ObjCurveMatchesCore) {
   ScratchDir dir("obj_curve");
   const CliResult r = runCli("sample " + quote(examplesDir() + "/open_aeb.json") + " -o " +
-                                 quote((dir / "c.obj").string()) + " --samples 9 --device cpu",
+                                 quote((dir / "c.obj").string()) + " --samples 9 --device cpu --mesh-layout per-item",
                              dir.path());
   ASSERT_EQ(r.rc, 0) << r.err;
   const Curve curve = loadCurve("open_aeb.json");
@@ -95,7 +95,7 @@ TEST(CliSample, ObjCurveMatchesCore) {
 TEST(CliSample, ObjSurfaceMeshWithNormalsAndUv) {
   ScratchDir dir("obj_surface");
   const CliResult r = runCli("sample " + quote(examplesDir() + "/surface_aeb.json") + " -o " +
-                                 quote((dir / "s.obj").string()) + " --grid 5x4 --device cpu",
+                                 quote((dir / "s.obj").string()) + " --grid 5x4 --device cpu --mesh-layout per-item",
                              dir.path());
   ASSERT_EQ(r.rc, 0) << r.err;
   const Surface surface = loadSurface("surface_aeb.json");
@@ -188,7 +188,7 @@ Ply parsePly(const std::string& all) {
 TEST(CliSample, PlySurfaceBinaryMatchesCore) {
   ScratchDir dir("ply_surface");
   const CliResult r = runCli("sample " + quote(examplesDir() + "/surface_aeb.json") + " -o " +
-                                 quote((dir / "s.ply").string()) + " --grid 3x4 --device cpu --derivatives",
+                                 quote((dir / "s.ply").string()) + " --grid 3x4 --device cpu --derivatives --mesh-layout per-item",
                              dir.path());
   ASSERT_EQ(r.rc, 0) << r.err;
   const Surface surface = loadSurface("surface_aeb.json");
@@ -318,16 +318,17 @@ TEST(CliSample, Float32RawWithinFp32Tolerance) {
   }
 }
 
+// Per-item layout (welded shards: tests/cli/mesh_output_test.cpp).
 TEST(CliSample, PlyAndObjShardsMergeIntoTheWhole) {
   ScratchDir dir("mesh_shards");
   const std::string model = quote(examplesDir() + "/surface_aeb.json");
   for (const char* ext : {"ply", "obj"}) {
     const std::string whole = (dir / (std::string("all.") + ext)).string();
-    ASSERT_EQ(runCli("sample " + model + " -o " + quote(whole) + " --grid 3 --device cpu -q", dir.path()).rc, 0);
+    ASSERT_EQ(runCli("sample " + model + " -o " + quote(whole) + " --grid 3 --device cpu -q --mesh-layout per-item", dir.path()).rc, 0);
     std::string parts, catted;
     for (int k = 1; k <= 4; ++k) {
       const std::string f = (dir / ("p" + std::to_string(k) + "." + ext)).string();
-      ASSERT_EQ(runCli("sample " + model + " -o " + quote(f) + " --grid 3 --device cpu -q --shard " +
+      ASSERT_EQ(runCli("sample " + model + " -o " + quote(f) + " --grid 3 --device cpu -q --mesh-layout per-item --shard " +
                            std::to_string(k) + "/4",
                        dir.path()).rc, 0);
       parts += " " + quote(f);

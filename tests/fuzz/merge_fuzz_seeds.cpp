@@ -65,6 +65,8 @@ Job makeJob(const std::string& modelFile, io::OutputFormat format, int samples) 
     for (int i : l.spanU) l.paramU.emplace_back(i, i + 1.0);
     for (int k : l.spanV) l.paramV.emplace_back(k, k + 1.0);
     l.samplesU = l.samplesV = samples;
+    l.closedU = j.surface->model().closedU;
+    l.closedV = j.surface->model().closedV;
     l.job = io::jobFingerprint(j.surface->model(), l, format);
   } else {
     j.curve.emplace(Curve::create(std::get<CurveModel>(std::move(model))));
@@ -76,6 +78,7 @@ Job makeJob(const std::string& modelFile, io::OutputFormat format, int samples) 
     for (int s : l.spanU) l.paramU.emplace_back(j.curve->parameterOf(s, 0.0), j.curve->parameterOf(s, 1.0));
     l.samplesU = samples;
     l.samplesV = 1;
+    l.closed = j.curve->model().closed;
     l.job = io::jobFingerprint(j.curve->model(), l, format);
   }
   return j;
@@ -102,8 +105,12 @@ void writeShard(Job& j, int k, int n, const fs::path& path) {
     grid.firstItem = l.firstItem;
     grid.itemCount = l.itemCount;
     auto consume = [&](const GridChunk& c) { writer->consume(c); };
-    if (j.curve) sampleCurveGrid(*j.curve, grid, l.fields, consume, {.threads = 1});
-    else sampleSurfaceGrid(*j.surface, grid, l.fields, consume, {.threads = 1});
+    for (const auto& [a, b] : io::streamedItemRanges(j.format, l)) {  // a welded shard's context too
+      grid.firstItem = a;
+      grid.itemCount = b - a;
+      if (j.curve) sampleCurveGrid(*j.curve, grid, l.fields, consume, {.threads = 1});
+      else sampleSurfaceGrid(*j.surface, grid, l.fields, consume, {.threads = 1});
+    }
   }
   writer->finish();
   out.commit();
