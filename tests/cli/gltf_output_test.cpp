@@ -390,6 +390,8 @@ TEST(GltfOutput, ClosedTorusIsWatertightWithOutwardNormals) {
   ScratchDir dir("gltf_torus");
   checkJob(dir, "torus", {writeTorus(dir, "torus.json", false), "--grid 4x3", true, true, true});
   checkJob(dir, "torus_in", {writeTorus(dir, "torus_in.json", true), "--grid 3x4", true, true, true});
+  // The example torus: alpha = 1 at one vertex (its normal is the mean of the patches' limits).
+  checkJob(dir, "example", {examplesDir() + "/torus_aeb.json", "--grid 3", true, true, true});
 }
 
 TEST(GltfOutput, CurvesAreLineStripsAndLoops) {
