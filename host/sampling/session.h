@@ -87,6 +87,12 @@ class Session {
   ListResult<SurfacePoint> evaluate(const Surface& surface, const DeviceRequest& request,
                                     std::span<const SurfaceQuery> queries);
 
+  // The Vulkan context once a plan or job on the GPU path created it (nullptr before that and when
+  // there is no device). A front end that keeps device-side models between jobs (the Python
+  // module's gpu::GpuCurve/GpuSurface, so parameter changes need no net upload) builds them on it,
+  // after plan() chose the GPU.
+  const std::shared_ptr<vk::Context>& vulkanContext() const { return ctx_; }
+
  private:
   // One body for curves and surfaces each (session.cpp).
   template <class Model>

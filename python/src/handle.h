@@ -1,0 +1,293 @@
+#pragma once
+// The state behind one Python Curve / Surface object: the current core model (what the CPU path
+// evaluates) and, per precision, a resident GPU mirror (gpu::GpuCurve / GpuSurface and its
+// evaluator) built on the module's sampling::Session context the first time Session::plan chooses
+// the GPU. Parameter setters validate through Curve/Surface::create and then call the mirror's
+// setters, so a later job re-evaluates without re-uploading the net (UploadStats prove it).
+//
+// Device policy is the Session's alone: every job starts with Session::plan (GPU or CPU, fallbacks,
+// the power-of-two net scale); this file only keeps the mirror that plan's answer asks for.
+// Thread safety: CPU jobs read the model under a shared lock; GPU jobs (the mirror is mutable) and
+// setters take the lock exclusively. Nothing here touches Python.
+#include <shapespline/core/curve.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/gpu/evaluator.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/sampling/net_scale.h>
+#include <shapespline/sampling/session.h>
+#include <shapespline/vk/error.h>
+
+#include <array>
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <shared_mutex>
+#include <span>
+#include <vector>
+
+namespace shapespline::python {
+
+// The module's one Session (Vulkan starts on the first GPU request; device=cpu never touches it).
+sampling::Session& session();
+// Session::plan, with the lazy creation of the session's context serialized across threads.
+template <class Model>
+sampling::Report plan(const Model& model, const sampling::DeviceRequest& request);
+
+// Every Vulkan failure of a resident job becomes sampling::DeviceError, as in the Session.
+[[noreturn]] void rethrowDeviceError();
+
+// Points per CPU chunk when the caller names none (the Session's own default).
+inline constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 18;
+
+template <class Model>
+struct Kind;
+template <>
+struct Kind<Curve> {
+  using Mirror = gpu::GpuCurve;
+  using Evaluator = gpu::CurveEvaluator;
+  using Point = CurvePoint;
+  using Query = sampling::CurveQuery;
+  using ModelData = CurveModel;
+};
+template <>
+struct Kind<Surface> {
+  using Mirror = gpu::GpuSurface;
+  using Evaluator = gpu::SurfaceEvaluator;
+  using Point = SurfacePoint;
+  using Query = sampling::SurfaceQuery;
+  using ModelData = SurfaceModel;
+};
+
+// Upload counters of a handle: those of its current mirror of one precision, and how many mirrors
+// (full net uploads) the handle has built for it.
+struct ResidentStats {
+  bool resident = false;
+  gpu::UploadStats upload;
+  uint64_t mirrorsBuilt = 0;
+};
+
+template <class Model>
+class Handle {
+ public:
+  using K = Kind<Model>;
+  explicit Handle(Model model) : model_(std::move(model)) {}
+
+  // A copy of the current model (value type; the caller may use it without the lock).
+  Model model() const {
+    std::shared_lock lock(mutex_);
+    return model_;
+  }
+
+  sampling::Report plan(const sampling::DeviceRequest& request) const {
+    std::shared_lock lock(mutex_);
+    return python::plan(model_, request);
+  }
+
+  // A grid job: Session::plan decides; the CPU path runs the core sampler, the GPU path the
+  // resident mirror. Chunks arrive on the calling thread in item order.
+  sampling::Report sampleGrid(const sampling::DeviceRequest& request, const GridSpec& grid, FieldMask fields,
+                              const ChunkConsumer& consumer, size_t chunkPoints) {
+    {
+      std::shared_lock lock(mutex_);
+      sampling::Report r = python::plan(model_, request);
+      if (!r.gpu) {
+        SamplerOptions o;
+        o.maxChunkPoints = chunkPoints ? chunkPoints : kDefaultCpuChunkPoints;
+        if constexpr (std::is_same_v<Model, Curve>) {
+          sampleCurveGrid(model_, grid, fields, consumer, o);
+        } else {
+          sampleSurfaceGrid(model_, grid, fields, consumer, o);
+        }
+        return r;
+      }
+    }
+    std::unique_lock lock(mutex_);
+    sampling::Report r = python::plan(model_, request);  // again: the model may have changed
+    if (!r.gpu) {
+      lock.unlock();
+      return sampleGrid(request, grid, fields, consumer, chunkPoints);
+    }
+    try {
+      Resident& res = resident(r, chunkPoints);
+      sampling::ChunkUnscaler unscale(r.netScaleExponent);
+      res.evaluator->evaluateGrid(*res.mirror, grid, fields, [&](const GridChunk& c) { unscale(c, consumer); });
+    } catch (const vk::VulkanError&) {
+      rethrowDeviceError();
+    }
+    return r;
+  }
+
+  // Every field at each query; CPU: Curve/Surface::evaluate(At), GPU: the mirror's list kernels.
+  sampling::ListResult<typename K::Point> evaluate(const sampling::DeviceRequest& request,
+                                                   std::span<const typename K::Query> queries) {
+    sampling::ListResult<typename K::Point> out;
+    {
+      std::shared_lock lock(mutex_);
+      out.report = python::plan(model_, request);
+      checkQueries(queries);
+      if (!out.report.gpu) {
+        out.points.resize(queries.size());
+        for (size_t i = 0; i < queries.size(); ++i) {
+          try {
+            out.points[i] = cpuPoint(queries[i]);
+          } catch (const std::out_of_range& e) {
+            throw sampling::QueryRangeError(i, e.what());
+          }
+        }
+        return out;
+      }
+    }
+    std::unique_lock lock(mutex_);
+    out.report = python::plan(model_, request);
+    if (!out.report.gpu) {
+      lock.unlock();
+      return evaluate(request, queries);
+    }
+    checkQueries(queries);
+    if (queries.empty()) return out;
+    try {
+      Resident& res = resident(out.report, 0);
+      out.points = gpuPoints(res, queries);
+    } catch (const vk::VulkanError&) {
+      rethrowDeviceError();
+    }
+    sampling::unscale(out.points, out.report.netScaleExponent);
+    return out;
+  }
+
+  // Setters: `edit(data)` changes a copy of the model data; create validates it (ModelError:
+  // nothing changes); `onMirror(mirror, scale)` applies the change to each resident mirror (PARAMS
+  // or the changed net entries only). A mirror whose setter fails, or whose net scale would change,
+  // is dropped and rebuilt by the next GPU job (counted in mirrorsBuilt).
+  template <class Edit, class Change>
+  void change(Edit&& edit, Change&& onMirror) {
+    std::unique_lock lock(mutex_);
+    typename K::ModelData data = model_.model();
+    edit(data);
+    Model created = Model::create(std::move(data));
+    for (size_t p = 0; p < resident_.size(); ++p) {
+      auto& res = resident_[p];
+      if (!res) continue;
+      const Precision precision = p == 0 ? Precision::Float : Precision::Double;
+      bool keep = sampling::netScale(created.model().points, precision) == res->scale;
+      if (keep) {
+        try {
+          onMirror(*res->mirror, res->scale);
+        } catch (...) {
+          keep = false;
+        }
+      }
+      if (!keep) res.reset();
+    }
+    model_ = std::move(created);
+  }
+
+  ResidentStats stats(Precision precision) const {
+    std::shared_lock lock(mutex_);
+    const size_t p = precision == Precision::Float ? 0 : 1;
+    ResidentStats s;
+    s.mirrorsBuilt = built_[p];
+    if (resident_[p]) {
+      s.resident = true;
+      s.upload = resident_[p]->mirror->uploadStats();
+    }
+    return s;
+  }
+
+  // Runs `job(ctx, mirror, report)` on the resident mirror when the plan chose the GPU (exclusive
+  // lock), else `cpu(model, report)` (shared lock). Used by tessellation.
+  template <class GpuJob, class CpuJob>
+  auto withDevice(const sampling::DeviceRequest& request, GpuJob&& job, CpuJob&& cpu) {
+    {
+      std::shared_lock lock(mutex_);
+      const sampling::Report r = python::plan(model_, request);
+      if (!r.gpu) return cpu(model_, r);
+    }
+    std::unique_lock lock(mutex_);
+    const sampling::Report r = python::plan(model_, request);
+    if (!r.gpu) return cpu(model_, r);
+    try {
+      Resident& res = resident(r, 0);
+      return job(session().vulkanContext(), *res.mirror, r);
+    } catch (const vk::VulkanError&) {
+      rethrowDeviceError();
+    }
+  }
+
+ private:
+  struct Resident {
+    int scale = 0;
+    size_t chunkPoints = 0;
+    std::unique_ptr<typename K::Mirror> mirror;
+    std::unique_ptr<typename K::Evaluator> evaluator;
+  };
+
+  // The mirror of the report's precision and scale (built, or rebuilt when the scale changed; the
+  // evaluator is rebuilt when the plane size changes). Caller holds the exclusive lock.
+  Resident& resident(const sampling::Report& r, size_t chunkPoints) {
+    const size_t p = r.computedPrecision == Precision::Float ? 0 : 1;
+    auto& res = resident_[p];
+    const auto& ctx = session().vulkanContext();
+    if (res && res->scale != r.netScaleExponent) res.reset();
+    if (!res) {
+      Resident fresh;
+      fresh.scale = r.netScaleExponent;
+      if (fresh.scale != 0) {
+        Model scaled = scaledModel(fresh.scale);
+        fresh.mirror = std::make_unique<typename K::Mirror>(ctx, scaled, r.computedPrecision);
+      } else {
+        fresh.mirror = std::make_unique<typename K::Mirror>(ctx, model_, r.computedPrecision);
+      }
+      ++built_[p];
+      res = std::move(fresh);
+    }
+    if (!res->evaluator || res->chunkPoints != chunkPoints) {
+      gpu::EvaluatorOptions o;
+      if (chunkPoints > 0) {
+        const size_t real = r.computedPrecision == Precision::Double ? 8 : 4;
+        o.maxPlaneBytes = (chunkPoints * 3 + 4) * real;
+      }
+      res->evaluator = std::make_unique<typename K::Evaluator>(ctx, r.computedPrecision, o);
+      res->chunkPoints = chunkPoints;
+    }
+    return *res;
+  }
+
+  Model scaledModel(int k) const {
+    if constexpr (std::is_same_v<Model, Curve>) {
+      return sampling::scaledCurve(model_, k);
+    } else {
+      return sampling::scaledSurface(model_, k);
+    }
+  }
+
+  // Queries outside the model are refused before any device work (QueryRangeError names the index).
+  void checkQueries(std::span<const typename K::Query> queries) const;
+  typename K::Point cpuPoint(const typename K::Query& q) const;
+  std::vector<typename K::Point> gpuPoints(Resident& res, std::span<const typename K::Query> queries);
+
+  mutable std::shared_mutex mutex_;
+  Model model_;
+  std::array<std::optional<Resident>, 2> resident_;  // [fp32, fp64]
+  std::array<uint64_t, 2> built_{};
+};
+
+template <>
+void Handle<Curve>::checkQueries(std::span<const sampling::CurveQuery> queries) const;
+template <>
+void Handle<Surface>::checkQueries(std::span<const sampling::SurfaceQuery> queries) const;
+template <>
+CurvePoint Handle<Curve>::cpuPoint(const sampling::CurveQuery& q) const;
+template <>
+SurfacePoint Handle<Surface>::cpuPoint(const sampling::SurfaceQuery& q) const;
+template <>
+std::vector<CurvePoint> Handle<Curve>::gpuPoints(Resident& res, std::span<const sampling::CurveQuery> queries);
+template <>
+std::vector<SurfacePoint> Handle<Surface>::gpuPoints(Resident& res, std::span<const sampling::SurfaceQuery> queries);
+
+using CurveHandle = Handle<Curve>;
+using SurfaceHandle = Handle<Surface>;
+
+}  // namespace shapespline::python
