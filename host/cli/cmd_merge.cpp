@@ -2,6 +2,7 @@
 // order) into the file the unsharded job writes, byte for byte, after verifying that they are the
 // shards 1..N of one job (io/merge.h, which does the work; this file only maps its errors).
 #include <shapespline/cli/common.h>
+#include <shapespline/cli/shard_files.h>
 #include <shapespline/io/merge.h>
 
 #include <memory>
@@ -16,7 +17,8 @@ struct MergeArgs {
 
 void runMerge(const MergeArgs& a) {
   try {
-    io::mergeShards(a.inputs, a.out);
+    // A shard pattern expanded, shard records verified (cli/shard_files.h), then the merge itself.
+    io::mergeShards(mergeInputs(a.inputs), a.out);
   } catch (const io::MergeError& e) {
     throw InputError(e.field(), e.value(), e.rule());
   } catch (const io::MergeReadError& e) {
@@ -30,7 +32,11 @@ void registerMerge(CLI::App& app) {
   auto a = std::make_shared<MergeArgs>();
   CLI::App* sub = app.add_subcommand(
       "merge", "Join `sample --shard K/N` outputs (shards 1..N of one job, in order) into the unsharded job's file.");
-  sub->add_option("SHARD", a->inputs, "shard files, K = 1..N in order (errors name them SHARD[K])")->required();
+  sub->add_option("SHARD", a->inputs,
+                  "shard files, K = 1..N in order (errors name them SHARD[K]), or one shard pattern such as "
+                  "'out-{shard:05d}-of-{count:05d}.f32' (expanded to the shards 1..N present); a shard's record "
+                  "SHARD.shard.json, where present, is verified first")
+      ->required();
   sub->add_option("-o,--output", a->out, "merged file (.obj .ply .csv .f32 .f64)")->required();
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runMerge(*a); });

@@ -2,11 +2,13 @@
 // the writer chosen by the output extension, through a temporary file renamed at the end.
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
+#include <shapespline/cli/shard_files.h>
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/orientation.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/shard_record.h>
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/session.h>
 
@@ -101,7 +103,15 @@ GridChunk withInjectedNan(const GridChunk& c, std::vector<double>& d, std::vecto
 
 }  // namespace
 
-void runSample(const SampleArgs& args) {
+void runSample(const SampleArgs& given) {
+  // --shard auto and a shard pattern in -o first (cli/shard_files.h): the rest sees K/N and a path.
+  SampleArgs resolved = given;
+  {
+    const ShardOutput shardOut = resolveShardOutput(given.out, given.shard, given.shardCount);
+    resolved.out = shardOut.out;
+    resolved.shard = shardOut.shard;
+  }
+  const SampleArgs& args = resolved;
   const io::OutputFormat format = io::outputFormatFromPath(args.out, "-o");
   const sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
   const Precision precision = request.precision;
@@ -254,6 +264,9 @@ void runSample(const SampleArgs& args) {
     sidecar = &outputs.add(args.out + ".json", "-o");
   }
   if (format == io::OutputFormat::Gltf) sidecar = &outputs.add(io::gltfBufferPath(args.out), "-o");  // OUT.bin
+  // A shard (--shard given) also writes its record OUT.shard.json, last in the set (cli/shard_files.h).
+  io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(io::shardRecordPath(args.out), "-o");
+  const std::string extraRole = format == io::OutputFormat::Gltf ? "buffer" : "sidecar";
   sampling::Session session;
   const sampling::Report report = curve ? session.plan(*curve, request) : session.plan(*surface, request);
   printNotices(report, args.quiet);
@@ -279,6 +292,12 @@ void runSample(const SampleArgs& args) {
                          (precision == Precision::Float && format != io::OutputFormat::RawF64 &&
                           format != io::OutputFormat::Svg);
 
+  // Resume: a shard whose record and files verify is left as it is.
+  if (record && shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
+                                 args.quiet)) {
+    outputs.discard();
+    return;
+  }
   auto writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
   writer->begin(layout);
   if (layout.itemCount > 0) {
@@ -316,6 +335,11 @@ void runSample(const SampleArgs& args) {
     }
   }
   writer->finish();
+  if (record) {
+    out.flushToTemp();
+    if (sidecar) sidecar->flushToTemp();
+    writeShardRecordOf(*record, layout, format, out, sidecar, extraRole);
+  }
   outputs.commit();
   if (!args.quiet) {
     std::fprintf(stderr, "shapespline: wrote %s (%zu %s, %zu points%s)\n", args.out.c_str(), layout.itemCount,
@@ -332,7 +356,7 @@ void registerSample(CLI::App& app) {
   sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
   sub->add_option("-o,--output", args->out,
                   "output file; format from the extension: .obj .ply .csv .svg .glb .gltf (+ OUT.bin) .f32 .f64 .npy "
-                  "(each + OUT.json sidecar)")
+                  "(each + OUT.json sidecar); a shard pattern names each shard: out-{shard:05d}-of-{count:05d}.f32")
       ->required();
   sub->add_option("--samples", args->samples, "samples per span (curves, default 32; both ends included)");
   sub->add_option("--mesh-layout", args->meshLayout,
@@ -345,7 +369,13 @@ void registerSample(CLI::App& app) {
   sub->add_flag("--derivatives", args->derivatives, "also write derivatives (d1, d2 / du, dv, duu, duv, dvv)");
   sub->add_flag("--normals", args->normals, "also write unit normals (surfaces)");
   sub->add_option("--shard", args->shard,
-                  "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches; see README for merging");
+                  "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches (merge joins them); auto: "
+                  "K/N from a Slurm job array (SLURM_ARRAY_TASK_ID/MIN/MAX) or a Kubernetes Indexed Job "
+                  "(JOB_COMPLETION_INDEX + --shard-count). A shard also writes OUT.shard.json (sizes, SHA-256); "
+                  "rerun, a shard that verifies is left as it is");
+  sub->add_option("--shard-count", args->shardCount,
+                  "with --shard auto in a Kubernetes Indexed Job: N, the job's completions (else "
+                  "SHAPESPLINE_SHARD_COUNT)");
   sub->add_option("--threads", args->threads, "CPU sampler threads (0 = all hardware threads; output is identical)");
   sub->add_option("--chunk-points", args->chunkPoints,
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 262144 "

@@ -76,6 +76,9 @@ class AtomicFile {
   void commit();
   // Close and remove the temporary file now.
   void discard() noexcept;
+  // Writes the buffered bytes to the temporary file now, so that it can be read back (the shard
+  // record hashes it, cli/shard_files.h) before commit(), which flushes too.
+  void flushToTemp() { flush(); }
 
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& tempPath() const { return temp_; }

@@ -1,0 +1,51 @@
+#pragma once
+// The files of a shard at the command line (issue 16): `sample`'s shard pattern and --shard auto
+// (resolveShardOutput), its shard record OUT.shard.json and the resume check (shardAlreadyDone,
+// writeShardRecordOf), and `merge`'s inputs: a shard pattern expanded to the shards 1..N, and the
+// shard record of every shard that has one verified (mergeInputs).
+#include <shapespline/io/atomic_file.h>
+#include <shapespline/io/sample_writer.h>
+
+#include <string>
+#include <vector>
+
+namespace shapespline::cli {
+
+struct ShardOutput {
+  std::string out;    // -o with a shard pattern expanded
+  std::string shard;  // "" (unsharded) or "K/N" (--shard K/N or auto resolved)
+  std::string source; // where K/N came from: "" or "Slurm job array" / "Kubernetes Indexed Job"
+};
+
+// --shard (K/N, auto or ""), --shard-count and -o (a path or a shard pattern, io/shard_pattern.h).
+// InputError naming -o for a malformed pattern; a pattern without --shard expands as shard 1/1.
+ShardOutput resolveShardOutput(const std::string& out, const std::string& shard, const std::string& shardCount);
+
+// The files of the shard besides its record: the data (-o) first, then its raw sidecar or glTF buffer.
+struct ShardFileList {
+  std::string data;
+  std::string extra;       // "" when none
+  std::string extraRole;   // "sidecar" | "buffer"
+};
+
+// True when OUT.shard.json exists, describes this job's shard (fingerprint, shard, items, counts,
+// metadata: for raw/.npy/CSV shards but for device and computed precision, which merge allows to
+// differ) and every file verifies (size, SHA-256): prints a notice (unless quiet) and the caller
+// writes nothing. A record that does not verify prints a notice saying why, and false is returned
+// (the shard is sampled again); no record: false, silently.
+bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, const ShardFileList& files,
+                      bool quiet);
+
+// Writes the shard record of `layout` into `record`, after hashing the (flushed) temporary files of
+// `data` and `extra` (nullptr when none) under their target names.
+void writeShardRecordOf(io::AtomicFile& record, const io::SampleLayout& layout, io::OutputFormat format,
+                        const io::AtomicFile& data, const io::AtomicFile* extra, const std::string& extraRole);
+
+// `merge`'s SHARD arguments: one shard pattern is expanded to shards 1..N (N from the {count} of the
+// files present, else from shard 1's record, raw sidecar or PLY/OBJ job line, else the highest K
+// present); a list is kept as given. Then every shard with a record (SHARD.shard.json) is verified
+// against it: its data file and raw sidecar have the recorded size and SHA-256, and the record's
+// shard count is the number of shards given. InputError naming SHARD / SHARD[k] otherwise.
+std::vector<std::string> mergeInputs(const std::vector<std::string>& args);
+
+}  // namespace shapespline::cli
