@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
 namespace shapespline::python {
 
@@ -93,6 +94,11 @@ io::Model parseDict(py::handle d) {
 }
 
 io::Model loadPath(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    PyErr_SetString(PyExc_FileNotFoundError, ("no such model file: '" + path + "'").c_str());
+    throw py::error_already_set();
+  }
   py::gil_scoped_release release;
   return io::loadModelFile(path);
 }
