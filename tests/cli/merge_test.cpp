@@ -184,7 +184,7 @@ TEST(CliMerge, ObjIndicesNearInt64MaxAndGarbageAreRefused) {
     writeText(dir / "p2.obj", good.substr(0, l + 1) + bad + good.substr(eol));
     const CliResult r = merge(dir, "m.obj", {"p1.obj", "p2.obj"});
     expectRefused(r, "SHARD[2]", "p2.obj");
-    expectEntries(dir, {"p1.obj", "p2.obj"});
+    expectEntries(dir, {"p1.obj", "p2.obj", "p1.obj.shard.json", "p2.obj.shard.json"});  // + the shard records
   }
 }
 
