@@ -2,13 +2,24 @@
 // mismatch, before any timing), records the machine in the benchmark context, then runs.
 #include "workloads.h"
 
+#include <shapespline/io/model_json.h>
+
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <fstream>
+#include <string>
 #include <thread>
 
 int main(int argc, char** argv) {
   using namespace shapespline::bench;
+  // --write-model=PATH: the speed workload as a model file (bench/e2e samples it with the CLI).
+  const std::string writeModel = "--write-model=";
+  if (argc == 2 && std::string(argv[1]).rfind(writeModel, 0) == 0) {
+    std::ofstream(std::string(argv[1]).substr(writeModel.size())) << shapespline::io::toJson(bsplineWorkloadModel()).dump()
+                                                                   << "\n";
+    return 0;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
 

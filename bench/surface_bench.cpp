@@ -45,6 +45,14 @@ constexpr size_t kChunkPoints = size_t{1} << 15;
 constexpr int kCheckSamples = 12;
 constexpr int kSampleCounts[] = {32, 64};
 
+}  // namespace
+
+SurfaceModel bsplineWorkloadModel() {
+  return gridSurfaceModel({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, kNetSize, 17);
+}
+
+namespace {
+
 struct BSplineWorkload {
   Surface surface;
   double scale = 0.0;
@@ -53,8 +61,7 @@ struct BSplineWorkload {
 
 const BSplineWorkload& workload() {
   static const BSplineWorkload w = [] {
-    BSplineWorkload b{Surface::create(gridSurfaceModel({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, kNetSize, 17)),
-                      0.0, 0};
+    BSplineWorkload b{Surface::create(bsplineWorkloadModel()), 0.0, 0};
     b.scale = boxDiagonal(b.surface.model().points);
     b.patches = surfaceGridItems(b.surface).size();
     if (b.patches != 3721) throw std::logic_error("B-spline workload: expected 3721 patches");

@@ -38,6 +38,10 @@ SurfaceModel gridSurfaceModel(const FamilySpec& family, int n, unsigned seed);
 // A closed planar-ish loop of n points with noise; α in [0.3, 1] for α-EB.
 CurveModel closedCurveModel(const FamilySpec& family, int n, unsigned seed);
 double boxDiagonal(const std::vector<glm::dvec3>& points);
+// The speed workload of bspline3_S* (surface_bench.cpp): uniform bicubic (Xu-Wang degree 4, λ = 0)
+// on the kNetSize x kNetSize net, 3721 patches; `shapespline_bench --write-model=PATH` writes it
+// for bench/e2e.
+SurfaceModel bsplineWorkloadModel();
 
 // The shared Vulkan context (fp64 devices preferred), or nullptr with the reason.
 std::shared_ptr<vk::Context> gpuContext();

@@ -12,6 +12,10 @@
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/session.h>
 
+#include <atomic>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -55,39 +59,106 @@ std::pair<int, int> parseShard(const std::string& text) {
 constexpr long long kMaxChunkPoints = 1LL << 22;
 constexpr int kMaxThreads = 1024;
 
+// Index of the first value of v[0, n) outside [-limit, limit] (NaN included), or n. SSE2 compares
+// 8 values a step where the compiler keeps a scalar loop (it does not vectorise the early exit),
+// so that the check costs a fraction of the writing.
+size_t firstOutOfRange(const double* v, size_t n, double limit) {
+  size_t i = 0;
+#if defined(__SSE2__)
+  const __m128d lim = _mm_set1_pd(limit);
+  const __m128d abs = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+  for (; i + 8 <= n; i += 8) {
+    __m128d bad = _mm_setzero_pd();
+    for (size_t j = 0; j < 8; j += 2) bad = _mm_or_pd(bad, _mm_cmpnle_pd(_mm_and_pd(_mm_loadu_pd(v + i + j), abs), lim));
+    if (_mm_movemask_pd(bad)) break;
+  }
+#endif
+  for (; i < n; ++i) {
+    if (!(std::abs(v[i]) <= limit)) return i;
+  }
+  return n;
+}
+
+size_t firstOutOfRange(const float* v, size_t n, float limit) {
+  size_t i = 0;
+#if defined(__SSE2__)
+  const __m128 lim = _mm_set1_ps(limit);
+  const __m128 abs = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  for (; i + 16 <= n; i += 16) {
+    __m128 bad = _mm_setzero_ps();
+    for (size_t j = 0; j < 16; j += 4) bad = _mm_or_ps(bad, _mm_cmpnle_ps(_mm_and_ps(_mm_loadu_ps(v + i + j), abs), lim));
+    if (_mm_movemask_ps(bad)) break;
+  }
+#endif
+  for (; i < n; ++i) {
+    if (!(std::abs(v[i]) <= limit)) return i;
+  }
+  return n;
+}
+
 // Every value must be finite in the precision the file stores (`fileFloat`: fp32 PLY/raw/CSV, where
 // an fp64 value beyond 3.4e38 would become inf).
-void requireFiniteChunk(const GridChunk& c, bool fileFloat) {
-  const size_t n = c.pointCount() * 3;
+void requireFinite(const GridChunk& c, size_t firstPoint, size_t pointCount, bool fileFloat) {
+  const size_t n = pointCount * 3, start = firstPoint * 3;
   const double limit = fileFloat ? static_cast<double>(std::numeric_limits<float>::max())
                                  : std::numeric_limits<double>::max();
   for (int f = 0; f < kFieldCount; ++f) {
     const void* p = c.planes[static_cast<size_t>(f)];
     if (!p) continue;
-    for (size_t i = 0; i < n; ++i) {
-      const double v = c.precision == Precision::Double ? static_cast<const double*>(p)[i]
-                                                        : static_cast<double>(static_cast<const float*>(p)[i]);
-      if (!(std::abs(v) <= limit)) {
-        const std::string field(io::fieldName(static_cast<Field>(f)));
-        const std::string item = std::to_string(c.itemOf(i / 3));
-        // ±inf from a sound evaluation is a value beyond the precision (derivatives of knot
-        // intervals near 1e-310 grow like 1/h^r); NaN is an internal error.
-        throw RuntimeError(field, number17(v) + " at item " + item,
-                           std::isfinite(v) || (std::isinf(v) && c.precision == Precision::Float)
-                               ? "exceeds the fp32 range of the output (use --precision double); nothing was written"
-                           : std::isinf(v) ? "exceeds the fp64 range of the output (derivatives scale with 1/h^r for "
-                                             "knot intervals h); nothing was written"
-                                           : "evaluation produced a non-finite value (internal error); nothing "
-                                             "was written");
-      }
-    }
+    const size_t k = c.precision == Precision::Double
+                         ? firstOutOfRange(static_cast<const double*>(p) + start, n, limit)
+                         : firstOutOfRange(static_cast<const float*>(p) + start, n, std::numeric_limits<float>::max());
+    if (k == n) continue;
+    const size_t i = start + k;
+    const double v = c.coord(static_cast<Field>(f), i / 3, static_cast<int>(i % 3));
+    const std::string field(io::fieldName(static_cast<Field>(f)));
+    const std::string item = std::to_string(c.itemOf(i / 3));
+    // ±inf from a sound evaluation is a value beyond the precision (derivatives of knot
+    // intervals near 1e-310 grow like 1/h^r); NaN is an internal error.
+    throw RuntimeError(field, number17(v) + " at item " + item,
+                       std::isfinite(v) || (std::isinf(v) && c.precision == Precision::Float)
+                           ? "exceeds the fp32 range of the output (use --precision double); nothing was written"
+                       : std::isinf(v) ? "exceeds the fp64 range of the output (derivatives scale with 1/h^r for "
+                                         "knot intervals h); nothing was written"
+                                       : "evaluation produced a non-finite value (internal error); nothing "
+                                         "was written");
   }
 }
 
-// SHAPESPLINE_FAULT=nan: the consumer sees a copy of the first chunk with a NaN in its first value.
-GridChunk withInjectedNan(const GridChunk& c, std::vector<double>& d, std::vector<float>& f) {
+// --fields a,b,...: sampled fields by name (io::fieldName); the point is always written.
+FieldMask parseFields(const std::string& text, bool surface, bool withFlags) {
+  if (withFlags) throw InputError("--fields", text, "give either --fields or --derivatives/--normals");
+  const FieldMask allowed = surface ? fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
+                                          fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
+                                          fieldBit(Field::Normal)
+                                    : fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
+  FieldMask mask = fieldBit(Field::Point);
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = text.find(',', pos);
+    const std::string name = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    int found = -1;
+    for (int f = 0; f < kFieldCount; ++f) {
+      if (io::fieldName(static_cast<Field>(f)) == name) found = f;
+    }
+    if (found < 0 || !(allowed & fieldBit(static_cast<Field>(found)))) {
+      throw InputError("--fields", text,
+                       std::string("expected a comma-separated list of ") +
+                           (surface ? "point, du, dv, duu, duv, dvv, normal (surfaces)" : "point, d1, d2 (curves)") +
+                           "; '" + name + "' is not one");
+    }
+    mask |= fieldBit(static_cast<Field>(found));
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  return mask;
+}
+
+// SHAPESPLINE_FAULT=nan: the checks and the writer see a copy of the job's first slice (its first
+// `points` points) with a NaN in its first value.
+GridChunk withInjectedNan(const GridChunk& c, size_t points, std::vector<double>& d, std::vector<float>& f) {
   GridChunk out = c;
-  const size_t n = c.pointCount() * 3;
+  const size_t n = points * 3;
   const size_t k = static_cast<size_t>(Field::Point);
   if (c.precision == Precision::Double) {
     d.assign(static_cast<const double*>(c.planes[k]), static_cast<const double*>(c.planes[k]) + n);
@@ -160,6 +231,7 @@ void runSample(const SampleArgs& given) {
     if (!isSurface) throw InputError("--normals", "", "curves have no normals (surfaces only)");
     fields |= fieldBit(Field::Normal);
   }
+  if (!args.fields.empty()) fields |= parseFields(args.fields, isSurface, args.derivatives || args.normals);
   if (format == io::OutputFormat::Svg && isSurface) {
     throw InputError("-o", args.out, "SVG output is for curves only (use .obj, .ply, .csv, .f32, .f64 or .npy)");
   }
@@ -274,7 +346,7 @@ void runSample(const SampleArgs& given) {
   layout.computedPrecision = report.computedPrecision;
   // The job metadata (io/job_metadata.h), the same for every shard; every .npy gets OUT.npy.json for it.
   try {
-    const Precision stored = format == io::OutputFormat::RawF32   ? Precision::Float
+    const Precision stored = format == io::OutputFormat::RawF32 || io::isGltf(format) ? Precision::Float
                              : format == io::OutputFormat::RawF64 ? Precision::Double
                                                                   : precision;
     layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, report.device, report.computedPrecision,
@@ -310,13 +382,20 @@ void runSample(const SampleArgs& given) {
     sampling::GridOptions options;
     options.threads = args.threads;
     options.chunkPoints = static_cast<size_t>(args.chunkPoints);
-    bool injectNan = nanFaultInjected();
-    std::vector<double> nanD;
-    std::vector<float> nanF;
-    const ChunkConsumer sink = [&](const GridChunk& chunk) {
-      const GridChunk& c = injectNan ? withInjectedNan(chunk, nanD, nanF) : chunk;
-      injectNan = false;
-      requireFiniteChunk(c, fileFloat);
+    // Per slice, on the sampler's workers (sampling::GridOptions::slice): the finiteness check
+    // and, for the raw and .npy writers, the records themselves, written at their offsets; then
+    // per chunk, in order on this thread, the writer's sequential part.
+    std::atomic<bool> injectNan = nanFaultInjected();
+    options.slice = [&](const GridChunk& chunk, size_t first, size_t count) {
+      std::vector<double> nanD;
+      std::vector<float> nanF;
+      const bool inject = first == 0 && chunk.firstItem == layout.firstItem && chunk.firstItemPoint() == 0 &&
+                          injectNan.exchange(false);
+      const GridChunk& c = inject ? withInjectedNan(chunk, count, nanD, nanF) : chunk;
+      requireFinite(c, first, count, fileFloat);
+      writer->writeSlice(c, first, count);
+    };
+    const ChunkConsumer sink = [&](const GridChunk& c) {
       writer->consume(c);
       const bool context = c.firstItem < layout.firstItem || c.firstItem >= layout.firstItem + layout.itemCount;
       if (!context) progress.add(c.pointCount());
@@ -368,6 +447,9 @@ void registerSample(CLI::App& app) {
   sub->add_option("--precision", args->precision, "float or double (default double)");
   sub->add_flag("--derivatives", args->derivatives, "also write derivatives (d1, d2 / du, dv, duu, duv, dvv)");
   sub->add_flag("--normals", args->normals, "also write unit normals (surfaces)");
+  sub->add_option("--fields", args->fields,
+                  "the sampled fields, comma-separated: point, du, dv, duu, duv, dvv, normal (surfaces) or point, d1, "
+                  "d2 (curves); the point is always written (instead of --derivatives/--normals)");
   sub->add_option("--shard", args->shard,
                   "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches (merge joins them); auto: "
                   "K/N from a Slurm job array (SLURM_ARRAY_TASK_ID/MIN/MAX) or a Kubernetes Indexed Job "
@@ -378,7 +460,7 @@ void registerSample(CLI::App& app) {
                   "SHAPESPLINE_SHARD_COUNT)");
   sub->add_option("--threads", args->threads, "CPU sampler threads (0 = all hardware threads; output is identical)");
   sub->add_option("--chunk-points", args->chunkPoints,
-                  "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 262144 "
+                  "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 32768 "
                   "on the CPU, 4 MiB planes on the GPU; output is identical)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");

@@ -182,6 +182,14 @@ void forEachItemRows(size_t begin, size_t end, size_t rowsPerItem, size_t points
   }
 }
 
+// Chunk `chunk` of `plan` as delivered: its item/row range over the planes of `buffer`.
+GridChunk deliverable(const ChunkPlan& plan, ChunkBuffer& buffer, size_t chunk) {
+  GridChunk out = plan.chunk(chunk);
+  out.precision = Precision::Double;
+  for (int f = 0; f < kFieldCount; ++f) out.planes[f] = buffer.plane(static_cast<Field>(f));
+  return out;
+}
+
 // Runs compute(buffer, rowBegin, rowEnd, firstPointInBuffer) over every chunk of `plan`, each chunk's
 // rows split into one slice per worker (threads share the rows of one patch just as they share
 // whole patches), and hands finished chunks to the consumer in order on the calling thread while
@@ -219,7 +227,13 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
       const size_t n = end - begin;
       const size_t b = begin + n * w / workers, e = begin + n * (w + 1) / workers;
       try {
-        if (b < e) compute(buffers[chunk % 2], b, e, (b - begin) * plan.pointsPerRow);
+        if (b < e) {
+          compute(buffers[chunk % 2], b, e, (b - begin) * plan.pointsPerRow);
+          if (options.slice) {
+            options.slice(deliverable(plan, buffers[chunk % 2], chunk), (b - begin) * plan.pointsPerRow,
+                          (e - b) * plan.pointsPerRow);
+          }
+        }
       } catch (...) {
         std::lock_guard lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -253,9 +267,7 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
       changed.wait(lock, [&] { return failure || slicesDone[chunk] == workers; });
       if (failure) break;
     }
-    GridChunk out = plan.chunk(chunk);
-    out.precision = Precision::Double;
-    for (int f = 0; f < kFieldCount; ++f) out.planes[f] = buffers[chunk % 2].plane(static_cast<Field>(f));
+    const GridChunk out = deliverable(plan, buffers[chunk % 2], chunk);
     try {
       consumer(out);
     } catch (...) {

@@ -64,5 +64,11 @@ struct GridChunk {
 
 // Receives chunks in increasing item order; the data is valid only during the call.
 using ChunkConsumer = std::function<void(const GridChunk&)>;
+// Called by the sampler's worker that computed points [first, first + count) of `chunk` (only those points of
+// its planes hold values yet), concurrently with the other workers' slices of the chunk and with the
+// consumer of the previous chunk; the chunk then goes to the consumer as usual. For per-point work
+// that needs no order (checks, conversion into a file at a known offset): it runs on every core,
+// with the values still in the cache of the core that computed them.
+using SliceConsumer = std::function<void(const GridChunk& chunk, size_t first, size_t count)>;
 
 }  // namespace shapespline

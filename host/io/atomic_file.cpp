@@ -344,6 +344,21 @@ void AtomicFile::flush() {
   used_ = 0;
 }
 
+void AtomicFile::writeAt(uint64_t offset, const void* data, size_t size) {
+  const char* p = static_cast<const char*>(data);
+  while (size > 0) {
+    const ssize_t n = ::pwrite(fd_, p, size, static_cast<off_t>(offset));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw OutputWriteError(option_, target_.string(),
+                             "write failed: " + errnoText(errno) + " (nothing written; the temporary file was removed)");
+    }
+    p += n;
+    offset += static_cast<uint64_t>(n);
+    size -= static_cast<size_t>(n);
+  }
+}
+
 void AtomicFile::write(const void* data, size_t size) {
   const char* p = static_cast<const char*>(data);
   while (size > 0) {

@@ -63,7 +63,13 @@ class AtomicFile {
 
   void write(const void* data, size_t size);
   void write(std::string_view text) { write(text.data(), text.size()); }
-  // At least `size` (<= 64 KiB) writable bytes at the returned pointer; advance() publishes them.
+  // Writes at byte `offset` (pwrite), for a writer that places data by position from several
+  // threads at once: safe for disjoint ranges, concurrently with each other (not with write()).
+  // The sequential buffer and position are untouched, and bytesWritten() does not count it. A
+  // failure throws OutputWriteError; the owner's unwinding removes the temporary file.
+  void writeAt(uint64_t offset, const void* data, size_t size);
+  // At least `size` (<= kMaxSpace) writable bytes at the returned pointer; advance() publishes them.
+  static constexpr size_t kMaxSpace = 64 * 1024;
   char* space(size_t size) {
     if (buffer_.size() - used_ < size) flush();
     return buffer_.data() + used_;

@@ -45,12 +45,16 @@ class NpyWriter final : public SampleWriter {
     fields_ = recordFields(layout.fields);
     std::vector<std::string> names;
     for (Field f : fields_) names.emplace_back(fieldName(f));
-    out_.write(npyHeader(names, float64(), layout.pointCount()));
+    const std::string header = npyHeader(names, float64(), layout.pointCount());
+    out_.write(header);
+    placed_.begin(out_, layout_, fields_, float64(), header.size());  // the records follow the header
   }
 
-  void consume(const GridChunk& chunk) override { writeRecords(out_, chunk, fields_, float64()); }
+  void writeSlice(const GridChunk& chunk, size_t first, size_t count) override { placed_.slice(chunk, first, count); }
+  void consume(const GridChunk& chunk) override { placed_.consume(chunk); }
 
   void finish() override {
+    placed_.finish();
     if (sidecar_) {
       writeRawSidecar(*sidecar_, rawSidecarOf(layout_, layout_.job, float64(), out_.target().filename().string()));
     }
@@ -62,6 +66,7 @@ class NpyWriter final : public SampleWriter {
   AtomicFile* sidecar_;
   SampleLayout layout_;
   std::vector<Field> fields_;
+  PlacedRecords placed_;
 };
 
 }  // namespace

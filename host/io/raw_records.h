@@ -3,9 +3,13 @@
 // point, every requested field in Field order, x y z each, little-endian fp32 or fp64.
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/block_writer.h>
+#include <shapespline/io/sample_writer.h>
 
+#include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +31,29 @@ inline char* putBinaryValue(char* e, double v, bool float64) {
 std::vector<Field> recordFields(FieldMask mask);
 // Appends the records of every point of `chunk` to `out`.
 void writeRecords(AtomicFile& out, const GridChunk& chunk, const std::vector<Field>& fields, bool float64);
+// The records of a raw or .npy file placed by point index (record k of the file at base + k x
+// record size), written by an io::BlockWriter thread: from the sampler's workers (slice(),
+// SampleWriter::writeSlice) or, when the caller delivers no slices, from consume(). Chunks must be
+// of the layout's items; finish() before the file is committed.
+class PlacedRecords {
+ public:
+  PlacedRecords() = default;
+  ~PlacedRecords();
+  void begin(AtomicFile& out, const SampleLayout& layout, const std::vector<Field>& fields, bool float64, uint64_t base);
+  void slice(const GridChunk& chunk, size_t first, size_t count);
+  void consume(const GridChunk& chunk);
+  void finish();
+
+ private:
+  uint64_t offsetOf(const GridChunk& chunk, size_t first) const;
+  const SampleLayout* layout_ = nullptr;
+  std::vector<Field> fields_;
+  bool float64_ = true;
+  uint64_t base_ = 0;
+  size_t recordBytes_ = 0;
+  std::atomic<bool> sliced_{false};
+  std::unique_ptr<BlockWriter> writer_;
+};
 
 // The NumPy format 1.0 header (NEP 1, numpy.lib.format) of `records` raw records of `fieldNames`:
 // magic, version 1.0, header length, then the dict {'descr': [('point', '<f8', (3,)), ...],

@@ -105,6 +105,16 @@ class SampleWriter {
   virtual ~SampleWriter() = default;
   virtual void begin(const SampleLayout& layout) = 0;
   virtual void consume(const GridChunk& chunk) = 0;
+  // Points [first, first + count) of `chunk`, from the sampler's workers (core/grid_sampler.h
+  // SliceConsumer), concurrently and in any order, before consume(chunk). A writer whose records
+  // sit at offsets known from the point index (raw, .npy) writes them here, on every core, and
+  // consume() then has nothing left to write; the others ignore it. A caller may skip it: then
+  // consume() writes everything.
+  virtual void writeSlice(const GridChunk& chunk, size_t first, size_t count) {
+    (void)chunk;
+    (void)first;
+    (void)count;
+  }
   // Writes trailing data (PLY faces, SVG body, sidecar); the caller then commits the files.
   virtual void finish() = 0;
 };

@@ -7,7 +7,11 @@
 #include <shapespline/sampling/net_scale.h>
 #include <shapespline/vk/error.h>
 
+#include <algorithm>
+#include <exception>
 #include <optional>
+#include <thread>
+#include <vector>
 #include <utility>
 
 namespace shapespline::sampling {
@@ -15,7 +19,10 @@ namespace {
 
 // The CPU sampler's chunk when the caller names none: large enough to amortise the per-chunk work
 // of the writers, small enough to stay in cache.
-constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 18;
+// 2^15: a worker's slice of a chunk stays in its core's L2 while the writer's slice stage reads it
+// (e2e .f32 at 2^18: 0.90 s, at 2^15: 0.66 s and 23 MB instead of 87 MB RSS, 15.2 M points with
+// second derivatives on this 2-core machine).
+constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 15;
 
 [[noreturn]] void throwDeviceError(const vk::VulkanError& e) {
   const char* hint = "--device cpu avoids the GPU";
@@ -64,7 +71,40 @@ SamplerOptions samplerOptions(const GridOptions& options) {
   SamplerOptions s;
   s.threads = options.threads;
   s.maxChunkPoints = options.chunkPoints > 0 ? options.chunkPoints : kDefaultCpuChunkPoints;
+  s.slice = options.slice;
   return s;
+}
+
+// The slice stage of a GPU chunk (read back, valid during this call): one slice per hardware
+// thread, run at once (SliceConsumer work is order-free), so that the checks and the writer's
+// conversion of a chunk take 1/T of the time the next dispatch has to run in.
+void sliceInParallel(const SliceConsumer& slice, const GridChunk& chunk) {
+  const size_t n = chunk.pointCount();
+  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), (n + 4095) / 4096);
+  if (threads <= 1) {
+    slice(chunk, 0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> failures(threads);
+  for (size_t t = 1; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      try {
+        slice(chunk, n * t / threads, n * (t + 1) / threads - n * t / threads);
+      } catch (...) {
+        failures[t] = std::current_exception();
+      }
+    });
+  }
+  try {
+    slice(chunk, 0, n / threads);
+  } catch (...) {
+    failures[0] = std::current_exception();
+  }
+  for (auto& t : pool) t.join();
+  for (const auto& f : failures) {
+    if (f) std::rethrow_exception(f);
+  }
 }
 
 // The GPU side of each model kind: its mirror, evaluator and list sample type.
@@ -156,7 +196,11 @@ template <class Model>
 void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model, const Report& r, const GridSpec& grid,
                  FieldMask fields, const ChunkConsumer& consumer, const GridOptions& options) {
   ChunkUnscaler unscale(r.netScaleExponent);
-  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, consumer); };
+  const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
+    sliceInParallel(options.slice, chunk);
+    consumer(chunk);
+  };
+  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, options.slice ? sliceThenConsume : consumer); };
   onDevice([&] {
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     typename Gpu<Model>::Evaluator evaluator(ctx, r.computedPrecision, evaluatorOptions(options, r.computedPrecision));

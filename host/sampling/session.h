@@ -27,7 +27,11 @@ namespace shapespline::sampling {
 
 struct GridOptions {
   int threads = 0;         // CPU sampler threads (0 = all)
-  size_t chunkPoints = 0;  // points per chunk (0: 2^18 on the CPU, 4 MiB planes on the GPU)
+  size_t chunkPoints = 0;  // points per chunk (0: 2^15 on the CPU, 4 MiB planes on the GPU)
+  // Optional per-slice work (core/grid_sampler.h SliceConsumer): on the CPU run by the workers as
+  // they finish their rows; on the GPU on the calling thread, the whole chunk as one slice, just
+  // before the consumer.
+  SliceConsumer slice;
 };
 
 // One sample of a list: local (span, t) / (patch i, j, u, v) or, with `global`, the global

@@ -1,0 +1,60 @@
+#pragma once
+// Positioned writes from a thread of their own: the sampler's workers fill blocks with records and
+// hand them over, and go on computing while this thread copies them into the file. The kernel
+// serialises the writes of one file anyway (its inode lock), so workers writing themselves spent
+// half their time waiting for each other (e2e .f32 of 15.2 M points x 3 fields: 0.42 s with one
+// worker or two). Memory is bounded: `blocks` buffers of `blockBytes`, reused.
+#include <shapespline/io/atomic_file.h>
+
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace shapespline::io {
+
+class BlockWriter {
+ public:
+  struct Block {
+    char* data = nullptr;
+    size_t index = 0;
+  };
+
+  BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks);
+  ~BlockWriter();  // stops the thread; blocks not yet written are dropped (the file is being discarded)
+  BlockWriter(const BlockWriter&) = delete;
+  BlockWriter& operator=(const BlockWriter&) = delete;
+
+  size_t blockBytes() const { return blockBytes_; }
+  // A free block (waits while all are queued). Rethrows a failed write.
+  Block acquire();
+  // Queues the first `size` bytes of `block` for byte `offset` of the file.
+  void submit(Block block, uint64_t offset, size_t size);
+  // Waits until every queued block is in the file. Rethrows a failed write.
+  void finish();
+
+ private:
+  struct Pending {
+    size_t index;
+    uint64_t offset;
+    size_t size;
+  };
+  void run();
+
+  AtomicFile& out_;
+  size_t blockBytes_;
+  std::vector<std::unique_ptr<char[]>> storage_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<size_t> free_;
+  std::vector<Pending> queue_;  // FIFO through head_
+  size_t head_ = 0;
+  bool writing_ = false, stop_ = false;
+  std::exception_ptr failure_;
+  std::thread thread_;
+};
+
+}  // namespace shapespline::io
