@@ -86,6 +86,11 @@ set(deb_recommends "libglm-dev, nlohmann-json3-dev (>= 3.10), libvulkan-dev, lib
 if(PNG_FOUND)
   string(APPEND deb_recommends ", libpng-dev")
 endif()
+# The Python module (python/, installed under lib/python3/dist-packages) is built for Debian's
+# python3 and imports numpy at run time.
+if(TARGET shapespline_python)
+  string(APPEND deb_recommends ", python3 (>= ${SHAPESPLINE_PYTHON_VERSION}), python3 (<< ${SHAPESPLINE_PYTHON_NEXT}), python3-numpy")
+endif()
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "${deb_recommends}")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "mesa-vulkan-drivers | vulkan-icd")
 set(CPACK_GENERATOR DEB)

@@ -47,3 +47,25 @@ pkgconfig() {
   [ "$(realpath "$inc")" = "$(realpath "$prefix/include")" ] || fail "pkg-config include dir $inc is not in $prefix"
   echo "pkg-config: $(PKG_CONFIG_PATH=$pc pkg-config --libs shapespline)"
 }
+
+# python_import PREFIX: the installed Python module imports from PREFIX's dist-packages with
+# Debian's python3 (and nothing from the build tree), loads a model and samples it on the CPU.
+python_import() {
+  local prefix=$1 dir
+  dir=$(find "$prefix" -name 'shapespline.cpython-*.so' -printf '%h\n' | head -1)
+  if [ -z "$dir" ]; then
+    [ -f "$BUILD/python/CTestTestfile.cmake" ] && fail "no Python module installed under $prefix"
+    echo "python: module not built: skipped"
+    return 0
+  fi
+  [ "$dir" = "$prefix/lib/python3/dist-packages" ] || fail "Python module installed in $dir"
+  [ -f "$dir/shapespline.pyi" ] || fail "no shapespline.pyi beside the module"
+  (cd "$T" && PYTHONPATH="$dir" /usr/bin/python3 -c "
+import shapespline as ss, sys
+assert ss.__file__.startswith('$dir/'), ss.__file__
+assert ss.__version__ == '$VERSION', ss.__version__
+c = ss.load('$SRC/examples/models/butterfly_aeb.json')
+p = c.sample(8, device='cpu')['point']
+print('python: shapespline', ss.__version__, 'from', ss.__file__, 'sampled', p.shape)
+") || fail "the installed Python module does not import from $dir"
+}

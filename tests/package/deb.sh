@@ -26,5 +26,6 @@ echo "$out"
 [ "$COMMIT" != unknown ] || echo "note: the build was configured without git, commit 'unknown'"
 
 pkgconfig "$T/usr"
+python_import "$T/usr"
 consume "$T/usr"
 echo "PASS"

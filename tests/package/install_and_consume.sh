@@ -33,5 +33,6 @@ xargs -P 2 -I{} sh -c 'printf "#include <%s>\n" "$1" | $CXX -std=c++20 -fsyntax-
     _ {} <"$T/headers" || fail "a public header does not compile alone"
 
 pkgconfig "$T/usr"
+python_import "$T/usr"
 consume "$T/usr"
 echo "PASS"
