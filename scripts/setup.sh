@@ -12,6 +12,7 @@ PACKAGES=(
   libglm-dev nlohmann-json3-dev libcli11-dev libpng-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
   python3-numpy libtinygltf-dev assimp-utils
+  slurm-wlm munge
   pybind11-dev python3-dev python3-pytest python3-matplotlib
 )
 
