@@ -216,25 +216,35 @@ uint64_t WeldedNumbering::triangleCount() const {
   return (end_ - first_) * 2 * static_cast<uint64_t>(grid_.samplesU() - 1) * static_cast<uint64_t>(grid_.samplesV() - 1);
 }
 
-void WeldedNumbering::forEachTriangle(bool reversed, const std::function<void(uint64_t, uint64_t, uint64_t)>& emit) const {
+void WeldedNumbering::rowIndices(uint64_t item, int a, uint64_t* out) const {
+  const WeldGrid::Owned o = grid_.owned(item);
+  const int sv = grid_.samplesV();
+  const bool ownedRow = a >= o.row0 && a <= o.row1;
+  const uint64_t base = grid_.firstIndexOf(item) - grid_.firstIndexOf(first_) +
+                        (ownedRow ? static_cast<uint64_t>(a - o.row0) * static_cast<uint64_t>(o.col1 - o.col0 + 1) : 0);
+  for (int b = 0; b < sv; ++b) {
+    out[b] = ownedRow && b >= o.col0 && b <= o.col1 ? base + static_cast<uint64_t>(b - o.col0)
+                                                     : localIndex(grid_.pointOf(item, a, b));
+  }
+}
+
+void WeldedNumbering::forEachTriangleRow(bool reversed, const std::function<void(const uint64_t*, size_t)>& emit) const {
   if (grid_.curve()) return;
   const int su = grid_.samplesU(), sv = grid_.samplesV();
-  std::vector<uint64_t> lower(static_cast<size_t>(sv)), upper(static_cast<size_t>(sv));
+  std::vector<uint64_t> lower(static_cast<size_t>(sv)), upper(static_cast<size_t>(sv)), tri(6 * static_cast<size_t>(sv - 1));
   for (uint64_t item = first_; item < end_; ++item) {
-    for (int b = 0; b < sv; ++b) lower[static_cast<size_t>(b)] = localIndex(grid_.pointOf(item, 0, b));
+    rowIndices(item, 0, lower.data());
     for (int a = 0; a + 1 < su; ++a) {
-      for (int b = 0; b < sv; ++b) upper[static_cast<size_t>(b)] = localIndex(grid_.pointOf(item, a + 1, b));
+      rowIndices(item, a + 1, upper.data());
+      uint64_t* t = tri.data();
       for (size_t b = 0; b + 1 < static_cast<size_t>(sv); ++b) {
         const uint64_t p00 = lower[b], p01 = lower[b + 1], p10 = upper[b], p11 = upper[b + 1];
         // (p00, p10, p11), (p00, p11, p01): counter-clockwise in (u, v), front-facing towards du x dv.
-        if (reversed) {
-          emit(p00, p11, p10);
-          emit(p00, p01, p11);
-        } else {
-          emit(p00, p10, p11);
-          emit(p00, p11, p01);
-        }
+        const uint64_t cell[6] = {p00, reversed ? p11 : p10, reversed ? p10 : p11,
+                                  p00, reversed ? p01 : p11, reversed ? p11 : p01};
+        for (uint64_t i : cell) *t++ = i;
       }
+      emit(tri.data(), 2 * static_cast<size_t>(sv - 1));
       lower.swap(upper);
     }
   }

@@ -71,6 +71,15 @@ class WeldGrid {
   // Position of the point in the whole job's vertex order, and the first index of item's points.
   uint64_t globalIndex(Point p) const;
   uint64_t firstIndexOf(uint64_t item) const;  // item <= items()
+  // The samples item emits: rows [row0, row1] x columns [col0, col1], numbered row-major from
+  // firstIndexOf(item).
+  struct Owned {
+    int row0, row1, col0, col1;
+  };
+  Owned owned(uint64_t item) const {
+    const uint64_t r = item / patchesV_, c = item % patchesV_;
+    return {firstOwnedRow(r), lastOwnedRow(r), firstOwnedColumn(c), lastOwnedColumn(c)};
+  }
 
  private:
   int firstOwnedRow(uint64_t r) const;
@@ -108,7 +117,14 @@ class WeldedNumbering {
   // Triangles: 2 (Su-1)(Sv-1) per item, counter-clockwise seen from du x dv (reversed: clockwise),
   // as local indices; `emit(i0, i1, i2)`.
   uint64_t triangleCount() const;
-  void forEachTriangle(bool reversed, const std::function<void(uint64_t, uint64_t, uint64_t)>& emit) const;
+  template <class Emit>
+  void forEachTriangle(bool reversed, Emit&& emit) const {
+    forEachTriangleRow(reversed, [&](const uint64_t* t, size_t n) {
+      for (size_t k = 0; k < n; ++k) emit(t[3 * k], t[3 * k + 1], t[3 * k + 2]);
+    });
+  }
+  // The same, one row of cells of an item at a time: `emit(indices, triangles)`, 3 indices each.
+  void forEachTriangleRow(bool reversed, const std::function<void(const uint64_t*, size_t)>& emit) const;
   // Curves: the polyline through the file's points in parameter order, each point once; a closed
   // curve sampled whole ends with its first point again (a loop). `emit(local index)`.
   uint64_t polylineLength() const;
@@ -119,6 +135,9 @@ class WeldedNumbering {
   std::vector<std::pair<uint64_t, uint64_t>> contextItems() const;
 
  private:
+  // Local indices of row a of item (its samples b = 0..Sv-1): the emitted ones by arithmetic, the
+  // shared ones through localIndex.
+  void rowIndices(uint64_t item, int a, uint64_t* out) const;
   WeldGrid grid_;
   uint64_t first_, end_;
   uint64_t ownedCount_ = 0;
