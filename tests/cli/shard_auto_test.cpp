@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <map>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -242,6 +243,42 @@ TEST(CliShardPattern, MalformedPatternsAreRefusedNamingO) {
   const CliResult r = runCli("sample " + butterfly() + " -o 'p{shard:5d}.f32' --shard 1/2 --device cpu", dir.path(), dir.path());
   EXPECT_TRUE(contains(r.err, "malformed placeholder '{shard:5d}' at character 2")) << r.err;
   EXPECT_TRUE(contains(r.err, "{shard:0Wd}")) << r.err;
+}
+
+// ---- examples/k8s: the Indexed Job's pods, then the merge Job, as Kubernetes would run them ----------
+
+std::string firstMatch(const std::string& text, const std::string& re) {
+  std::smatch m;
+  return std::regex_search(text, m, std::regex(re)) ? m[1].str() : "";
+}
+
+TEST(CliShardAuto, KubernetesManifestsShardAndMerge) {
+  ScratchDir dir("shard_k8s_manifest");
+  const std::string k8s = std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/k8s/";
+  const std::string job = readText(k8s + "sample-indexed-job.yaml"), merge = readText(k8s + "merge-job.yaml");
+  EXPECT_TRUE(contains(job, "completionMode: Indexed"));
+  const std::string completions = firstMatch(job, R"re(\n  completions: (\d+))re");
+  const std::string count = firstMatch(job, R"re(name: SHAPESPLINE_SHARD_COUNT\s+value: "(\d+)")re");
+  ASSERT_FALSE(completions.empty());
+  EXPECT_EQ(count, completions) << "SHAPESPLINE_SHARD_COUNT must equal completions";
+  const std::string out = firstMatch(job, R"re(- -o\s+- (/out/\S+))re");
+  const std::string pattern = firstMatch(merge, R"re("(/out/[^"]+)")re");
+  ASSERT_FALSE(out.empty());
+  EXPECT_EQ(pattern, out) << "the merge Job reads the pattern the pods write";
+  // /out is the scratch folder, /models the examples; a small grid instead of the manifest's.
+  fs::create_directories(dir / "out");
+  auto local = [&](const std::string& p) { return (dir.path() / p.substr(1)).string(); };
+  const std::string model = quote(examplesDir() + "/surface_aeb.json");
+  const int n = std::stoi(completions);
+  for (int index = 0; index < n; ++index) {
+    const CliResult r = runWithEnv(dir, {{"JOB_COMPLETION_INDEX", std::to_string(index)}, {"SHAPESPLINE_SHARD_COUNT", count}},
+                                   "sample " + model + " --grid 3 --device cpu --shard auto -q -o " + quote(local(out)));
+    ASSERT_EQ(r.rc, 0) << "index " << index << ": " << r.err;
+  }
+  ASSERT_EQ(runWithEnv(dir, {}, "sample " + model + " --grid 3 --device cpu -q -o whole.f32").rc, 0);
+  const CliResult m = runWithEnv(dir, {}, "merge -o merged.f32 " + quote(local(pattern)));
+  ASSERT_EQ(m.rc, 0) << m.err;
+  EXPECT_EQ(readText(dir / "merged.f32"), readText(dir / "whole.f32"));
 }
 
 }  // namespace
