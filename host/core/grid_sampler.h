@@ -22,7 +22,7 @@ struct SamplerOptions {
   // grid. Small enough that both chunk buffers stay in cache: at 2^20 the sampler becomes bound by
   // memory writes (24 vs 61 Mpts/s measured).
   size_t maxChunkPoints = size_t{1} << 15;
-  SliceConsumer slice;                  // optional (core/sample_grid.h)
+  SliceConsumer slice = {};             // optional (core/sample_grid.h)
 };
 
 // The sampled items: span indices of a curve (for knot-vector B-splines only non-empty intervals).

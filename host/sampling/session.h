@@ -31,7 +31,7 @@ struct GridOptions {
   // Optional per-slice work (core/grid_sampler.h SliceConsumer): on the CPU run by the workers as
   // they finish their rows; on the GPU on the calling thread, the whole chunk as one slice, just
   // before the consumer.
-  SliceConsumer slice;
+  SliceConsumer slice = {};
 };
 
 // One sample of a list: local (span, t) / (patch i, j, u, v) or, with `global`, the global
