@@ -1,6 +1,7 @@
 #include <shapespline/io/merge.h>
 
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/json_depth.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
@@ -811,26 +812,6 @@ MergeResult mergeCsv(const std::vector<std::string>& shards, AtomicFile& out) {
 
 // ---- Raw ---------------------------------------------------------------------------------------
 
-// No JSON value nested deeper than `limit` (checked before parsing, so a crafted sidecar cannot
-// exhaust the stack of a recursive parser).
-bool depthWithin(std::string_view text, int limit) {
-  int depth = 0;
-  bool inString = false, escaped = false;
-  for (char c : text) {
-    if (inString) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') inString = false;
-    } else if (c == '"') {
-      inString = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > limit) return false;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return true;
-}
 
 // Typed access to a sidecar with errors naming the key.
 class SidecarReader {
@@ -904,7 +885,7 @@ RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
   std::string text(static_cast<size_t>(f.size()), '\0');
   f.readExact(text.data(), text.size());
   f.expectEnd();
-  if (!depthWithin(text, kMaxSidecarDepth)) {
+  if (!jsonDepthWithin(text, kMaxSidecarDepth)) {
     refuse(w, "sidecar nests deeper than " + std::to_string(kMaxSidecarDepth) + " levels (not a shapespline sidecar)");
   }
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);

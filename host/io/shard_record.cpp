@@ -1,5 +1,7 @@
 #include <shapespline/io/shard_record.h>
 
+#include <shapespline/io/json_depth.h>
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -22,26 +24,6 @@ bool isHex(std::string_view s, size_t n) {
   return s.size() == n && s.find_first_not_of("0123456789abcdef") == std::string_view::npos;
 }
 
-// No value nested deeper than `limit` (checked before parsing: a crafted file cannot exhaust the
-// stack of the recursive parser).
-bool depthWithin(std::string_view text, int limit) {
-  int depth = 0;
-  bool inString = false, escaped = false;
-  for (char c : text) {
-    if (inString) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') inString = false;
-    } else if (c == '"') {
-      inString = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > limit) return false;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return true;
-}
 
 const nlohmann::json& member(const nlohmann::json& obj, const char* key, const std::string& path) {
   if (!obj.is_object()) throw ShardRecordError(path, "must be a JSON object");
@@ -105,7 +87,7 @@ std::string shardRecordJson(const ShardRecord& r) {
 }
 
 ShardRecord parseShardRecord(std::string_view text) {
-  if (!depthWithin(text, kMaxRecordDepth)) {
+  if (!jsonDepthWithin(text, kMaxRecordDepth)) {
     throw ShardRecordError("", "nests deeper than " + std::to_string(kMaxRecordDepth) + " levels (not a shard record)");
   }
   const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);

@@ -141,13 +141,7 @@ def check_mesh(path, distinct, closed_u, closed_v):
 
 void python(const ScratchDir& dir, const std::string& body, const std::vector<std::string>& args) {
   if (!fs::exists(kPython)) GTEST_SKIP() << kPython << " is missing (scripts/setup.sh installs it)";
-  writeText(dir / "check.py", std::string(kReaders) + body);
-  std::string cmd = std::string(kPython) + " " + quote((dir / "check.py").string());
-  for (const auto& a : args) cmd += " " + quote(a);
-  const auto out = dir / "_py_out.txt", err = dir / "_py_err.txt";
-  const CliResult r = runCaptured(cmd + " >" + quote(out.string()) + " 2>" + quote(err.string()), out, err);
-  EXPECT_EQ(r.rc, 0) << r.out << r.err;
-  EXPECT_TRUE(contains(r.out, "OK")) << r.out << r.err;
+  expectPythonOk(dir, std::string(kReaders) + body, args);
 }
 
 // The torus: 8 x 6 patches, closed in u and v; S x S samples per patch give 8 (S-1) x 6 (S-1) points.

@@ -52,17 +52,6 @@ void sampleOk(const ScratchDir& dir, const std::string& model, const std::string
   ASSERT_EQ(r.rc, 0) << out << ": " << r.err;
 }
 
-// Runs `script` with /usr/bin/python3 in `dir`; it prints OK or fails.
-void python(const ScratchDir& dir, const std::string& script, const std::vector<std::string>& args) {
-  writeText(dir / "check.py", script);
-  std::string cmd = "cd " + quote(dir.path().string()) + " && " + kPython + " check.py";
-  for (const auto& a : args) cmd += " " + quote(a);
-  const auto out = dir / "_py_out.txt", err = dir / "_py_err.txt";
-  const CliResult r = runCaptured(cmd + " >" + quote(out.string()) + " 2>" + quote(err.string()), out, err);
-  EXPECT_EQ(r.rc, 0) << r.out << r.err;
-  EXPECT_TRUE(contains(r.out, "OK")) << r.out << r.err;
-}
-
 // argv: sidecar, model file (as given to sample), grid, output precision, device, version line.
 constexpr const char* kSidecarCheck = R"PY(
 import hashlib, json, sys
@@ -123,7 +112,7 @@ TEST(MetadataOutput, RawAndNpySidecarsCarryTheJobMetadata) {
     SCOPED_TRACE(c.out);
     sampleOk(dir, c.model, c.out, c.opts + " --device cpu");
     ASSERT_TRUE(fs::exists(dir / (c.out + ".json"))) << "every raw and .npy output has its sidecar";
-    python(dir, kSidecarCheck, {c.out + ".json", c.model, c.grid, c.precision, "cpu", version});
+    expectPythonOk(dir, kSidecarCheck, {c.out + ".json", c.model, c.grid, c.precision, "cpu", version});
   }
   // The .npy's sidecar is the raw one of the same job but for data_file and the dtype it names.
   const json npy = json::parse(readText(dir / "c.npy.json")), raw = json::parse(readText(dir / "c.f32.json"));
@@ -141,7 +130,7 @@ TEST(MetadataOutput, GpuSidecarNamesTheDevice) {
   const json side = json::parse(readText(dir / "g.f32.json"));
   ASSERT_NE(side["device"], "cpu");
   EXPECT_EQ(side["computed_precision"], "float");
-  python(dir, kSidecarCheck, {"g.f32.json", "surface.json", "4x4", "float", side["device"].get<std::string>(),
+  expectPythonOk(dir, kSidecarCheck, {"g.f32.json", "surface.json", "4x4", "float", side["device"].get<std::string>(),
                               versionLine(dir)});
 }
 
@@ -181,7 +170,7 @@ TEST(MetadataOutput, ShardsMergeWithTheMetadataIntact) {
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_EQ(readText(dir / ("merged." + ext)), readText(dir / ("whole." + ext)));
     expectSidecarOfWhole(dir, "merged." + ext, "whole." + ext);
-    python(dir, kSidecarCheck, {"merged." + ext + ".json", "surface.json", "3x2", "float", "cpu", version});
+    expectPythonOk(dir, kSidecarCheck, {"merged." + ext + ".json", "surface.json", "3x2", "float", "cpu", version});
   }
 }
 
@@ -237,7 +226,7 @@ TEST(MetadataOutput, SvgCarriesTheMetadataElement) {
   ScratchDir dir("metadata_svg");
   writeModels(dir);
   sampleOk(dir, "a curve's.json", "c.svg", "--samples 9 --device cpu");
-  python(dir, kSvgCheck, {"c.svg", "a curve's.json"});
+  expectPythonOk(dir, kSvgCheck, {"c.svg", "a curve's.json"});
   expectFiniteOutput(dir / "c.svg", "c.svg");
 }
 

@@ -49,17 +49,6 @@ void sampleTo(const ScratchDir& dir, const std::string& modelName, const std::st
   ASSERT_EQ(r.rc, 0) << name << ": " << r.err;
 }
 
-// Runs `script` with /usr/bin/python3 and the arguments; it prints OK or raises.
-void python(const ScratchDir& dir, const std::string& script, const std::vector<std::string>& args) {
-  writeText(dir / "check.py", script);
-  std::string cmd = std::string(kPython) + " " + quote((dir / "check.py").string());
-  for (const auto& a : args) cmd += " " + quote(a);
-  const auto out = dir / "_py_out.txt", err = dir / "_py_err.txt";
-  const CliResult r = runCaptured(cmd + " >" + quote(out.string()) + " 2>" + quote(err.string()), out, err);
-  EXPECT_EQ(r.rc, 0) << r.out << r.err;
-  EXPECT_TRUE(contains(r.out, "OK")) << r.out << r.err;
-}
-
 // argv: npy raw sidecar-of-raw field names...
 constexpr const char* kNpyCheck = R"PY(
 import json, sys
@@ -108,7 +97,7 @@ TEST(NumpyOutput, LoadsMemoryMappedAndEqualsRawBytes) {
       // Every .npy has the raw sidecar OUT.npy.json (its job metadata; docs/cli.md).
       EXPECT_TRUE(fs::exists(dir / (stem + ".npy.json"))) << "an unsharded .npy has its sidecar too";
       SCOPED_TRACE(std::string(c.model) + " " + opts);
-      python(dir, kNpyCheck, {(dir / (stem + ".npy")).string(), (dir / raw).string(), (dir / (raw + ".json")).string(),
+      expectPythonOk(dir, kNpyCheck, {(dir / (stem + ".npy")).string(), (dir / raw).string(), (dir / (raw + ".json")).string(),
                               c.fields});
     }
   }
@@ -126,7 +115,7 @@ TEST(NumpyOutput, ShardsAreNpyFilesAndMergeByteForByte) {
     sampleTo(dir, "surface_aeb.json", name + ".npy", opts + " --shard " + std::to_string(k) + "/3");
     sampleTo(dir, "surface_aeb.json", name + ".f32", opts + " --shard " + std::to_string(k) + "/3");
     ASSERT_TRUE(fs::exists(dir / (name + ".npy.json"))) << "a .npy shard carries the raw sidecar";
-    python(dir, kNpyCheck, {(dir / (name + ".npy")).string(), (dir / (name + ".f32")).string(),
+    expectPythonOk(dir, kNpyCheck, {(dir / (name + ".npy")).string(), (dir / (name + ".f32")).string(),
                             (dir / (name + ".f32.json")).string(), "point,du,dv,duu,duv,dvv"});
     shards.push_back((dir / (name + ".npy")).string());
   }
@@ -246,7 +235,7 @@ TEST(ShortestDecimals, TextOutputsReadBackToTheRawValues) {
                std::string(c.opts) + " --precision " + precision + (std::string(c.ext) == "obj" ? " --mesh-layout per-item" : ""));
       sampleTo(dir, c.model, raw, rawOpts + " --precision " + precision);
       SCOPED_TRACE(std::string(c.model) + " ." + c.ext + " " + precision);
-      python(dir, kDecimalCheck, {(dir / (stem + "." + c.ext)).string(), c.ext, (dir / raw).string(),
+      expectPythonOk(dir, kDecimalCheck, {(dir / (stem + "." + c.ext)).string(), c.ext, (dir / raw).string(),
                                   f ? "float32" : "float64", c.lead});
     }
   }

@@ -135,4 +135,16 @@ inline void expectFiniteOutput(const std::filesystem::path& file, const std::str
   }
 }
 
+// Runs `script` (written to DIR/check.py) with Debian's /usr/bin/python3 in DIR, with `args`, and
+// expects exit status 0 and "OK" on stdout (each script prints it after its asserts).
+inline void expectPythonOk(const ScratchDir& dir, const std::string& script, const std::vector<std::string>& args) {
+  writeText(dir / "check.py", script);
+  std::string cmd = "cd " + quote(dir.path().string()) + " && /usr/bin/python3 check.py";
+  for (const auto& a : args) cmd += " " + quote(a);
+  const auto out = dir / "_py_out.txt", err = dir / "_py_err.txt";
+  const CliResult r = runCaptured(cmd + " >" + quote(out.string()) + " 2>" + quote(err.string()), out, err);
+  EXPECT_EQ(r.rc, 0) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "OK")) << r.out << r.err;
+}
+
 }  // namespace shapespline::test
