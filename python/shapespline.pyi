@@ -176,7 +176,7 @@ class Curve(_Model):
                       first_item: int = 0, item_count: int = 0, chunk_points: int = 0,
                       queue: int = 2) -> ChunkIterator:
         """The same job as an iterator of chunks in bounded memory: at most queue + 2 chunks of
-        chunk_points points (default 2^18) exist at once."""
+        chunk_points points (default: 2^15 on the CPU, 4 MiB planes on the GPU) exist at once."""
     def evaluate(self, params: Optional[ArrayLike] = None, *, span: Optional[ArrayLike] = None,
                  t: Optional[ArrayLike] = None, device: Device = "auto", precision: PrecisionName = "double",
                  require: bool = False, report: bool = False) -> Any:

@@ -17,12 +17,6 @@
 namespace shapespline::sampling {
 namespace {
 
-// The CPU sampler's chunk when the caller names none: large enough to amortise the per-chunk work
-// of the writers, small enough to stay in cache.
-// 2^15: a worker's slice of a chunk stays in its core's L2 while the writer's slice stage reads it
-// (e2e .f32 at 2^18: 0.90 s, at 2^15: 0.66 s and 23 MB instead of 87 MB RSS, 15.2 M points with
-// second derivatives on this 2-core machine).
-constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 15;
 
 [[noreturn]] void throwDeviceError(const vk::VulkanError& e) {
   const char* hint = "--device cpu avoids the GPU";

@@ -25,9 +25,15 @@
 
 namespace shapespline::sampling {
 
+// The CPU sampler's chunk when the caller names none: large enough to amortise the per-chunk work
+// of the consumers, small enough that a worker's slice of a chunk stays in its core's L2 while the
+// slice stage reads it (e2e .f32 at 2^18: 0.90 s, at 2^15: 0.66 s and 23 MB instead of 87 MB
+// resident, 15.2 M points with second derivatives on a 2-core machine).
+inline constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 15;
+
 struct GridOptions {
   int threads = 0;         // CPU sampler threads (0 = all)
-  size_t chunkPoints = 0;  // points per chunk (0: 2^15 on the CPU, 4 MiB planes on the GPU)
+  size_t chunkPoints = 0;  // points per chunk (0: kDefaultCpuChunkPoints on the CPU, 4 MiB planes on the GPU)
   // Optional per-slice work (core/grid_sampler.h SliceConsumer): on the CPU run by the workers as
   // they finish their rows; on the GPU on the calling thread, the whole chunk as one slice, just
   // before the consumer.

@@ -38,9 +38,6 @@ sampling::Report plan(const Model& model, const sampling::DeviceRequest& request
 // Every Vulkan failure of a resident job becomes sampling::DeviceError, as in the Session.
 [[noreturn]] void rethrowDeviceError();
 
-// Points per CPU chunk when the caller names none (the Session's own default).
-inline constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 18;
-
 template <class Model>
 struct Kind;
 template <>
@@ -94,7 +91,7 @@ class Handle {
       sampling::Report r = python::plan(model_, request);
       if (!r.gpu) {
         SamplerOptions o;
-        o.maxChunkPoints = chunkPoints ? chunkPoints : kDefaultCpuChunkPoints;
+        o.maxChunkPoints = chunkPoints ? chunkPoints : sampling::kDefaultCpuChunkPoints;
         if constexpr (std::is_same_v<Model, Curve>) {
           sampleCurveGrid(model_, grid, fields, consumer, o);
         } else {

@@ -285,7 +285,7 @@ std::shared_ptr<ChunkStream> sampleChunks(Handle<Model>& h, py::object grid, py:
     python::plan(snapshot, request);  // device errors here, on the caller's thread
   }
   sampling::GridOptions options;
-  options.chunkPoints = chunkPoints > 0 ? static_cast<size_t>(chunkPoints) : kDefaultCpuChunkPoints;
+  options.chunkPoints = chunkPoints > 0 ? static_cast<size_t>(chunkPoints) : 0;  // 0: the Session's default per device
   auto job = [snapshot = std::move(snapshot), request, g, mask, options](const ChunkConsumer& consumer) {
     return session().sampleGrid(snapshot, request, g, mask, consumer, options);
   };
