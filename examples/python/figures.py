@@ -36,6 +36,20 @@ LAMBDAS = [-4, -3, -2, -1, 0, 1]
 DPI = 110
 
 
+def save(fig, path):
+    """Lays the figure out, writes it as a PNG and frees it."""
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
+def equal_with_grid(axes):
+    """Equal axis scales (curves keep their shape) and a light grid on every panel."""
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.grid(alpha=0.3)
+
+
 def polyline(curve, samples, device):
     """The sampled curve as one (N, 3) polyline (the shared span ends appear once)."""
     p = curve.sample(samples, device=device)["point"]
@@ -66,9 +80,7 @@ def xuwang_degrees(out, device):
         ax.set_aspect("equal")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8, loc="upper left")
-    fig.tight_layout()
-    fig.savefig(out / "xuwang_degrees.png", dpi=DPI)
-    plt.close(fig)
+    save(fig, out / "xuwang_degrees.png")
 
 
 def butterfly_alpha(out, device):
@@ -95,12 +107,8 @@ def butterfly_alpha(out, device):
         ax.plot(q[:, 0], q[:, 1], color=col, lw=1.0, alpha=0.8, label=f"same α, λ = {lam}")
     ax.set_title("butterfly α-EB curve, per-vertex α")
     ax.legend(fontsize=8, loc="lower right")
-    for ax in axes:
-        ax.set_aspect("equal")
-        ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "butterfly_alpha.png", dpi=DPI)
-    plt.close(fig)
+    equal_with_grid(axes)
+    save(fig, out / "butterfly_alpha.png")
 
 
 def surface_lambda(out, device):
@@ -131,9 +139,7 @@ def surface_lambda(out, device):
     ax.set_title(f"section V = {mid_v:g} (x, z)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "surface_lambda.png", dpi=DPI)
-    plt.close(fig)
+    save(fig, out / "surface_lambda.png")
 
 
 def ubp_gubp_basis(out):
@@ -160,9 +166,7 @@ def ubp_gubp_basis(out):
     ax.legend(fontsize=8)
     ax.set_xlabel("x")
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "ubp_gubp_basis.png", dpi=DPI)
-    plt.close(fig)
+    save(fig, out / "ubp_gubp_basis.png")
 
 
 def gb_lambda_paths(out, device):
@@ -198,12 +202,8 @@ def gb_lambda_paths(out, device):
     ax.plot(*target, "*", color="k", ms=12, label=f"target {tuple(target)}")
     ax.set_title("constrained modification: span 1 through the target")
     ax.legend(fontsize=8, loc="lower right")
-    for ax in axes:
-        ax.set_aspect("equal")
-        ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "gb_lambda_paths.png", dpi=DPI)
-    plt.close(fig)
+    equal_with_grid(axes)
+    save(fig, out / "gb_lambda_paths.png")
 
 
 def bspline_extension(out, device):
@@ -225,9 +225,7 @@ def bspline_extension(out, device):
         ax.legend(fontsize=8, loc="lower left")
         ax.set_aspect("equal")
         ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "bspline_extension.png", dpi=DPI)
-    plt.close(fig)
+    save(fig, out / "bspline_extension.png")
 
 
 FIGURES = ["xuwang_degrees.png", "butterfly_alpha.png", "surface_lambda.png", "ubp_gubp_basis.png",
