@@ -1,24 +1,14 @@
 #include <shapespline/render/renderer.h>
 
-#include <shapespline/gpu/tessellator.h>
-#include "shaders/render_overlay_frag.h"
-#include "shaders/render_overlay_vert.h"
-#include "shaders/render_surface_frag.h"
-#include "shaders/render_surface_vert.h"
+#include <shapespline/render/scene_pipelines.h>
 #include <shapespline/vk/error.h>
 #include <shapespline/vk/handle.h>
-#include <shapespline/vk/pipeline_cache.h>
 #include <shapespline/vk/submit.h>
 
-#include <glm/gtc/type_ptr.hpp>
-
-#include <array>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
 namespace shapespline::render {
-namespace tl = gpu::tess_layout;
 
 using ImageHandle = vk::Handle<VkImage, VkDevice, vkDestroyImage>;
 using ImageViewHandle = vk::Handle<VkImageView, VkDevice, vkDestroyImageView>;
@@ -73,32 +63,13 @@ Attachment makeAttachment(vk::Context& ctx, VkFormat format, VkImageUsageFlags u
   return a;
 }
 
-VkFormat depthFormat(const vk::Context& ctx) {
-  for (VkFormat f : {VK_FORMAT_D32_SFLOAT, VK_FORMAT_X8_D24_UNORM_PACK32, VK_FORMAT_D24_UNORM_S8_UINT, VK_FORMAT_D16_UNORM}) {
-    VkFormatProperties p;
-    vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), f, &p);
-    if (p.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT) return f;
-  }
-  throw std::runtime_error("no depth attachment format on device '" + ctx.deviceName() + "'");
-}
-
-vk::ShaderModuleHandle shaderModule(VkDevice dev, std::span<const uint32_t> code, const char* what) {
-  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  ci.codeSize = code.size_bytes();
-  ci.pCode = code.data();
-  VkShaderModule m;
-  vk::check(vkCreateShaderModule(dev, &ci, nullptr, &m), what);
-  return vk::ShaderModuleHandle(dev, m);
-}
-
 }  // namespace
 
 struct OffscreenRenderer::Impl {
   Attachment color, depth;
   RenderPassHandle renderPass;
   FramebufferHandle framebuffer;
-  vk::PipelineLayoutHandle layout;
-  vk::PipelineHandle surface, wire, overlayLines, overlayTris;
+  std::unique_ptr<ScenePipelines> pipelines;
   vk::Buffer readback;
 };
 
@@ -118,7 +89,7 @@ OffscreenRenderer::OffscreenRenderer(std::shared_ptr<vk::Context> ctx, int width
       throw std::runtime_error("rendering needs a graphics queue; queue family " + std::to_string(c.queueFamily()) +
                                " of '" + c.deviceName() + "' has none");
   }
-  const VkFormat df = depthFormat(c);
+  const VkFormat df = depthAttachmentFormat(c);
   impl_->color = makeAttachment(c, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                 VK_IMAGE_ASPECT_COLOR_BIT, width, height);
   impl_->depth = makeAttachment(c, df, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT, width, height);
@@ -182,89 +153,7 @@ OffscreenRenderer::OffscreenRenderer(std::shared_ptr<vk::Context> ctx, int width
   vk::check(vkCreateFramebuffer(dev, &fi, nullptr, &fb), "vkCreateFramebuffer (offscreen)");
   impl_->framebuffer = FramebufferHandle(dev, fb);
 
-  const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(tl::RenderPush)};
-  VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  li.pushConstantRangeCount = 1;
-  li.pPushConstantRanges = &range;
-  VkPipelineLayout layout;
-  vk::check(vkCreatePipelineLayout(dev, &li, nullptr, &layout), "vkCreatePipelineLayout (render)");
-  impl_->layout = vk::PipelineLayoutHandle(dev, layout);
-
-  const auto surfVert = shaderModule(dev, render_surface_vert, "vkCreateShaderModule (render_surface.vert)");
-  const auto surfFrag = shaderModule(dev, render_surface_frag, "vkCreateShaderModule (render_surface.frag)");
-  const auto ovVert = shaderModule(dev, render_overlay_vert, "vkCreateShaderModule (render_overlay.vert)");
-  const auto ovFrag = shaderModule(dev, render_overlay_frag, "vkCreateShaderModule (render_overlay.frag)");
-
-  const VkVertexInputBindingDescription meshBinding = gpu::SurfaceTessellator::vertexBinding(0);
-  const auto meshAttrs = gpu::SurfaceTessellator::vertexAttributes(0, 0);
-  const VkVertexInputBindingDescription ovBinding{0, tl::kOverlayVertexStride, VK_VERTEX_INPUT_RATE_VERTEX};
-  const std::array<VkVertexInputAttributeDescription, 3> ovAttrs{{{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                                                  {1, 0, VK_FORMAT_R32G32_SFLOAT, 12},
-                                                                  {2, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 20}}};
-  auto makePipeline = [&](VkShaderModule vs, VkShaderModule fs, bool mesh, VkPrimitiveTopology topo, const char* label) {
-    VkPipelineShaderStageCreateInfo stages[2] = {};
-    stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vs;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = fs;
-    stages[1].pName = "main";
-    VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vi.vertexBindingDescriptionCount = 1;
-    vi.pVertexBindingDescriptions = mesh ? &meshBinding : &ovBinding;
-    vi.vertexAttributeDescriptionCount = 3;
-    vi.pVertexAttributeDescriptions = mesh ? meshAttrs.data() : ovAttrs.data();
-    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = topo;
-    const VkViewport viewport{0.0f, 0.0f, float(width), float(height), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, {uint32_t(width), uint32_t(height)}};
-    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    vp.viewportCount = 1;
-    vp.pViewports = &viewport;
-    vp.scissorCount = 1;
-    vp.pScissors = &scissor;
-    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.polygonMode = VK_POLYGON_MODE_FILL;
-    rs.cullMode = VK_CULL_MODE_NONE;  // open surfaces show both sides
-    rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    ds.depthTestEnable = VK_TRUE;
-    ds.depthWriteEnable = VK_TRUE;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-    VkPipelineColorBlendAttachmentState blend{};
-    blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                           VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    cb.attachmentCount = 1;
-    cb.pAttachments = &blend;
-    VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    gi.stageCount = 2;
-    gi.pStages = stages;
-    gi.pVertexInputState = &vi;
-    gi.pInputAssemblyState = &ia;
-    gi.pViewportState = &vp;
-    gi.pRasterizationState = &rs;
-    gi.pMultisampleState = &ms;
-    gi.pDepthStencilState = &ds;
-    gi.pColorBlendState = &cb;
-    gi.layout = layout;
-    gi.renderPass = pass;
-    VkPipeline p;
-    vk::check(vkCreateGraphicsPipelines(dev, c.pipelineCache().handle(), 1, &gi, nullptr, &p), label);
-    return vk::PipelineHandle(dev, p);
-  };
-  impl_->surface = makePipeline(surfVert.get(), surfFrag.get(), true, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-                                "vkCreateGraphicsPipelines (surface)");
-  impl_->wire = makePipeline(surfVert.get(), surfFrag.get(), true, VK_PRIMITIVE_TOPOLOGY_LINE_LIST,
-                             "vkCreateGraphicsPipelines (wireframe)");
-  impl_->overlayLines = makePipeline(ovVert.get(), ovFrag.get(), false, VK_PRIMITIVE_TOPOLOGY_LINE_LIST,
-                                     "vkCreateGraphicsPipelines (overlay lines)");
-  impl_->overlayTris = makePipeline(ovVert.get(), ovFrag.get(), false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-                                    "vkCreateGraphicsPipelines (overlay markers)");
+  impl_->pipelines = std::make_unique<ScenePipelines>(c, pass);
   impl_->readback = vk::Buffer::create(c, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                        vk::MemoryUse::Readback, "render.readback");
 }
@@ -297,17 +186,6 @@ void OffscreenRenderer::draw(const Scene& scene, const Camera& camera, bool read
   if (!scene.lines.empty()) lines = upload(scene.lines, "render.lines");
   if (!scene.markers.empty()) markers = upload(scene.markers, "render.markers");
 
-  tl::RenderPush pc{};
-  const glm::mat4 vp = camera.viewProj();
-  std::memcpy(pc.viewProj, glm::value_ptr(vp), sizeof(pc.viewProj));
-  pc.eye[0] = camera.eye.x;
-  pc.eye[1] = camera.eye.y;
-  pc.eye[2] = camera.eye.z;
-  pc.params[2] = float(width_);
-  pc.params[3] = float(height_);
-  const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-  VkPipelineLayout layout = impl_->layout.get();
-
   vk::OneShot shot(c);
   VkCommandBuffer cmd = shot.cmd();
   if (scene.prepare) scene.prepare(cmd);
@@ -321,48 +199,12 @@ void OffscreenRenderer::draw(const Scene& scene, const Camera& camera, bool read
   bi.clearValueCount = 2;
   bi.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &bi, VK_SUBPASS_CONTENTS_INLINE);
-  const VkDeviceSize zero = 0;
-  for (const MeshDraw& m : scene.meshes) {
-    if (m.indexCount == 0) continue;
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->surface.get());
-    vkCmdBindVertexBuffers(cmd, 0, 1, &m.vertexBuffer, &zero);
-    vkCmdBindIndexBuffer(cmd, m.indexBuffer, 0, VK_INDEX_TYPE_UINT32);
-    pc.color[0] = m.color.r;
-    pc.color[1] = m.color.g;
-    pc.color[2] = m.color.b;
-    pc.params[0] = 0.0f;
-    pc.params[1] = 0.0f;
-    vkCmdPushConstants(cmd, layout, stages, 0, sizeof(pc), &pc);
-    vkCmdDrawIndexed(cmd, m.indexCount, 1, 0, 0, 0);
-    if (m.wireIndexBuffer != VK_NULL_HANDLE && m.wireIndexCount > 0) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->wire.get());
-      vkCmdBindIndexBuffer(cmd, m.wireIndexBuffer, 0, VK_INDEX_TYPE_UINT32);
-      pc.color[0] = m.wireColor.r;
-      pc.color[1] = m.wireColor.g;
-      pc.color[2] = m.wireColor.b;
-      pc.params[0] = 1.0f;
-      pc.params[1] = 2e-4f;
-      vkCmdPushConstants(cmd, layout, stages, 0, sizeof(pc), &pc);
-      vkCmdDrawIndexed(cmd, m.wireIndexCount, 1, 0, 0, 0);
-    }
-  }
-  pc.params[0] = 2.0f;
-  pc.params[1] = 1e-3f;
-  if (lines.handle()) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->overlayLines.get());
-    const VkBuffer b = lines.handle();
-    vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
-    vkCmdPushConstants(cmd, layout, stages, 0, sizeof(pc), &pc);
-    vkCmdDraw(cmd, uint32_t(scene.lines.size()), 1, 0, 0);
-  }
-  if (markers.handle()) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, impl_->overlayTris.get());
-    const VkBuffer b = markers.handle();
-    vkCmdBindVertexBuffers(cmd, 0, 1, &b, &zero);
-    pc.params[1] = 2e-3f;
-    vkCmdPushConstants(cmd, layout, stages, 0, sizeof(pc), &pc);
-    vkCmdDraw(cmd, uint32_t(scene.markers.size()), 1, 0, 0);
-  }
+  OverlayDraw overlay;
+  overlay.lines = lines.handle();
+  overlay.lineVertexCount = uint32_t(scene.lines.size());
+  overlay.markers = markers.handle();
+  overlay.markerVertexCount = uint32_t(scene.markers.size());
+  impl_->pipelines->record(cmd, scene.meshes, overlay, camera, {uint32_t(width_), uint32_t(height_)});
   vkCmdEndRenderPass(cmd);
   if (readback) {
     VkBufferImageCopy region{};

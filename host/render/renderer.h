@@ -30,7 +30,11 @@ struct Image {
 };
 
 // One indexed triangle mesh in the tessellator's vertex layout; wireIndexBuffer (optional) holds
-// line-list indices into the same vertices.
+// line-list indices into the same vertices. With indirectBuffer set, the triangles are drawn by
+// vkCmdDrawIndexedIndirect from the VkDrawIndexedIndirectCommand at indirectOffset (counts the GPU
+// wrote, gpu/adaptive_tessellator.h) and indexCount is ignored. wireframe: draw the edges of the
+// same triangles (same draw, polygonMode LINE) where there is no wireIndexBuffer; only on devices
+// with fillModeNonSolid (ScenePipelines::triangleWireframe), nothing otherwise.
 struct MeshDraw {
   VkBuffer vertexBuffer = VK_NULL_HANDLE;
   VkBuffer indexBuffer = VK_NULL_HANDLE;
@@ -39,6 +43,10 @@ struct MeshDraw {
   uint32_t wireIndexCount = 0;
   glm::vec3 color{0.35f, 0.55f, 0.85f};
   glm::vec3 wireColor{0.08f, 0.08f, 0.12f};
+  // Last, so that positional initialisers of the fields above keep their meaning.
+  VkBuffer indirectBuffer = VK_NULL_HANDLE;
+  VkDeviceSize indirectOffset = 0;
+  bool wireframe = false;
 };
 
 struct Scene {

@@ -180,5 +180,45 @@ TEST_F(RenderTest, WireframeAndOverlaysDrawOverTheSurface) {
   EXPECT_GT(dark, 500u) << "wireframe lines missing";
 }
 
+// MeshDraw::indirectBuffer: the same mesh drawn from a VkDrawIndexedIndirectCommand gives the same
+// image as the direct draw; a command with indexCount 0 draws nothing.
+TEST_F(RenderTest, IndirectDrawMatchesDirectDraw) {
+  const Surface cpu = Surface::create(knownSurface());
+  gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
+  gpu::SurfaceTessellator tess(ctx_, surf, gpu::SurfaceTessellator::uniformRates(surf, 8));
+  glm::dvec3 lo, hi;
+  box(knownSurface().points, lo, hi);
+  const render::Camera cam = render::Camera::frame(lo, hi, 35.0, 30.0, 1.0);
+  render::OffscreenRenderer renderer(ctx_, kSize, kSize);
+  auto drawWith = [&](VkBuffer indirect) {
+    render::Scene scene;
+    scene.prepare = [&](VkCommandBuffer cmd) { tess.record(cmd); };
+    render::MeshDraw mesh{tess.vertexBuffer().handle(), tess.indexBuffer().handle(), tess.indexCount()};
+    if (indirect != VK_NULL_HANDLE) {
+      mesh.indexCount = 0;  // ignored for an indirect draw
+      mesh.indirectBuffer = indirect;
+    }
+    scene.meshes.push_back(mesh);
+    return renderer.render(scene, cam);
+  };
+  auto commandBuffer = [&](uint32_t indexCount) {
+    const VkDrawIndexedIndirectCommand command{indexCount, 1, 0, 0, 0};
+    vk::Buffer b = vk::Buffer::create(ctx(), sizeof(command), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                      vk::MemoryUse::DeviceLocal, "test.indirect");
+    b.uploadSpan(std::span<const VkDrawIndexedIndirectCommand>(&command, 1));
+    return b;
+  };
+  const render::Image direct = drawWith(VK_NULL_HANDLE);
+  const vk::Buffer full = commandBuffer(tess.indexCount());
+  const render::Image indirect = drawWith(full.handle());
+  size_t covered = 0;
+  for (size_t k = 3; k < direct.rgba.size(); k += 4) covered += direct.rgba[k] == 255;
+  ASSERT_GT(covered, size_t(kSize * kSize / 10)) << "the direct draw covers too little to compare";
+  EXPECT_TRUE(direct.rgba == indirect.rgba) << "the indirect draw differs from the direct draw";
+  const vk::Buffer none = commandBuffer(0);
+  const render::Image empty = drawWith(none.handle());
+  for (size_t k = 3; k < empty.rgba.size(); k += 4) ASSERT_EQ(empty.rgba[k], 0) << "pixel " << k / 4 << " drawn";
+}
+
 }  // namespace
 }  // namespace shapespline::test
