@@ -97,7 +97,8 @@ bool hasInstanceExtension(const char* layer, const char* name) {
 
 // Creates the instance; `log` non-null turns on validation with a messenger chained into instance
 // creation so that messages from vkCreateInstance/vkDestroyInstance are caught too.
-VkInstance createInstance(const std::string& appName, Context::MessageLog* log) {
+VkInstance createInstance(const std::string& appName, Context::MessageLog* log,
+                          const std::vector<std::string>& extraExtensions = {}) {
   uint32_t loaderVersion = VK_API_VERSION_1_0;
   if (vkEnumerateInstanceVersion(&loaderVersion) != VK_SUCCESS || loaderVersion < kMinApiVersion) {
     throw NoDeviceError(VK_ERROR_INCOMPATIBLE_DRIVER,
@@ -117,6 +118,7 @@ VkInstance createInstance(const std::string& appName, Context::MessageLog* log) 
     extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);
     info.flags |= VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
   }
+  for (const std::string& e : extraExtensions) extensions.push_back(e.c_str());
   VkDebugUtilsMessengerCreateInfoEXT debugInfo{};
   if (log) {
     if (!hasLayer(kValidationLayer)) {
@@ -154,18 +156,21 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
   return devices;
 }
 
-std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice device) {
+// The first compute family that also passes `filter` (ContextOptions::queueFamilyFilter) when set.
+using QueueFamilyFilter = std::function<bool(VkPhysicalDevice, uint32_t)>;
+std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice device, const QueueFamilyFilter& filter = {}) {
   uint32_t count = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
   std::vector<VkQueueFamilyProperties> families(count);
   vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
   for (uint32_t i = 0; i < count; ++i) {
-    if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) && families[i].queueCount > 0) return i;
+    if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) && families[i].queueCount > 0 && (!filter || filter(device, i)))
+      return i;
   }
   return std::nullopt;
 }
 
-DeviceInfo queryDevice(VkPhysicalDevice device, uint32_t index) {
+DeviceInfo queryDevice(VkPhysicalDevice device, uint32_t index, const QueueFamilyFilter& filter = {}) {
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(device, &props);
   VkPhysicalDeviceFeatures features;
@@ -179,7 +184,7 @@ DeviceInfo queryDevice(VkPhysicalDevice device, uint32_t index) {
   info.deviceId = props.deviceID;
   info.float64 = features.shaderFloat64 == VK_TRUE;
   info.int64 = features.shaderInt64 == VK_TRUE;
-  info.computeQueue = computeQueueFamily(device).has_value();
+  info.computeQueue = computeQueueFamily(device, filter).has_value();
   info.usable = info.computeQueue && props.apiVersion >= kMinApiVersion;
   return info;
 }
@@ -242,7 +247,10 @@ uint32_t selectDevice(const std::vector<DeviceInfo>& infos, const ContextOptions
     if (!best || better(d, infos[*best])) best = i;
   }
   if (!best) {
-    std::string why = needle.empty() ? "no device supports Vulkan 1.1 with a compute queue"
+    const char* queue = options.queueFamilyFilter
+                            ? "a compute queue family that also passes the caller's queue test (e.g. graphics + present)"
+                            : "a compute queue";
+    std::string why = needle.empty() ? std::string("no device supports Vulkan 1.1 with ") + queue
                                      : "no usable device name contains \"" + wantName + "\" (from " + source + ")";
     throw NoDeviceError(VK_ERROR_INITIALIZATION_FAILED, why + "; devices:" + deviceList(infos));
   }
@@ -289,7 +297,7 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
   const bool fromEnv = envFlag("SHAPESPLINE_VALIDATION");
   const bool validation = options.validation || fromEnv;
   ctx->log_->echo = fromEnv && !options.validation;
-  ctx->instance_ = createInstance(options.appName, validation ? ctx->log_.get() : nullptr);
+  ctx->instance_ = createInstance(options.appName, validation ? ctx->log_.get() : nullptr, options.instanceExtensions);
 
   if (validation) {
     auto createMessenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
@@ -304,8 +312,14 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
   }
 
   std::vector<VkPhysicalDevice> devices = physicalDevices(ctx->instance_);
+  QueueFamilyFilter filter;
+  if (options.queueFamilyFilter) {
+    filter = [&options, instance = ctx->instance_](VkPhysicalDevice d, uint32_t family) {
+      return options.queueFamilyFilter(instance, d, family);
+    };
+  }
   std::vector<DeviceInfo> infos;
-  for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(queryDevice(devices[i], i));
+  for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(queryDevice(devices[i], i, filter));
   const uint32_t chosen = selectDevice(infos, options);
   VkPhysicalDevice physical = devices[chosen];
 
@@ -314,8 +328,9 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
   VkPhysicalDeviceFeatures enabled{};
   enabled.shaderFloat64 = supported.shaderFloat64;
   enabled.shaderInt64 = supported.shaderInt64;
+  enabled.fillModeNonSolid = supported.fillModeNonSolid;
 
-  ctx->queueFamily_ = *computeQueueFamily(physical);
+  ctx->queueFamily_ = *computeQueueFamily(physical, filter);
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queueInfo.queueFamilyIndex = ctx->queueFamily_;
@@ -331,6 +346,12 @@ std::shared_ptr<Context> Context::create(const ContextOptions& options) {
     check(vkEnumerateDeviceExtensionProperties(physical, nullptr, &count, exts.data()), "vkEnumerateDeviceExtensionProperties");
     for (const auto& e : exts) {
       if (std::strcmp(e.extensionName, "VK_KHR_portability_subset") == 0) extensions.push_back("VK_KHR_portability_subset");
+    }
+    for (const std::string& want : options.deviceExtensions) {
+      if (std::none_of(exts.begin(), exts.end(), [&](const VkExtensionProperties& e) { return want == e.extensionName; }))
+        throw NoDeviceError(VK_ERROR_EXTENSION_NOT_PRESENT,
+                            "device '" + infos[chosen].name + "' lacks the extension " + want);
+      extensions.push_back(want.c_str());
     }
   }
   VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
@@ -373,6 +394,7 @@ void Context::initDeviceData(VkPhysicalDevice physical, const VkPhysicalDeviceFe
   info_ = queryDevice(physical, 0);
   float64_ = enabled->shaderFloat64 == VK_TRUE;
   int64_ = enabled->shaderInt64 == VK_TRUE;
+  fillModeNonSolid_ = enabled->fillModeNonSolid == VK_TRUE;
 
   VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};

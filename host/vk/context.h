@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -35,6 +36,13 @@ struct ContextOptions {
   // ~/.cache/shapespline. persistentPipelineCache=false keeps the cache in memory only.
   std::string cacheDir;
   bool persistentPipelineCache = true;
+  // Presentation (the viewer, host/viewer): extra instance extensions (glfwGetRequiredInstanceExtensions),
+  // extra device extensions (VK_KHR_swapchain), and a test the queue family must also pass
+  // (graphics + present support). A device without such a family counts as unusable. Empty: the
+  // headless context of every other caller.
+  std::vector<std::string> instanceExtensions;
+  std::vector<std::string> deviceExtensions;
+  std::function<bool(VkInstance, VkPhysicalDevice, uint32_t queueFamily)> queueFamilyFilter;
 };
 
 struct DeviceInfo {
@@ -77,7 +85,7 @@ struct ValidationMessage {
 class Context {
  public:
   // Creates instance (Vulkan 1.1+), picks a device, creates the device with one compute queue,
-  // shaderFloat64/shaderInt64 when supported, loads the pipeline cache. Throws NoDeviceError when
+  // shaderFloat64/shaderInt64/fillModeNonSolid when supported, loads the pipeline cache. Throws NoDeviceError when
   // there is no Vulkan driver or no device fits, VulkanError for any other failure.
   static std::shared_ptr<Context> create(const ContextOptions& options = {});
 
@@ -112,6 +120,9 @@ class Context {
   const Limits& limits() const { return limits_; }
   bool supportsFloat64() const { return float64_; }
   bool supportsInt64() const { return int64_; }
+  // fillModeNonSolid (polygonMode LINE; the renderer's wireframe of an indirect mesh), enabled by
+  // create() where the device has it.
+  bool supportsFillModeNonSolid() const { return fillModeNonSolid_; }
   // CPU or integrated device whose memory is device-local and host-visible+coherent: buffers are
   // mapped directly and never staged.
   bool unifiedMemory() const { return unifiedMemory_; }
@@ -162,6 +173,7 @@ class Context {
   Limits limits_;
   bool float64_ = false;
   bool int64_ = false;
+  bool fillModeNonSolid_ = false;
   bool unifiedMemory_ = false;
   bool deviceLost_ = false;
 
