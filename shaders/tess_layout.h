@@ -112,9 +112,70 @@ TS_FUNC TS_UINT tessPerimeterSlot(TS_UINT n, TS_UINT m, TS_UINT a, TS_UINT b) {
   return 2u * (m + 1u) + 2u * (a - 1u) + (b == 0u ? 0u : 1u);
 }
 
+// ---- Adaptive tessellation (tess_adaptive_*.comp, host/gpu/adaptive_tessellator.*) -----------
+//  0 NET, 1 PARAMS, 2 VERTS as layout.h
+//  3 VIEW     (AdaptiveViewBlock) the frame's camera and options (vkCmdUpdateBuffer per record)
+//  4 RATES    (uvec2) per patch: the rates (n, m) of the last frame; (0, 0) before the first
+//  5 PATCHES  (uvec4) per patch: n, m, first interior vertex, first index (layout pass)
+//  6 EDGES    (uvec2) per edge, the u-edges (TessRates::edgeU order) then the v-edges: rate, first
+//                     edge vertex
+//  7 FRAME    (uint)  VkDrawIndexedIndirectCommand at 0 (5 words), then kAdaptFrame* counters
+//  8 VERTICES (vec4)  output, 2 vec4 per vertex (the layout above)
+//  9 INDICES  (uint)  output triangle list
+// Vertex numbering and triangles are core/tess_topology.cpp buildTessTopology's: corners, u-edge
+// points, v-edge points, patch interiors; per patch its four transition rings, then its quads.
+TS_CONST(TS_UINT, kAdaptBindingView, 3u);
+TS_CONST(TS_UINT, kAdaptBindingRates, 4u);
+TS_CONST(TS_UINT, kAdaptBindingPatches, 5u);
+TS_CONST(TS_UINT, kAdaptBindingEdges, 6u);
+TS_CONST(TS_UINT, kAdaptBindingFrame, 7u);
+TS_CONST(TS_UINT, kAdaptBindingVertices, 8u);
+TS_CONST(TS_UINT, kAdaptBindingIndices, 9u);
+TS_CONST(TS_UINT, kAdaptFrameVertexCount, 5u);
+TS_CONST(TS_UINT, kAdaptFrameCulled, 6u);
+TS_CONST(TS_UINT, kAdaptFrameClamped, 7u);
+TS_CONST(TS_UINT, kAdaptFrameNear, 8u);
+TS_CONST(TS_UINT, kAdaptFrameWords, 16u);
+TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
+// mode of each pass's dispatches (AdaptivePush.mode)
+TS_CONST(TS_UINT, kAdaptModeCorners, 0u);  // vertices: one invocation per patch-grid corner
+TS_CONST(TS_UINT, kAdaptModeEdges, 1u);    // vertices: one workgroup per edge
+TS_CONST(TS_UINT, kAdaptModeInterior, 2u); // vertices: one workgroup per patch
+TS_CONST(TS_UINT, kAdaptModeRings, 0u);    // indices: one invocation per patch side
+TS_CONST(TS_UINT, kAdaptModeQuads, 1u);    // indices: one workgroup per patch
+
+// Push constants of every tess_adaptive_*.comp pass; the net/α fields are those of layout.h
+// EvalPush, under the same names (surface_patch.glsl reads them).
+struct AdaptivePush {
+  TS_UINT mode;
+  TS_UINT patchesU;
+  TS_UINT patchesV;
+  TS_UINT closedU;
+  TS_UINT closedV;
+  TS_UINT firstSpanU;
+  TS_UINT firstSpanV;
+  TS_UINT netCols;
+  TS_UINT netOffsetU;
+  TS_UINT netOffsetV;
+  TS_UINT rows;
+  TS_UINT cols;
+  TS_UINT alphaOffset;
+  TS_UINT pad0;
+  TS_UINT pad1;
+  TS_UINT pad2;
+};
+
 // Push constants of render_surface.* and render_overlay.* (host/render/renderer.cpp).
 // mode: 0 shaded surface, 1 flat-coloured surface lines (wireframe), 2 overlay lines/markers.
 #ifdef SHAPESPLINE_GLSL
+// The VIEW block: clip = viewProj * (position, 1) (column-major); viewport: width, height in pixels,
+// tolerance in pixels, safety factor; tuning: hysteresis, 0, 0, 0; limits: maxRate, probeRate, cull, 0.
+struct AdaptiveViewBlock {
+  mat4 viewProj;
+  vec4 viewport;
+  vec4 tuning;
+  uvec4 limits;
+};
 struct RenderPush {
   mat4 viewProj;
   vec4 eye;        // xyz camera position
@@ -122,6 +183,12 @@ struct RenderPush {
   vec4 params;     // x: mode, y: depth pull (clip-space z offset * w), z,w: viewport size in pixels
 };
 #else
+struct AdaptiveViewBlock {
+  float viewProj[16];
+  float viewport[4];
+  float tuning[4];
+  uint32_t limits[4];
+};
 struct RenderPush {
   float viewProj[16];
   float eye[4];
@@ -131,6 +198,8 @@ struct RenderPush {
 static_assert(sizeof(TessPackPush) == 16 && sizeof(TessGridPush) == 64 && offsetof(TessGridPush, alphaOffset) == 36 &&
               offsetof(TessGridPush, rowsPerInvocation) == 56);
 static_assert(sizeof(RenderPush) == 112 && offsetof(RenderPush, params) == 96);
+static_assert(sizeof(AdaptivePush) == 64 && offsetof(AdaptivePush, alphaOffset) == 48);
+static_assert(sizeof(AdaptiveViewBlock) == 112 && offsetof(AdaptiveViewBlock, limits) == 96);
 #endif
 
 // Overlay vertex (render_overlay.vert): position, screen-space offset in pixels (markers), colour.
