@@ -9,7 +9,7 @@ PACKAGES=(
   cmake ninja-build g++ clang libclang-rt-14-dev pkg-config dpkg-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
-  libglm-dev nlohmann-json3-dev libcli11-dev libpng-dev libssl-dev
+  libglm-dev nlohmann-json3-dev libcli11-dev libpng-dev libssl-dev libimgui-dev
   libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
   python3-numpy libtinygltf-dev assimp-utils
   slurm-wlm munge
