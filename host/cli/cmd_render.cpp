@@ -1,21 +1,24 @@
 // `shapespline render`: draws a model headlessly with the Vulkan graphics pipeline (host/render) and
 // writes a PNG. Surfaces are tessellated on the GPU (render/painter.h) and shaded with normal-based
 // lighting; curves are drawn as lines with their control polygon and data points. --sweep writes a
-// contact sheet of the same model at several λ or α values, with one camera for every tile.
+// contact sheet of the same model at several λ or α values, each tile labelled with its value
+// (tile_labels.h), with one camera for every tile. The camera fits what is drawn tightly into the
+// tile (render::Camera::fit), below the label band.
+#include "tile_labels.h"
+
 #include <shapespline/cli/common.h>
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/io/png_writer.h>
 #include <shapespline/render/painter.h>
 
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace shapespline::cli {
 namespace {
@@ -54,9 +57,24 @@ Sweep parseSweep(const std::string& text) {
   return s;
 }
 
-void grow(glm::dvec3& lo, glm::dvec3& hi, const glm::dvec3& p) {
-  lo = glm::min(lo, p);
-  hi = glm::max(hi, p);
+// The part of a tile the model is fitted into: a margin of 3% of the tile's smaller side (at least
+// 4 px, room for the 6 px point markers and for bulges between the fitted samples), below the
+// label band.
+render::PixelRect fitTarget(int w, int h, int labelBand) {
+  const double margin = std::max(4.0, std::round(0.03 * std::min(w, h)));
+  return {margin, labelBand + margin, w - margin, h - margin};
+}
+
+// Samples of every patch for the camera to fit: (n+1)^2 per patch, n from 8 down to 2 as the patch
+// count grows, so that a tile costs at most about 2^14 CPU evaluations.
+void addSurfaceSamples(const Surface& s, std::vector<glm::dvec3>& out) {
+  const PatchRange r = s.patches();
+  const int patches = (r.u.last - r.u.first + 1) * (r.v.last - r.v.first + 1);
+  const int n = std::clamp(int(std::sqrt(16384.0 / patches)) - 1, 2, 8);
+  for (int i = r.u.first; i <= r.u.last; ++i)
+    for (int j = r.v.first; j <= r.v.last; ++j)
+      for (int a = 0; a <= n; ++a)
+        for (int b = 0; b <= n; ++b) out.push_back(s.evaluate(i, j, double(a) / n, double(b) / n).point);
 }
 
 // Model with the sweep value applied (validated when the Surface/Curve is created).
@@ -76,6 +94,7 @@ Model withValue(Model m, const Sweep& s, size_t k) {
 const glm::vec4 kNetColour{0.45f, 0.45f, 0.5f, 1.0f};
 const glm::vec4 kDataColour{0.85f, 0.1f, 0.1f, 1.0f};
 const glm::vec4 kCurveColour{0.1f, 0.25f, 0.75f, 1.0f};
+const glm::vec3 kLabelInk{0.1f, 0.1f, 0.1f};
 
 // One tile per sweep value, composed left to right, top to bottom.
 struct Sheet {
@@ -87,6 +106,28 @@ struct Sheet {
       std::copy_n(img.rgba.data() + size_t(y) * w * 4, size_t(w) * 4,
                   rgba.data() + ((size_t(cy) * h + y) * size_t(cols) * w + size_t(cx) * w) * 4);
   }
+};
+
+// The sweep's tile labels ("lambda = 0.5"), drawn into each tile image before it is placed; none
+// for a single render or tiles too small for text.
+class TileLabeller {
+ public:
+  TileLabeller(const Sweep& sweep, int w, int h)
+      : sweep_(sweep), layout_(sweep.values.empty() ? LabelLayout{} : labelLayout(w, h)) {
+    if (layout_.fontPx > 0) font_.emplace(layout_.fontPx);
+  }
+  // Rows at the top of each tile the model must leave free.
+  int band() const { return font_ ? layout_.bandHeight() : 0; }
+  std::string text(size_t k) const { return sweepLabel(sweep_.alpha ? "alpha" : "lambda", sweep_.values[k]); }
+  render::Image apply(render::Image tile, size_t k, const glm::vec3& background, double marginX) const {
+    if (font_) font_->draw(tile, int(marginX), 0, layout_.pad, text(k), kLabelInk, background);
+    return tile;
+  }
+
+ private:
+  const Sweep& sweep_;
+  LabelLayout layout_;
+  std::optional<LabelFont> font_;
 };
 
 void runRender(const RenderArgs& a) {
@@ -118,20 +159,17 @@ void runRender(const RenderArgs& a) {
   sheet.w = w;
   sheet.h = h;
   sheet.rgba.assign(size_t(sheet.cols) * w * size_t(sheet.rows) * h * 4, 255);
+  const TileLabeller labels(sweep, w, h);
+  const render::PixelRect target = fitTarget(w, h, labels.band());
+  const glm::vec3 background = render::Scene{}.background;
 
-  // One camera for every tile: the box of the nets and of the (coarsely CPU-evaluated) shapes.
-  glm::dvec3 lo(1e300), hi(-1e300);
+  // One camera for every tile, so that tiles compare at one scale: it fits what any tile draws
+  // (the CPU-evaluated shapes of every value, and the nets where they are drawn).
+  std::vector<glm::dvec3> fitted;
   if (isSurface) {
     const SurfaceModel& base = std::get<SurfaceModel>(model);
-    for (const auto& p : base.points) grow(lo, hi, p);
-    for (size_t k = 0; k < tiles; ++k) {
-      const Surface s = Surface::create(withValue(base, sweep, k));
-      const PatchRange r = s.patches();
-      for (int i = r.u.first; i <= r.u.last; ++i)
-        for (int j = r.v.first; j <= r.v.last; ++j)
-          for (double u : {0.0, 0.5, 1.0})
-            for (double v : {0.0, 0.5, 1.0}) grow(lo, hi, s.evaluate(i, j, u, v).point);
-    }
+    if (a.controlNet) fitted = base.points;
+    for (size_t k = 0; k < tiles; ++k) addSurfaceSamples(Surface::create(withValue(base, sweep, k)), fitted);
     const Surface first = Surface::create(withValue(base, sweep, 0));
     std::unique_ptr<render::SurfaceDrawing> drawing;
     try {
@@ -139,7 +177,7 @@ void runRender(const RenderArgs& a) {
     } catch (const render::UnsupportedSurface& e) {
       throw InputError("MODEL", a.model, e.what());
     }
-    const render::Camera cam = render::Camera::frame(lo, hi, az, el, double(w) / h);
+    const render::Camera cam = render::Camera::fit(fitted, az, el, w, h, target);
     for (size_t k = 0; k < tiles; ++k) {
       if (!sweep.values.empty()) {
         if (sweep.alpha) {
@@ -164,22 +202,22 @@ void runRender(const RenderArgs& a) {
         }
         for (const auto& p : base.points) render::addMarker(scene.markers, p, 5.0f, kDataColour);
       }
-      sheet.place(painter.draw(*drawing, scene, cam), k);
+      sheet.place(labels.apply(painter.draw(*drawing, scene, cam), k, background, target.x0), k);
       if (!a.quiet && !sweep.values.empty())
-        std::fprintf(stderr, "shapespline: tile %zu: %s = %g\n", k + 1, sweep.alpha ? "alpha" : "lambda", sweep.values[k]);
+        std::fprintf(stderr, "shapespline: tile %zu: %s\n", k + 1, labels.text(k).c_str());
     }
   } else {
     const CurveModel& base = std::get<CurveModel>(model);
     std::vector<std::vector<glm::dvec3>> polylines(tiles);
-    for (const auto& p : base.points) grow(lo, hi, p);
+    fitted = base.points;  // the control polygon and the data points are always drawn
     for (size_t k = 0; k < tiles; ++k) {
       const Curve c = Curve::create(withValue(base, sweep, k));
       const SpanRange r = c.spans();
       for (int s = r.first; s <= r.last; ++s)
         for (int q = (s == r.first ? 0 : 1); q <= 64; ++q) polylines[k].push_back(c.evaluate(s, q / 64.0).point);
-      for (const auto& p : polylines[k]) grow(lo, hi, p);
+      fitted.insert(fitted.end(), polylines[k].begin(), polylines[k].end());
     }
-    const render::Camera cam = render::Camera::frame(lo, hi, az, el, double(w) / h);
+    const render::Camera cam = render::Camera::fit(fitted, az, el, w, h, target);
     for (size_t k = 0; k < tiles; ++k) {
       render::Scene scene;
       std::vector<glm::dvec3> poly = base.points;
@@ -187,7 +225,9 @@ void runRender(const RenderArgs& a) {
       render::addPolyline(scene.lines, poly, kNetColour);
       render::addPolyline(scene.lines, polylines[k], kCurveColour);
       for (const auto& p : base.points) render::addMarker(scene.markers, p, 6.0f, kDataColour);
-      sheet.place(painter.draw(scene, cam), k);
+      sheet.place(labels.apply(painter.draw(scene, cam), k, background, target.x0), k);
+      if (!a.quiet && !sweep.values.empty())
+        std::fprintf(stderr, "shapespline: tile %zu: %s\n", k + 1, labels.text(k).c_str());
     }
   }
   // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).
