@@ -37,11 +37,11 @@ void checkOrder(int order, Construction c, const std::string& field) {
 void checkLambda(const FamilySpec& f) {
   const double l = f.lambda;
   if (!std::isfinite(l)) fail("lambda", num(l), "lambda must be a finite number");
+  const double lo = lambdaDomain(f).lo;
   switch (f.construction) {
     case Construction::ExtendedBSpline:
     case Construction::AlphaEB: {
       const int k = f.degree;
-      const double lo = -static_cast<double>(k * (k - 2));
       if (l < lo || l > 1.0)
         fail("lambda", num(l),
              "Xu-Wang degree-" + std::to_string(k) + " lambda must lie in [" + num(lo) + ", 1] (docs/math.md §2.2)");
@@ -49,10 +49,9 @@ void checkLambda(const FamilySpec& f) {
     }
     case Construction::GB:
       // -12 is a pole and (-12,-8) gives negative weights (docs/math.md §7.1); no upper bound.
-      if (l < -8.0) fail("lambda", num(l), "GB lambda must be >= -8 (docs/math.md §7.1)");
+      if (l < lo) fail("lambda", num(l), "GB lambda must be >= -8 (docs/math.md §7.1)");
       return;
     case Construction::UBP: {
-      const double lo = ubpLambdaMin(f.order);
       if (l < lo || l > 1.0)
         fail("lambda", num(l),
              "UBP order-" + std::to_string(f.order) + " lambda must lie in [lambda_min = " + num(lo) +
@@ -150,6 +149,18 @@ void checkAlphaValue(double a, const std::string& field) {
 }
 
 }  // namespace
+
+LambdaDomain lambdaDomain(const FamilySpec& f) {
+  switch (f.construction) {
+    case Construction::ExtendedBSpline:
+    case Construction::AlphaEB: return {-static_cast<double>(f.degree * (f.degree - 2)), 1.0};
+    case Construction::GB: return {-8.0, INFINITY};
+    case Construction::UBP: return {ubpLambdaMin(f.order), 1.0};
+    case Construction::GUBP:
+    case Construction::BSpline: break;
+  }
+  return {0.0, 0.0};
+}
 
 double ubpLambdaMin(int order) {
   // docs/math.md §8.2: exact minimum of N_{0,k} at x = k/2, as rationals rounded once to double.

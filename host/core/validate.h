@@ -28,6 +28,13 @@ void validateSurface(const SurfaceModel& model);
 // v order of a bspline surface (0 for curves); a bspline surface reports "order[0]"/"order[1]".
 void validateFamily(const FamilySpec& family, int orderV = 0, bool isSurface = false);
 
+// The closed interval a family's lambda must lie in (checkLambda's rule): Xu-Wang [-k(k-2), 1],
+// GB [-8, inf), UBP [lambda_min(k), 1]; [0, 0] for families without lambda (familyOf(c).usesLambda).
+struct LambdaDomain {
+  double lo, hi;
+};
+LambdaDomain lambdaDomain(const FamilySpec& family);
+
 // lambda_min(k) of docs/math.md §8.2 for UBP order k = 2..10 (exact rationals rounded once).
 double ubpLambdaMin(int order);
 
