@@ -10,58 +10,9 @@
 
 namespace shapespline::render {
 
-using ImageHandle = vk::Handle<VkImage, VkDevice, vkDestroyImage>;
-using ImageViewHandle = vk::Handle<VkImageView, VkDevice, vkDestroyImageView>;
-using RenderPassHandle = vk::Handle<VkRenderPass, VkDevice, vkDestroyRenderPass>;
-using FramebufferHandle = vk::Handle<VkFramebuffer, VkDevice, vkDestroyFramebuffer>;
-
 namespace {
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
-
-struct Attachment {
-  vk::MemoryHandle memory;  // freed after the image (declared first)
-  ImageHandle image;
-  ImageViewHandle view;
-};
-
-Attachment makeAttachment(vk::Context& ctx, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
-                          int width, int height) {
-  VkDevice dev = ctx.device();
-  Attachment a;
-  VkImageCreateInfo ii{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  ii.imageType = VK_IMAGE_TYPE_2D;
-  ii.format = format;
-  ii.extent = {uint32_t(width), uint32_t(height), 1};
-  ii.mipLevels = 1;
-  ii.arrayLayers = 1;
-  ii.samples = VK_SAMPLE_COUNT_1_BIT;
-  ii.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ii.usage = usage;
-  ii.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  VkImage image;
-  vk::check(vkCreateImage(dev, &ii, nullptr, &image), "vkCreateImage (render attachment)");
-  a.image = ImageHandle(dev, image);
-  VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(dev, image, &req);
-  const uint32_t type = ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VkMemoryAllocateInfo mi{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mi.allocationSize = req.size;
-  mi.memoryTypeIndex = type == UINT32_MAX ? ctx.findMemoryType(req.memoryTypeBits, 0) : type;
-  VkDeviceMemory mem;
-  vk::check(vkAllocateMemory(dev, &mi, nullptr, &mem), "vkAllocateMemory (render attachment)");
-  a.memory = vk::MemoryHandle(dev, mem);
-  vk::check(vkBindImageMemory(dev, image, mem, 0), "vkBindImageMemory (render attachment)");
-  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  vi.image = image;
-  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  vi.format = format;
-  vi.subresourceRange = {aspect, 0, 1, 0, 1};
-  VkImageView view;
-  vk::check(vkCreateImageView(dev, &vi, nullptr, &view), "vkCreateImageView (render attachment)");
-  a.view = ImageViewHandle(dev, view);
-  return a;
-}
 
 }  // namespace
 

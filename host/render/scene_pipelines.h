@@ -27,6 +27,20 @@ struct OverlayDraw {
 // The best depth attachment format of the device (D32 first); throws std::runtime_error when none.
 VkFormat depthAttachmentFormat(const vk::Context& ctx);
 
+using ImageHandle = vk::Handle<VkImage, VkDevice, vkDestroyImage>;
+using ImageViewHandle = vk::Handle<VkImageView, VkDevice, vkDestroyImageView>;
+using RenderPassHandle = vk::Handle<VkRenderPass, VkDevice, vkDestroyRenderPass>;
+using FramebufferHandle = vk::Handle<VkFramebuffer, VkDevice, vkDestroyFramebuffer>;
+
+// A device-local 2-D image of one mip level and layer with its view (colour or depth attachment).
+struct Attachment {
+  vk::MemoryHandle memory;  // freed after the image (declared first)
+  ImageHandle image;
+  ImageViewHandle view;
+};
+Attachment makeAttachment(vk::Context& ctx, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+                          int width, int height);
+
 class ScenePipelines {
  public:
   // Throws VulkanError. The context must outlive the pipelines.
