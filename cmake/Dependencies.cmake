@@ -30,3 +30,21 @@ if(SHAPESPLINE_BUILD_BENCH)
     message(STATUS "OpenSubdiv not found: the bench runs without the OpenSubdiv baseline")
   endif()
 endif()
+
+# `shapespline view` (host/viewer, docs/viewer.md): a GLFW window and Dear ImGui (Debian
+# libglfw3-dev, libimgui-dev). Both stay out of every installed library's link interface: the
+# viewer is a static library linked into the executable only.
+option(SHAPESPLINE_BUILD_VIEWER "Build the interactive viewer (shapespline view)" ON)
+if(SHAPESPLINE_BUILD_VIEWER)
+  find_package(glfw3 3.3 CONFIG QUIET)
+  find_package(PkgConfig QUIET)
+  if(PkgConfig_FOUND)
+    pkg_check_modules(IMGUI QUIET IMPORTED_TARGET imgui)
+  endif()
+  if(NOT glfw3_FOUND OR NOT TARGET PkgConfig::IMGUI)
+    message(STATUS "Viewer off: shapespline view needs GLFW 3.3+ (libglfw3-dev) and Dear ImGui (libimgui-dev)")
+    set(SHAPESPLINE_BUILD_VIEWER OFF)
+  endif()
+else()
+  message(STATUS "Viewer off (SHAPESPLINE_BUILD_VIEWER=OFF): shapespline view reports that it is not built")
+endif()

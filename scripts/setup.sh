@@ -13,6 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
   python3-numpy libtinygltf-dev assimp-utils
   slurm-wlm munge
+  libglfw3-dev xvfb xauth
   pybind11-dev python3-dev python3-pytest python3-matplotlib
 )
 

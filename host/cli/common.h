@@ -27,6 +27,7 @@ void registerInfo(CLI::App& app);
 void registerDemo(CLI::App& app);
 void registerMerge(CLI::App& app);
 void registerRender(CLI::App& app);  // cmd_render.cpp
+void registerView(CLI::App& app);    // cmd_view.cpp (the viewer, host/viewer)
 
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...).

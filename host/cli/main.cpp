@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   registerDemo(app);
   registerMerge(app);
   registerRender(app);
+  registerView(app);
 
   try {
     app.parse(argc, argv);

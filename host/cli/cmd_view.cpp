@@ -1,0 +1,86 @@
+// `shapespline view MODEL`: the interactive viewer (host/viewer, docs/viewer.md). The command line
+// only parses and maps errors; every window and Vulkan call is in the viewer library, which is
+// built when GLFW and Dear ImGui were found at configure time.
+#include <shapespline/cli/common.h>
+
+#ifdef SHAPESPLINE_HAS_VIEWER
+#include <shapespline/viewer/viewer.h>
+#endif
+
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+namespace shapespline::cli {
+namespace {
+
+struct ViewArgs {
+  std::string model, size = "1280x720", script, screenshotDir = ".";
+  bool validation = false, quiet = false;
+};
+
+#ifdef SHAPESPLINE_HAS_VIEWER
+std::pair<int, int> parseWindowSize(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 64 || h < 64 ||
+      w > 8192 || h > 8192)
+    throw InputError("--size", text, "expected WxH with 64 <= W, H <= 8192");
+  return {w, h};
+}
+
+void runView(const ViewArgs& a) {
+  viewer::ViewerOptions o;
+  std::tie(o.width, o.height) = parseWindowSize(a.size);
+  o.validation = a.validation;
+  o.quiet = a.quiet;
+  o.screenshotDir = a.screenshotDir;
+  std::error_code ec;
+  std::filesystem::create_directories(o.screenshotDir, ec);
+  if (ec || !std::filesystem::is_directory(o.screenshotDir))
+    throw InputError("--screenshot-dir", a.screenshotDir, "must be a folder that exists or can be created");
+  try {
+    if (!a.script.empty()) o.script = viewer::loadScript(a.script);
+  } catch (const viewer::ScriptError& e) {
+    throw InputError("--script", a.script, e.what());
+  }
+  const io::Model model = loadModel(a.model);
+  if (!std::holds_alternative<SurfaceModel>(model))
+    throw InputError("MODEL", a.model, "view draws surfaces; draw curves with `shapespline render`");
+  o.title = "shapespline view " + std::filesystem::path(a.model).filename().string();
+  try {
+    viewer::runViewer(std::get<SurfaceModel>(model), o);
+  } catch (const viewer::ScriptError& e) {
+    throw InputError("--script", a.script, e.what());
+  } catch (const viewer::DisplayError& e) {
+    throw RuntimeError("display", "", e.what());
+  } catch (const viewer::ValidationFailure& e) {
+    throw RuntimeError("--validation", "", e.what());
+  } catch (const std::invalid_argument& e) {
+    throw InputError("MODEL", a.model, e.what());
+  }
+}
+#else
+void runView(const ViewArgs&) {
+  throw RuntimeError("view", "", "this build has no viewer (configure found no libglfw3-dev or libimgui-dev)");
+}
+#endif
+
+}  // namespace
+
+void registerView(CLI::App& app) {
+  auto args = std::make_shared<ViewArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "view", "Open an interactive window on a surface model (Vulkan swapchain, orbit camera, Dear ImGui controls).");
+  sub->add_option("MODEL", args->model, "surface model file (docs/format.md)")->required();
+  sub->add_option("--size", args->size, "window size WxH")->capture_default_str();
+  sub->add_option("--script", args->script, "run the commands of this file (docs/viewer.md), e.g. for tests");
+  sub->add_option("--screenshot-dir", args->screenshotDir, "folder of the script's screenshots")->capture_default_str();
+  sub->add_flag("--validation", args->validation,
+                "enable VK_LAYER_KHRONOS_validation and fail (exit 3) on any message (also SHAPESPLINE_VALIDATION=1)");
+  sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
+  sub->footer(kExitCodeHelp);
+  sub->callback([args] { runView(*args); });
+}
+
+}  // namespace shapespline::cli

@@ -1,0 +1,638 @@
+#include <shapespline/viewer/viewer.h>
+
+#include <shapespline/core/family.h>
+#include <shapespline/core/surface.h>
+#include <shapespline/core/validate.h>
+#include <shapespline/gpu/gpu_model.h>
+#include <shapespline/io/png_writer.h>
+#include <shapespline/render/scene_pipelines.h>
+#include <shapespline/viewer/gui.h>
+#include <shapespline/viewer/orbit_camera.h>
+#include <shapespline/viewer/picking.h>
+#include <shapespline/viewer/surface_mesh.h>
+#include <shapespline/viewer/swapchain.h>
+#include <shapespline/viewer/window.h>
+#include <shapespline/vk/buffer.h>
+#include <shapespline/vk/error.h>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <span>
+
+namespace shapespline::viewer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Kind = ScriptCommand::Kind;
+using SemaphoreHandle = vk::Handle<VkSemaphore, VkDevice, vkDestroySemaphore>;
+using SurfaceHandle = vk::Handle<VkSurfaceKHR, VkInstance, vkDestroySurfaceKHR>;
+
+constexpr uint32_t kFramesInFlight = 2;
+constexpr double kDegreesPerPixel = 0.4;   // left drag
+constexpr double kZoomPerWheelStep = 0.9;  // one wheel notch towards the target
+constexpr double kStatsSeconds = 0.25;     // triangle count read back at most this often
+constexpr float kPointPx = 6.0f, kPickedPx = 11.0f;
+const glm::vec4 kNetColour{0.45f, 0.45f, 0.5f, 1.0f};
+const glm::vec4 kPointColour{0.2f, 0.2f, 0.25f, 1.0f};
+const glm::vec4 kPickedColour{0.9f, 0.1f, 0.1f, 1.0f};
+const glm::vec3 kBackground{1.0f, 1.0f, 1.0f};
+
+// What the panel and the script edit; applied to the GPU surface between frames.
+struct Controls {
+  FamilySpec family;
+  std::vector<double> alpha;  // rows * cols (α-EB), row-major
+  int picked = -1;            // control point index, -1: none
+  float tolerancePx = 1.0f;
+  bool wireframe = false, net = true;
+  bool panel = true;  // the ImGui panel is drawn
+};
+
+std::string messagesText(const std::vector<vk::ValidationMessage>& messages) {
+  std::string text;
+  for (const vk::ValidationMessage& m : messages) text += "\n  [" + m.id + "] " + m.text;
+  return text;
+}
+
+// One element of GUBP's half vector μ moved, the nearest element of the same parity takes up the
+// difference so that the full symmetric vector keeps its even and odd sums (docs/math.md §9).
+// Returns false when there is no such element (μ_i cannot move alone).
+bool moveMu(std::vector<double>& mu, int order, size_t i, double value) {
+  auto weight = [&](size_t j) { return 2 * int(j) == order ? 1.0 : 2.0; };  // copies in the full vector
+  for (size_t d = 2; d < mu.size() + 2; d += 2)
+    for (size_t j : {i + d, i - d}) {
+      if (j >= mu.size()) continue;  // i - d wrapped below zero as well
+      mu[j] -= (value - mu[i]) * weight(i) / weight(j);
+      mu[i] = value;
+      return true;
+    }
+  return false;
+}
+
+class Viewer {
+ public:
+  Viewer(std::shared_ptr<vk::Context> ctx, Window& window, const SurfaceModel& model, const ViewerOptions& options)
+      : ctx_(std::move(ctx)),
+        window_(window),
+        options_(options),
+        traits_(familyOf(model.family.construction)),
+        cpu_(Surface::create(model)),
+        gpuSurface_(ctx_, cpu_, Precision::Float),
+        surface_(ctx_->instance(), window.createSurface(ctx_->instance())),
+        swapchain_(*ctx_, surface_.get(), window.framebufferSize()),
+        pipelines_(*ctx_, swapchain_.renderPass()),
+        gui_(window.handle(), *ctx_, swapchain_.renderPass(), swapchain_.minImageCount(), swapchain_.imageCount()),
+        orbit_(bounds(model).first, bounds(model).second) {
+    controls_.family = model.family;
+    controls_.alpha = model.alpha;
+    applied_ = controls_;
+    mesh_ = makeSurfaceMesh(ctx_, gpuSurface_, controls_.tolerancePx, pipelines_.triangleWireframe());
+    createFrames();
+    uploadOverlay();
+    lastFrame_ = lastStats_ = Clock::now();
+  }
+
+  ~Viewer() {
+    if (ctx_) ctx_->waitIdle();
+  }
+
+  void run() {
+    size_t next = 0;  // the next script command
+    int framesLeft = 0;
+    std::string shot;
+    const std::vector<ScriptCommand> none;
+    const std::vector<ScriptCommand>& script = options_.script ? *options_.script : none;
+    while (!window_.shouldClose()) {
+      glfwPollEvents();
+      // Script commands run between frames until one asks for frames (frames, screenshot) or quits.
+      while (framesLeft == 0 && next < script.size()) {
+        const ScriptCommand& c = script[next++];
+        if (c.kind == Kind::Quit) return;
+        if (c.kind == Kind::Frames) framesLeft = int(c.numbers[0]);
+        if (c.kind == Kind::Screenshot) {
+          shot = c.name;
+          framesLeft = 1;
+        }
+        execute(c);
+      }
+      const VkExtent2D size = window_.framebufferSize();
+      if (size.width == 0 || size.height == 0) {  // minimised: nothing to draw into
+        glfwWaitEvents();
+        continue;
+      }
+      const bool capture = framesLeft == 1 && !shot.empty();
+      if (!drawFrame(capture ? &shot : nullptr)) continue;  // swapchain recreated: draw again
+      if (capture) shot.clear();
+      if (framesLeft > 0) --framesLeft;
+      checkValidation();
+    }
+  }
+
+  uint64_t frames() const { return frameCount_; }
+  uint64_t triangles() const { return triangles_; }
+  double frameMs() const { return frameMs_; }
+
+ private:
+  struct Frame {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    vk::FenceHandle done;
+    SemaphoreHandle acquired;
+  };
+
+  static std::pair<glm::dvec3, glm::dvec3> bounds(const SurfaceModel& m) {
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::dvec3& p : m.points) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    return {lo, hi};
+  }
+
+  void createFrames() {
+    VkDevice dev = ctx_->device();
+    VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;  // each frame re-records its buffer
+    pi.queueFamilyIndex = ctx_->queueFamily();
+    VkCommandPool pool;
+    vk::check(vkCreateCommandPool(dev, &pi, nullptr, &pool), "vkCreateCommandPool (viewer)");
+    pool_ = vk::CommandPoolHandle(dev, pool);
+    for (Frame& f : frames_) {
+      VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+      ai.commandPool = pool;
+      ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+      ai.commandBufferCount = 1;
+      vk::check(vkAllocateCommandBuffers(dev, &ai, &f.cmd), "vkAllocateCommandBuffers (viewer)");
+      VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+      fi.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+      VkFence fence;
+      vk::check(vkCreateFence(dev, &fi, nullptr, &fence), "vkCreateFence (viewer)");
+      f.done = vk::FenceHandle(dev, fence);
+      f.acquired = makeSemaphore();
+    }
+    createPresentSemaphores();
+  }
+
+  SemaphoreHandle makeSemaphore() const {
+    VkSemaphoreCreateInfo si{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VkSemaphore s;
+    vk::check(vkCreateSemaphore(ctx_->device(), &si, nullptr, &s), "vkCreateSemaphore (viewer)");
+    return SemaphoreHandle(ctx_->device(), s);
+  }
+
+  // One per swapchain image: a present may still wait on the semaphore of its image while a later
+  // frame (another image) renders.
+  void createPresentSemaphores() {
+    rendered_.clear();
+    for (uint32_t i = 0; i < swapchain_.imageCount(); ++i) rendered_.push_back(makeSemaphore());
+  }
+
+  void recreateSwapchain() {
+    swapchain_.recreate(window_.framebufferSize());  // waits for the device to be idle
+    createPresentSemaphores();
+    gui_.setMinImageCount(swapchain_.minImageCount());
+    readback_ = vk::Buffer();
+  }
+
+  // The control net and its points (the picked one larger, red): rebuilt when the pick changes,
+  // after the frames in flight that read the old buffers.
+  void uploadOverlay() {
+    ctx_->waitIdle();
+    const SurfaceModel& m = cpu_.model();
+    std::vector<render::OverlayVertex> lines, markers;
+    for (int i = 0; i < m.rows; ++i) {
+      std::vector<glm::dvec3> row;
+      for (int j = 0; j < m.cols; ++j) row.push_back(m.at(i, j));
+      if (m.closedV) row.push_back(m.at(i, 0));
+      render::addPolyline(lines, row, kNetColour);
+    }
+    for (int j = 0; j < m.cols; ++j) {
+      std::vector<glm::dvec3> col;
+      for (int i = 0; i < m.rows; ++i) col.push_back(m.at(i, j));
+      if (m.closedU) col.push_back(m.at(0, j));
+      render::addPolyline(lines, col, kNetColour);
+    }
+    for (size_t k = 0; k < m.points.size(); ++k) {
+      const bool picked = int(k) == controls_.picked;
+      render::addMarker(markers, m.points[k], picked ? kPickedPx : kPointPx, picked ? kPickedColour : kPointColour);
+    }
+    auto upload = [&](const std::vector<render::OverlayVertex>& v, const char* label) {
+      vk::Buffer b = vk::Buffer::create(*ctx_, std::max<size_t>(1, v.size()) * sizeof(render::OverlayVertex),
+                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                        vk::MemoryUse::Upload, label);
+      if (!v.empty()) b.uploadSpan(std::span<const render::OverlayVertex>(v));
+      return b;
+    };
+    netLines_ = upload(lines, "viewer.net");
+    netMarkers_ = upload(markers, "viewer.points");
+    lineCount_ = uint32_t(lines.size());
+    markerCount_ = uint32_t(markers.size());
+  }
+
+  // Brings the GPU surface to controls_ (λ/μ through setParameters, α point by point). The setters
+  // write memory the frames in flight read: they wait first. Returns the model rule a value broke
+  // (and puts controls_ back to the applied state), or an empty string.
+  std::string applyControls() {
+    std::string error;
+    const bool familyChanged = controls_.family.lambda != applied_.family.lambda || controls_.family.mu != applied_.family.mu;
+    const bool alphaChanged = controls_.alpha != applied_.alpha;
+    if (familyChanged || alphaChanged) {
+      ctx_->waitIdle();
+      try {
+        if (familyChanged) gpuSurface_.setParameters(controls_.family);
+        applied_.family = controls_.family;
+        const int cols = cpu_.model().cols;
+        for (size_t k = 0; k < controls_.alpha.size(); ++k)
+          if (controls_.alpha[k] != applied_.alpha[k]) {
+            gpuSurface_.setAlpha(int(k) / cols, int(k) % cols, controls_.alpha[k]);
+            applied_.alpha[k] = controls_.alpha[k];
+          }
+      } catch (const ModelError& e) {
+        error = e.what();
+        controls_.family = applied_.family;
+        controls_.alpha = applied_.alpha;
+      }
+    }
+    if (controls_.tolerancePx != applied_.tolerancePx) {
+      mesh_->setTolerance(controls_.tolerancePx);
+      applied_.tolerancePx = controls_.tolerancePx;
+    }
+    if (controls_.picked != applied_.picked) {
+      applied_.picked = controls_.picked;
+      uploadOverlay();
+    }
+    applied_.wireframe = controls_.wireframe;
+    applied_.net = controls_.net;
+    return error;
+  }
+
+  render::Camera camera() const {
+    const VkExtent2D e = swapchain_.extent();
+    return orbit_.camera(int(e.width), int(e.height));
+  }
+
+  // A click at pixel (x, y): picks the nearest control point within kPickRadiusPx, or none.
+  // Returns whether a point was picked.
+  bool click(double x, double y) {
+    const VkExtent2D e = swapchain_.extent();
+    controls_.picked = pickPoint(cpu_.model().points, camera(), int(e.width), int(e.height), x, y);
+    return controls_.picked >= 0;
+  }
+
+  void setPickedAlpha(double a) {
+    if (controls_.picked >= 0 && size_t(controls_.picked) < controls_.alpha.size()) controls_.alpha[controls_.picked] = a;
+  }
+
+  // A script line: sets what the widgets and the mouse set, through the same functions.
+  void execute(const ScriptCommand& c) {
+    const SurfaceModel& m = cpu_.model();
+    auto fail = [&](const std::string& rule) { throw ScriptError(c.line, c.text, rule); };
+    switch (c.kind) {
+      case Kind::Lambda:
+        if (!traits_.usesLambda) fail(std::string(traits_.name) + " has no lambda");
+        controls_.family.lambda = c.numbers[0];
+        break;
+      case Kind::Mu:
+        if (!traits_.usesMu) fail(std::string(traits_.name) + " has no mu");
+        controls_.family.mu = c.numbers;
+        break;
+      case Kind::Alpha:
+        if (!traits_.usesAlpha) fail(std::string(traits_.name) + " has no per-point alpha");
+        if (c.numbers.size() == 3) {
+          const int i = int(c.numbers[0]), j = int(c.numbers[1]);
+          if (i >= m.rows || j >= m.cols)
+            fail("point (" + std::to_string(i) + ", " + std::to_string(j) + ") is outside the " +
+                 std::to_string(m.rows) + " x " + std::to_string(m.cols) + " net");
+          controls_.picked = i * m.cols + j;
+          setPickedAlpha(c.numbers[2]);
+        } else {
+          if (controls_.picked < 0) fail("no point is picked (pick X Y first)");
+          setPickedAlpha(c.numbers[0]);
+        }
+        break;
+      case Kind::Pick:
+      case Kind::PickPoint: {
+        glm::dvec2 at(c.numbers[0], c.numbers[1]);
+        if (c.kind == Kind::PickPoint) {
+          const int i = int(c.numbers[0]), j = int(c.numbers[1]);
+          if (i >= m.rows || j >= m.cols) fail("the point is outside the " + std::to_string(m.rows) + " x " +
+                                               std::to_string(m.cols) + " net");
+          const VkExtent2D e = swapchain_.extent();
+          at = glm::dvec2(camera().toPixel(m.at(i, j), int(e.width), int(e.height)));
+        }
+        if (!click(at.x, at.y))
+          fail("no control point projects within " + std::to_string(int(kPickRadiusPx)) + " px of the pixel");
+        if (!options_.quiet)
+          std::fprintf(stderr, "shapespline: view: picked control point (%d, %d)\n", controls_.picked / m.cols,
+                       controls_.picked % m.cols);
+        break;
+      }
+      case Kind::Orbit: orbit_.rotate(c.numbers[0], c.numbers[1]); break;
+      case Kind::Pan: orbit_.pan(c.numbers[0], c.numbers[1], int(swapchain_.extent().height)); break;
+      case Kind::Zoom: orbit_.zoom(c.numbers[0]); break;
+      case Kind::Tolerance: controls_.tolerancePx = float(c.numbers[0]); break;
+      case Kind::Wireframe: controls_.wireframe = c.on; break;
+      case Kind::Net: controls_.net = c.on; break;
+      case Kind::Panel: controls_.panel = c.on; break;
+      case Kind::Frames:
+      case Kind::Screenshot:
+      case Kind::Quit: break;
+    }
+    if (const std::string error = applyControls(); !error.empty()) fail(error);
+  }
+
+  // The mouse over the scene (not over the panel): left drag orbits, right or shift+left drag pans,
+  // the wheel zooms, a left click without a drag picks.
+  void handleMouse() {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.WantCaptureMouse) return;
+    const bool pan = ImGui::IsMouseDragging(ImGuiMouseButton_Right) ||
+                     (io.KeyShift && ImGui::IsMouseDragging(ImGuiMouseButton_Left));
+    if (pan) {
+      orbit_.pan(io.MouseDelta.x, io.MouseDelta.y, int(swapchain_.extent().height));
+    } else if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+      orbit_.rotate(-io.MouseDelta.x * kDegreesPerPixel, io.MouseDelta.y * kDegreesPerPixel);
+    }
+    if (io.MouseWheel != 0.0f) orbit_.zoom(std::pow(kZoomPerWheelStep, double(io.MouseWheel)));
+    // A release that never moved beyond ImGui's drag threshold is a click.
+    const float threshold = io.MouseDragThreshold;
+    if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && !io.KeyShift &&
+        io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left] < threshold * threshold)
+      click(io.MousePos.x, io.MousePos.y);
+  }
+
+  void panel() {
+    if (!controls_.panel) return;
+    const SurfaceModel& m = cpu_.model();
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("shapespline");
+    ImGui::Text("%s, %d x %d net", std::string(traits_.name).c_str(), m.rows, m.cols);
+    ImGui::Text("mesh: %s", mesh_->name().c_str());
+    ImGui::Text("frame %.2f ms, %llu triangles", frameMs_, static_cast<unsigned long long>(triangles_));
+    ImGui::Separator();
+    if (traits_.usesLambda) {
+      const LambdaDomain d = lambdaDomain(controls_.family);
+      const double hi = std::isfinite(d.hi) ? d.hi : d.lo + 16.0;  // GB: no upper bound, the slider needs one
+      ImGui::SliderScalar("lambda", ImGuiDataType_Double, &controls_.family.lambda, &d.lo, &hi, "%.3f");
+    }
+    if (traits_.usesMu) {
+      std::vector<double>& mu = controls_.family.mu;
+      for (size_t i = 0; i < mu.size(); ++i) {
+        double v = mu[i];
+        const double lo = 0.0, hi = 1.0;
+        if (ImGui::SliderScalar(("mu" + std::to_string(i)).c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.4f"))
+          moveMu(mu, controls_.family.order, i, v);
+      }
+    }
+    if (traits_.usesAlpha) {
+      if (controls_.picked >= 0) {
+        ImGui::Text("point (%d, %d)", controls_.picked / m.cols, controls_.picked % m.cols);
+        double a = controls_.alpha[controls_.picked];
+        const double lo = 0.001, hi = 1.0;
+        if (ImGui::SliderScalar("alpha", ImGuiDataType_Double, &a, &lo, &hi, "%.3f")) setPickedAlpha(a);
+      } else {
+        ImGui::TextDisabled("click a control point to edit its alpha");
+      }
+    }
+    ImGui::SliderFloat("tolerance (px)", &controls_.tolerancePx, 0.25f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+    const bool canWire = pipelines_.triangleWireframe() || mesh_->name().rfind("fixed", 0) == 0;
+    ImGui::BeginDisabled(!canWire);
+    ImGui::Checkbox("wireframe", &controls_.wireframe);
+    ImGui::EndDisabled();
+    ImGui::Checkbox("control net", &controls_.net);
+    if (!error_.empty()) ImGui::TextWrapped("%s", error_.c_str());
+    ImGui::End();
+  }
+
+  void updateStats() {
+    const Clock::time_point now = Clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - lastFrame_).count();
+    lastFrame_ = now;
+    // The first interval includes the start-up; the average starts with the second.
+    if (frameCount_ == 2) frameMs_ = ms;
+    if (frameCount_ > 2) frameMs_ = 0.9 * frameMs_ + 0.1 * ms;
+    if (frameCount_ == 1 || std::chrono::duration<double>(now - lastStats_).count() >= kStatsSeconds) {
+      triangles_ = mesh_->triangleCount();  // may wait for idle: a few times a second only
+      lastStats_ = now;
+    }
+  }
+
+  // Records the copy of the presented image into readback_ (after the render pass; the image is
+  // back in PRESENT_SRC afterwards).
+  void recordCapture(VkCommandBuffer cmd, VkImage image) {
+    const VkExtent2D e = swapchain_.extent();
+    if (!readback_.handle())
+      readback_ = vk::Buffer::create(*ctx_, VkDeviceSize(e.width) * e.height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     vk::MemoryUse::Readback, "viewer.screenshot");
+    auto transition = [&](VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess, VkAccessFlags dstAccess,
+                          VkPipelineStageFlags src, VkPipelineStageFlags dst) {
+      VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+      b.srcAccessMask = srcAccess;
+      b.dstAccessMask = dstAccess;
+      b.oldLayout = from;
+      b.newLayout = to;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = image;
+      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCmdPipelineBarrier(cmd, src, dst, 0, 0, nullptr, 0, nullptr, 1, &b);
+    };
+    // The render pass's outgoing dependency already orders its colour writes before TRANSFER.
+    transition(VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0, VK_ACCESS_TRANSFER_READ_BIT,
+               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {e.width, e.height, 1};
+    vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.handle(), 1, &region);
+    transition(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_ACCESS_TRANSFER_READ_BIT, 0,
+               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
+                         nullptr);
+  }
+
+  void saveCapture(const std::string& name) {
+    const VkExtent2D e = swapchain_.extent();
+    std::vector<uint8_t> rgba(size_t(e.width) * e.height * 4);
+    readback_.download(std::as_writable_bytes(std::span<uint8_t>(rgba)));
+    if (swapchain_.format() == VK_FORMAT_B8G8R8A8_UNORM || swapchain_.format() == VK_FORMAT_B8G8R8A8_SRGB)
+      for (size_t k = 0; k < rgba.size(); k += 4) std::swap(rgba[k], rgba[k + 2]);
+    const std::filesystem::path path = options_.screenshotDir / name;
+    io::writePng(path, int(e.width), int(e.height), rgba, false);
+    if (!options_.quiet)
+      std::fprintf(stderr, "shapespline: view: wrote %s (%u x %u, %llu triangles)\n", path.c_str(), e.width, e.height,
+                   static_cast<unsigned long long>(mesh_->triangleCount()));
+  }
+
+  // One frame; `capture` names the screenshot to save of it. Returns false when the swapchain was
+  // out of date and has been recreated (nothing drawn).
+  bool drawFrame(const std::string* capture) {
+    if (capture && !swapchain_.canReadBack())
+      throw DisplayError("screenshot: the window surface does not allow reading its images (no TRANSFER_SRC usage)");
+    const VkExtent2D want = window_.framebufferSize();
+    const VkExtent2D have = swapchain_.extent();
+    if (want.width != have.width || want.height != have.height) {
+      recreateSwapchain();
+      return false;
+    }
+    Frame& f = frames_[frameIndex_];
+    VkDevice dev = ctx_->device();
+    const VkFence fence = f.done.get();
+    vk::check(vkWaitForFences(dev, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences (viewer frame)");
+
+    uint32_t image = 0;
+    const VkResult acquired = vkAcquireNextImageKHR(dev, swapchain_.handle(), UINT64_MAX, f.acquired.get(),
+                                                    VK_NULL_HANDLE, &image);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+      recreateSwapchain();
+      return false;
+    }
+    if (acquired != VK_SUBOPTIMAL_KHR) vk::check(acquired, "vkAcquireNextImageKHR");
+
+    gui_.newFrame();
+    handleMouse();
+    panel();
+    if (const std::string error = applyControls(); !error.empty()) error_ = error;
+
+    vk::check(vkResetFences(dev, 1, &fence), "vkResetFences (viewer frame)");
+    VkCommandBuffer cmd = f.cmd;
+    vk::check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer (viewer frame)");
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    vk::check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer (viewer frame)");
+    const render::Camera cam = camera();
+    const VkExtent2D extent = swapchain_.extent();
+    mesh_->record(cmd, cam, extent);
+
+    VkClearValue clears[2];
+    clears[0].color = {{kBackground.r, kBackground.g, kBackground.b, 1.0f}};
+    clears[1].depthStencil = {1.0f, 0};
+    VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    rp.renderPass = swapchain_.renderPass();
+    rp.framebuffer = swapchain_.framebuffer(image);
+    rp.renderArea = {{0, 0}, extent};
+    rp.clearValueCount = 2;
+    rp.pClearValues = clears;
+    vkCmdBeginRenderPass(cmd, &rp, VK_SUBPASS_CONTENTS_INLINE);
+    render::OverlayDraw overlay;
+    if (applied_.net) overlay = {netLines_.handle(), lineCount_, netMarkers_.handle(), markerCount_};
+    pipelines_.record(cmd, {mesh_->draw(applied_.wireframe)}, overlay, cam, extent);
+    gui_.record(cmd);
+    vkCmdEndRenderPass(cmd);
+    if (capture) recordCapture(cmd, swapchain_.image(image));
+    vk::check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer (viewer frame)");
+
+    const VkSemaphore wait = f.acquired.get(), signal = rendered_[image].get();
+    const VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.waitSemaphoreCount = 1;
+    si.pWaitSemaphores = &wait;
+    si.pWaitDstStageMask = &waitStage;
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    si.signalSemaphoreCount = 1;
+    si.pSignalSemaphores = &signal;
+    VkResult presented;
+    {
+      std::lock_guard lock(ctx_->submitMutex());  // the queue is shared with the context's own submissions
+      vk::check(vkQueueSubmit(ctx_->queue(), 1, &si, fence), "vkQueueSubmit (viewer frame)");
+      VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+      pi.waitSemaphoreCount = 1;
+      pi.pWaitSemaphores = &signal;
+      pi.swapchainCount = 1;
+      const VkSwapchainKHR sc = swapchain_.handle();
+      pi.pSwapchains = &sc;
+      pi.pImageIndices = &image;
+      presented = vkQueuePresentKHR(ctx_->queue(), &pi);
+    }
+    frameIndex_ = (frameIndex_ + 1) % kFramesInFlight;
+    ++frameCount_;
+    if (capture) {
+      vk::check(vkWaitForFences(dev, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences (screenshot)");
+      saveCapture(*capture);
+    }
+    updateStats();
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR) {
+      recreateSwapchain();
+    } else {
+      vk::check(presented, "vkQueuePresentKHR");
+    }
+    return true;
+  }
+
+  void checkValidation() const {
+    if (!options_.validation && !ctx_->validationEnabled()) return;
+    const auto messages = ctx_->validationMessages();
+    if (!messages.empty())
+      throw ValidationFailure(std::to_string(messages.size()) + " Vulkan validation message(s):" + messagesText(messages));
+  }
+
+  std::shared_ptr<vk::Context> ctx_;
+  Window& window_;
+  const ViewerOptions& options_;
+  const FamilyTraits& traits_;
+  Surface cpu_;
+  gpu::GpuSurface gpuSurface_;
+  SurfaceHandle surface_;
+  Swapchain swapchain_;
+  render::ScenePipelines pipelines_;
+  Gui gui_;
+  OrbitCamera orbit_;
+  std::unique_ptr<SurfaceMesh> mesh_;
+  Controls controls_, applied_;
+  std::string error_;
+  vk::CommandPoolHandle pool_;
+  std::array<Frame, kFramesInFlight> frames_;
+  std::vector<SemaphoreHandle> rendered_;
+  uint32_t frameIndex_ = 0;
+  vk::Buffer netLines_, netMarkers_, readback_;
+  uint32_t lineCount_ = 0, markerCount_ = 0;
+  uint64_t frameCount_ = 0, triangles_ = 0;
+  double frameMs_ = 0.0;
+  Clock::time_point lastFrame_, lastStats_;
+};
+
+}  // namespace
+
+void runViewer(const SurfaceModel& model, const ViewerOptions& options) {
+  if (!model.knotsU.empty() || !model.knotsV.empty())
+    throw std::invalid_argument("knot-vector B-spline surfaces are not tessellated on the GPU yet");
+  Window window(options.width, options.height, options.title);
+  vk::ContextOptions co;
+  co.validation = options.validation;
+  co.instanceExtensions = window.requiredInstanceExtensions();
+  co.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  co.queueFamilyFilter = Window::canPresent;
+  std::shared_ptr<vk::Context> ctx;
+  try {
+    ctx = vk::Context::create(co);
+  } catch (const vk::NoDeviceError& e) {
+    throw DisplayError("no Vulkan device can draw into the window: " + e.reason());
+  }
+  {
+    Viewer viewer(ctx, window, model, options);
+    viewer.run();
+    if (!options.quiet)
+      std::fprintf(stderr, "shapespline: view: %llu frames, %.2f ms a frame, %llu triangles\n",
+                   static_cast<unsigned long long>(viewer.frames()), viewer.frameMs(),
+                   static_cast<unsigned long long>(viewer.triangles()));
+  }
+  // Destruction of the viewer's objects is covered too (the context's own teardown is not).
+  if (options.validation || ctx->validationEnabled()) {
+    const auto messages = ctx->validationMessages();
+    if (!messages.empty())
+      throw ValidationFailure(std::to_string(messages.size()) + " Vulkan validation message(s):" + messagesText(messages));
+  }
+}
+
+}  // namespace shapespline::viewer

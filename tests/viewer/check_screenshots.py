@@ -1,0 +1,52 @@
+"""Checks the screenshots of tests/viewer/viewer_test.sh: the surface covers a good part of the
+first one, each edit (lambda, alpha of a picked point, camera, wireframe) changes the scene, and the
+panel draws where it stands. Usage: check_screenshots.py DIR."""
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import numpy as np  # noqa: E402
+
+MIN_SURFACE = 0.10   # of the pixels are not the white background in the first screenshot
+MIN_CHANGED = 0.002  # of the pixels change visibly after each edit
+VISIBLE = 8 / 255    # a channel difference seen as a change
+PANEL = (slice(8, 100), slice(8, 200))  # rows, columns inside the panel's first-use place
+
+
+def load(folder, name):
+    img = mpimg.imread(folder / name)  # float RGB in [0, 1]
+    return np.asarray(img[..., :3], dtype=np.float64)
+
+
+def changed(a, b):
+    return float((np.abs(a - b).max(axis=2) > VISIBLE).mean())
+
+
+def main():
+    folder = Path(sys.argv[1])
+    names = ["base", "lambda", "alpha", "camera", "wireframe", "panel"]
+    shots = {n: load(folder, n + ".png") for n in names}
+    failures = []
+    covered = float((shots["base"].min(axis=2) < 1 - VISIBLE).mean())
+    print(f"base: {covered:.3f} of the pixels are not background")
+    if covered < MIN_SURFACE:
+        failures.append(f"base: the surface covers {covered:.3f} of the image, want >= {MIN_SURFACE}")
+    for before, after in zip(names[:4], names[1:5]):
+        c = changed(shots[before], shots[after])
+        print(f"{before} -> {after}: {c:.4f} of the pixels changed")
+        if c < MIN_CHANGED:
+            failures.append(f"{after}: only {c:.4f} of the pixels changed after the edit, want >= {MIN_CHANGED}")
+    dark = lambda img: float((img[PANEL].max(axis=2) < 0.3).mean())  # noqa: E731 (ImGui's dark theme)
+    print(f"panel region: {dark(shots['wireframe']):.3f} dark without the panel, {dark(shots['panel']):.3f} with it")
+    if dark(shots["panel"]) < 0.5 or dark(shots["panel"]) < dark(shots["wireframe"]) + 0.3:
+        failures.append("panel: the ImGui panel is not drawn in the top-left corner")
+    for f in failures:
+        print("FAIL:", f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

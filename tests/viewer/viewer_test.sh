@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# shapespline view under a virtual X server: a script changes lambda, picks a control point and sets
+# its alpha, moves the camera, turns the wireframe and the panel on, and saves a screenshot after
+# each step; check_screenshots.py checks them (surface present, each edit changes the image, the
+# panel is drawn). --validation makes any Vulkan validation message fail the run. A bad script line
+# must fail with exit 2 before any window opens.
+# Usage: viewer_test.sh SHAPESPLINE SOURCE_DIR. Exit 77 (skip) only when Xvfb is missing.
+set -euo pipefail
+bin=$1
+src=$2
+if ! command -v Xvfb >/dev/null 2>&1; then
+  echo "SKIP: Xvfb is not installed (Debian: xvfb)"
+  exit 77
+fi
+tmp=$(mktemp -d)
+xvfb_pid=""
+cleanup() {
+  if [[ -n "$xvfb_pid" ]]; then kill "$xvfb_pid" 2>/dev/null || true; wait "$xvfb_pid" 2>/dev/null || true; fi
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+
+# -displayfd: Xvfb takes a free display number itself and writes it (tests may run in parallel).
+Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp 3>"$tmp/display" >"$tmp/xvfb.log" 2>&1 &
+xvfb_pid=$!
+for _ in $(seq 100); do
+  [[ -s "$tmp/display" ]] && break
+  kill -0 "$xvfb_pid" 2>/dev/null || { cat "$tmp/xvfb.log"; echo "FAIL: Xvfb exited"; exit 1; }
+  sleep 0.1
+done
+[[ -s "$tmp/display" ]] || { echo "FAIL: Xvfb gave no display number within 10 s"; exit 1; }
+export DISPLAY=":$(head -n1 "$tmp/display")"
+unset WAYLAND_DISPLAY
+export SHAPESPLINE_CACHE_DIR="$tmp/cache"
+
+model="$src/examples/models/surface_aeb.json"  # alpha_eb degree 5: lambda in [-15, 1]
+
+# A bad line is refused before the window opens: exit 2, naming the line.
+printf 'frames 2\nalpha 2 2 1.5x\n' >"$tmp/bad.txt"
+set +e
+"$bin" view "$model" --script "$tmp/bad.txt" --screenshot-dir "$tmp/shots" >"$tmp/bad.out" 2>&1
+rc=$?
+set -e
+if [[ $rc -ne 2 ]] || ! grep -q "line 2" "$tmp/bad.out"; then
+  cat "$tmp/bad.out"; echo "FAIL: a bad script line gave exit $rc (want 2, naming line 2)"; exit 1
+fi
+# An alpha outside (0, 1] is the model's rule: exit 2 as well, after the window opened.
+printf 'frames 1\nalpha 2 2 1.5\nquit\n' >"$tmp/bad_alpha.txt"
+set +e
+"$bin" view "$model" --size 320x240 --script "$tmp/bad_alpha.txt" >"$tmp/bad_alpha.out" 2>&1
+rc=$?
+set -e
+if [[ $rc -ne 2 ]] || ! grep -q "alpha" "$tmp/bad_alpha.out"; then
+  cat "$tmp/bad_alpha.out"; echo "FAIL: alpha 1.5 gave exit $rc (want 2, naming alpha)"; exit 1
+fi
+
+cat >"$tmp/session.txt" <<'SCRIPT'
+# the panel is off for the edit screenshots: only the scene changes between them
+panel off
+frames 2
+screenshot base.png
+lambda -8
+screenshot lambda.png
+pick-point 2 2
+alpha 0.1
+screenshot alpha.png
+orbit 50 20
+zoom 0.8
+screenshot camera.png
+tolerance 0.5
+wireframe on
+screenshot wireframe.png
+panel on
+frames 2
+screenshot panel.png
+quit
+SCRIPT
+"$bin" view "$model" --size 480x360 --script "$tmp/session.txt" --screenshot-dir "$tmp/shots" --validation \
+  >"$tmp/session.out" 2>&1 || { cat "$tmp/session.out"; echo "FAIL: the scripted session failed"; exit 1; }
+cat "$tmp/session.out"
+if grep -qi "validation\|\[vulkan" "$tmp/session.out"; then echo "FAIL: validation output"; exit 1; fi
+grep -q "picked control point (2, 2)" "$tmp/session.out" || { echo "FAIL: pick-point 2 2 did not pick (2, 2)"; exit 1; }
+/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/shots"
