@@ -15,24 +15,11 @@
 #include <shapespline/vk/error.h>
 #include <shapespline/vk/submit.h>
 
+#include "workloads.h"
+
 namespace {
 
 using namespace shapespline;
-
-SurfaceModel thousandPatches() {
-  SurfaceModel m;
-  m.family.construction = Construction::AlphaEB;
-  m.family.degree = 5;
-  m.family.lambda = 0.0;
-  m.rows = 26;  // 25 x 40 patches (open/open)
-  m.cols = 41;
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j)
-      m.points.push_back({double(i), double(j), 0.5 * std::sin(0.7 * i) * std::cos(0.45 * j)});
-  m.alpha.assign(size_t(m.rows) * m.cols, 0.6);
-  for (size_t k = 0; k < m.alpha.size(); k += 7) m.alpha[k] = 1.0;
-  return m;
-}
 
 struct Fixture {
   std::shared_ptr<vk::Context> ctx;
@@ -40,7 +27,7 @@ struct Fixture {
   std::unique_ptr<gpu::SurfaceTessellator> tess;
   Fixture() {
     ctx = vk::Context::create();
-    surface = std::make_unique<gpu::GpuSurface>(ctx, Surface::create(thousandPatches()), Precision::Float);
+    surface = std::make_unique<gpu::GpuSurface>(ctx, Surface::create(bench::thousandPatchAlphaEB()), Precision::Float);
     tess = std::make_unique<gpu::SurfaceTessellator>(ctx, *surface, gpu::SurfaceTessellator::uniformRates(*surface, 32));
   }
 };

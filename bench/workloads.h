@@ -9,6 +9,7 @@
 #include <shapespline/core/surface.h>
 #include <shapespline/vk/context.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,6 +43,23 @@ double boxDiagonal(const std::vector<glm::dvec3>& points);
 // on the kNetSize x kNetSize net, 3721 patches; `shapespline_bench --write-model=PATH` writes it
 // for bench/e2e.
 SurfaceModel bsplineWorkloadModel();
+
+// The real-time workload (tessellation_bench.cpp, bench/realtime): an α-EB surface of degree 5,
+// 25 x 40 patches (open/open) over a gentle height field, α = 0.6 with every 7th vertex at 1.
+inline SurfaceModel thousandPatchAlphaEB() {
+  SurfaceModel m;
+  m.family.construction = Construction::AlphaEB;
+  m.family.degree = 5;
+  m.family.lambda = 0.0;
+  m.rows = 26;
+  m.cols = 41;
+  for (int i = 0; i < m.rows; ++i)
+    for (int j = 0; j < m.cols; ++j)
+      m.points.push_back({double(i), double(j), 0.5 * std::sin(0.7 * i) * std::cos(0.45 * j)});
+  m.alpha.assign(size_t(m.rows) * m.cols, 0.6);
+  for (size_t k = 0; k < m.alpha.size(); k += 7) m.alpha[k] = 1.0;
+  return m;
+}
 
 // The shared Vulkan context (fp64 devices preferred), or nullptr with the reason.
 std::shared_ptr<vk::Context> gpuContext();

@@ -27,4 +27,9 @@ uint patchTriangles(uvec2 r, uvec4 e) {
          2u * (r.x - 2u) * (r.y - 2u);
 }
 
+// Interior rows one vertex-pass invocation evaluates for a patch with m - 1 samples a row: at
+// least 32 samples, so that loading the patch's net is shared by enough of them.
+uint rowsPerBlock(uint m) { return max(1u, 32u / (m - 1u)); }
+uint rowBlocks(uvec2 r) { return (r.x - 2u) / rowsPerBlock(r.y) + 1u; }
+
 #endif  // SHAPESPLINE_TESS_ADAPTIVE_GRID_GLSL

@@ -2,13 +2,16 @@
 // Index pass of the adaptive tessellator (tess_layout.h): the triangles of core/tess_topology.cpp
 // buildTessTopology for the frame's rates, in its order (per patch: the rings of sides 0..3, then
 // the interior quads). Dispatches (AdaptivePush.mode): rings, one invocation per patch side (the
-// zipper is sequential); quads, one workgroup per patch.
+// zipper is sequential); quads, one invocation per quad (an indirect dispatch the layout pass
+// sized), its patch found by binary search in QUADS.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "tess_layout.h"
 
 layout(std430, binding = kAdaptBindingPatches) readonly buffer PatchBuf { uvec4 patchRecords[]; };
 layout(std430, binding = kAdaptBindingEdges) readonly buffer EdgeBuf { uvec2 edges[]; };
+layout(std430, binding = kAdaptBindingQuads) readonly buffer QuadBuf { uint quadFirst[]; };
+layout(std430, binding = kAdaptBindingFrame) readonly buffer FrameBuf { uint frame[]; };
 layout(std430, binding = kAdaptBindingIndices) writeonly buffer IndexOut { uint outIndices[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
 
@@ -71,12 +74,11 @@ uvec4 sideRates(uint a, uint b) {
 }
 
 void main() {
-  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
   uint patches = pc.patchesU * pc.patchesV;
   if (pc.mode == kAdaptModeRings) {
-    uint q = group * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-    if (q >= 4u * patches) return;
-    uint p = q / 4u, s = q - 4u * p;
+    if (k >= 4u * patches) return;
+    uint p = k / 4u, s = k - 4u * p;
     uint a = p / pc.patchesV, b = p - a * pc.patchesV;
     uvec4 rec = patchRecords[p];
     gN = rec.x;
@@ -91,21 +93,25 @@ void main() {
     ring(a, b, s);
     return;
   }
-  if (group >= patches) return;
-  uint a = group / pc.patchesV, b = group - a * pc.patchesV;
-  uvec4 rec = patchRecords[group];
+  if (k >= frame[kAdaptFrameQuadCount]) return;
+  uint lo = 0u, hi = patches - 1u;  // the last patch whose first quad is <= k (patches without
+  while (lo < hi) {                 // quads share their successor's first quad and lose to it)
+    uint mid = (lo + hi + 1u) / 2u;
+    if (quadFirst[mid] <= k) lo = mid;
+    else hi = mid - 1u;
+  }
+  uint p = lo, t = k - quadFirst[p];
+  uint a = p / pc.patchesV, b = p - a * pc.patchesV;
+  uvec4 rec = patchRecords[p];
   gN = rec.x;
   gM = rec.y;
   gInterior = rec.z;
   uvec4 e = sideRates(a, b);
   uint rings = ringTriangles(e.x, gN) + ringTriangles(e.y, gM) + ringTriangles(e.z, gN) + ringTriangles(e.w, gM);
-  uint quads = (gN - 2u) * (gM - 2u);
-  for (uint t = gl_LocalInvocationID.x; t < quads; t += gl_WorkGroupSize.x) {
-    uint i = 1u + t / (gM - 2u), j = 1u + t % (gM - 2u);
-    uint q00 = interiorVertex(i, j), q10 = interiorVertex(i + 1u, j), q01 = interiorVertex(i, j + 1u),
-         q11 = interiorVertex(i + 1u, j + 1u);
-    gCursor = rec.w + 3u * rings + 6u * t;
-    emit(q00, q10, q11);
-    emit(q00, q11, q01);
-  }
+  uint i = 1u + t / (gM - 2u), j = 1u + t % (gM - 2u);
+  uint q00 = interiorVertex(i, j), q10 = interiorVertex(i + 1u, j), q01 = interiorVertex(i, j + 1u),
+       q11 = interiorVertex(i + 1u, j + 1u);
+  gCursor = rec.w + 3u * rings + 6u * t;
+  emit(q00, q10, q11);
+  emit(q00, q11, q01);
 }

@@ -3,7 +3,8 @@
 // the rates of the two patches along the edge (TessRates' default), so both patches of an edge read
 // one rate. Vertex and index counts are those of core/tess_topology.cpp, numbered the same way, and
 // their exclusive prefix sums give each corner, edge and patch its first vertex and each patch its
-// first index; the totals go into the indirect draw command.
+// first index and first interior quad; the totals go into the indirect draw command and the
+// indirect dispatches of the vertex and quad passes.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "tess_layout.h"
@@ -12,11 +13,15 @@ layout(std430, binding = kAdaptBindingRates) readonly buffer RateBuf { uvec2 rat
 layout(std430, binding = kAdaptBindingPatches) writeonly buffer PatchBuf { uvec4 patchRecords[]; };
 layout(std430, binding = kAdaptBindingEdges) writeonly buffer EdgeBuf { uvec2 edges[]; };
 layout(std430, binding = kAdaptBindingFrame) buffer FrameBuf { uint frame[]; };
+layout(std430, binding = kAdaptBindingQuads) writeonly buffer QuadBuf { uint quadFirst[]; };
+layout(std430, binding = kAdaptBindingRows) writeonly buffer RowBuf { uint rowFirst[]; };
+layout(std430, binding = kAdaptBindingView) readonly buffer ViewBuf { AdaptiveViewBlock view; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
 
 #include "tess_adaptive_grid.glsl"
 
-shared uint sVertexSums[kAdaptMaxWorkgroup], sIndexSums[kAdaptMaxWorkgroup];
+shared uint sVertexSums[kAdaptMaxWorkgroup], sIndexSums[kAdaptMaxWorkgroup], sQuadSums[kAdaptMaxWorkgroup],
+    sRowSums[kAdaptMaxWorkgroup];
 
 // The rate of u-edge (a, b) (at v-boundary b of patch column a) and of v-edge (a, b) (at
 // u-boundary a of patch row b): the max of the patches on either side; an open boundary has one.
@@ -33,6 +38,15 @@ uint edgeRateV(uint a, uint b) {
 uint edgeRate(uint x) {
   uint eu = uEdgeCount();
   return x < eu ? edgeRateU(x / boundariesV(), x % boundariesV()) : edgeRateV((x - eu) / pc.patchesV, (x - eu) % pc.patchesV);
+}
+
+// A 1-D dispatch of `invocations` as (x, y, 1) workgroups within the device's x limit.
+void writeDispatch(uint word, uint invocations) {
+  uint groups = (invocations + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+  uint x = min(groups, view.limits.w);
+  frame[word] = x;
+  frame[word + 1u] = x == 0u ? 0u : (groups + x - 1u) / x;
+  frame[word + 2u] = 1u;
 }
 
 // Vertices of element e of the numbering: corners, u-edges, v-edges, patch interiors.
@@ -56,6 +70,10 @@ void writeVertexRecord(uint e, uint first) {
   }
   uint p = e - eu - ev;
   patchRecords[p].xyz = uvec3(rates[p], first);
+  if (p == 0u) {  // every vertex before the interiors is a corner or an edge point
+    frame[kAdaptFrameSharedCount] = first;
+    writeDispatch(kAdaptFrameSharedDispatch, first);
+  }
 }
 
 uint indexCountOf(uint p) {
@@ -63,6 +81,11 @@ uint indexCountOf(uint p) {
   uvec4 e = uvec4(edgeRate(sideEdge(a, b, 0u)), edgeRate(sideEdge(a, b, 1u)), edgeRate(sideEdge(a, b, 2u)),
                   edgeRate(sideEdge(a, b, 3u)));
   return 3u * patchTriangles(rates[p], e);
+}
+
+uint quadCountOf(uint p) {
+  uvec2 r = rates[p];
+  return (r.x - 2u) * (r.y - 2u);
 }
 
 void main() {
@@ -73,20 +96,30 @@ void main() {
   uint vBlock = (elements + threads - 1u) / threads, pBlock = (patches + threads - 1u) / threads;
   uint v0 = min(t * vBlock, elements), v1 = min(v0 + vBlock, elements);
   uint p0 = min(t * pBlock, patches), p1 = min(p0 + pBlock, patches);
-  uint vs = 0u, is = 0u;
+  uint vs = 0u, is = 0u, qs = 0u, rs = 0u;
   for (uint e = v0; e < v1; ++e) vs += vertexCountOf(e);
-  for (uint p = p0; p < p1; ++p) is += indexCountOf(p);
+  for (uint p = p0; p < p1; ++p) {
+    is += indexCountOf(p);
+    qs += quadCountOf(p);
+    rs += rowBlocks(rates[p]);
+  }
   sVertexSums[t] = vs;
   sIndexSums[t] = is;
+  sQuadSums[t] = qs;
+  sRowSums[t] = rs;
   barrier();
   if (t == 0u) {  // exclusive scan of the block sums (at most kAdaptMaxWorkgroup)
-    uint va = 0u, ia = 0u;
+    uint va = 0u, ia = 0u, qa = 0u, ra = 0u;
     for (uint k = 0u; k < threads; ++k) {
-      uint x = sVertexSums[k], y = sIndexSums[k];
+      uint x = sVertexSums[k], y = sIndexSums[k], z = sQuadSums[k], w = sRowSums[k];
       sVertexSums[k] = va;
       sIndexSums[k] = ia;
+      sQuadSums[k] = qa;
+      sRowSums[k] = ra;
       va += x;
       ia += y;
+      qa += z;
+      ra += w;
     }
     frame[0] = ia;  // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex, vertexOffset, firstInstance
     frame[1] = 1u;
@@ -94,9 +127,13 @@ void main() {
     frame[3] = 0u;
     frame[4] = 0u;
     frame[kAdaptFrameVertexCount] = va;
+    frame[kAdaptFrameQuadCount] = qa;
+    writeDispatch(kAdaptFrameQuadDispatch, qa);
+    frame[kAdaptFrameRowCount] = ra;
+    writeDispatch(kAdaptFrameRowDispatch, ra);
   }
   barrier();
-  uint vertex = sVertexSums[t], index = sIndexSums[t];
+  uint vertex = sVertexSums[t], index = sIndexSums[t], quad = sQuadSums[t], row = sRowSums[t];
   for (uint e = v0; e < v1; ++e) {
     writeVertexRecord(e, vertex);
     vertex += vertexCountOf(e);
@@ -104,5 +141,9 @@ void main() {
   for (uint p = p0; p < p1; ++p) {
     patchRecords[p].w = index;
     index += indexCountOf(p);
+    quadFirst[p] = quad;
+    quad += quadCountOf(p);
+    rowFirst[p] = row;
+    row += rowBlocks(rates[p]);
   }
 }

@@ -4,22 +4,37 @@
 // position from its canonical patch (the lower patch index, as SurfaceTessellator) and the
 // normalised mean of the docs/math.md §5.3 normals of every patch that contains it, summed in the
 // topology's order; one evaluation per vertex, so both patches of an edge reference bitwise the
-// same vertex. Dispatches (AdaptivePush.mode): corners, one invocation each; edges, one workgroup
-// each; interiors, one workgroup per patch.
+// same vertex. Two indirect dispatches the layout pass sized (AdaptivePush.mode): the shared
+// vertices, one invocation each, which find their edge by binary search in the layout's sorted
+// first-vertex records; the interior vertices, one invocation per block of interior rows of a
+// patch, evaluated row-wise as tessellate_grid.comp does (patch_rows.glsl).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 #include "tess_layout.h"
 
 layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[]; };
 layout(std430, binding = kAdaptBindingPatches) readonly buffer PatchBuf { uvec4 patchRecords[]; };
 layout(std430, binding = kAdaptBindingEdges) readonly buffer EdgeBuf { uvec2 edges[]; };
+layout(std430, binding = kAdaptBindingFrame) readonly buffer FrameBuf { uint frame[]; };
+layout(std430, binding = kAdaptBindingRows) readonly buffer RowBuf { uint rowFirst[]; };
 layout(std430, binding = kAdaptBindingVertices) writeonly buffer VertexOut { vec4 outVerts[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
 
 #include "surface_patch.glsl"
 #include "tess_adaptive_grid.glsl"
 
-// Point and unit normal of patch (a, b) of the tessellated range at local (u, v).
+const bool kAEB = ALPHA_EB != 0u;
+const uint MU = BASIS_COUNT_U;
+const uint MV = BASIS_COUNT_V;
+const uint DU = POLY_DEGREE_U;
+const uint DV = POLY_DEGREE_V;
+#include "patch_rows.glsl"
+
+// Point and unit normal of patch (a, b) of the tessellated range at local (u, v): Q_u x Q_v, and
+// the full §5.3 rule (surfaceNormal) where that is degenerate or at an α-EB patch corner. The rule
+// runs in a loop, not an if: on llvmpipe an if's body runs whether or not a lane takes it, a
+// loop's only while some lane does.
 void evalPointNormal(uint a, uint b, REAL u, REAL v, out vec3 p, out vec3 n) {
   uint i = a + pc.firstSpanU, j = b + pc.firstSpanV;
   Basis2 B;
@@ -27,7 +42,12 @@ void evalPointNormal(uint a, uint b, REAL u, REAL v, out vec3 p, out vec3 n) {
   PatchDerivs c;
   PatchDerivs q = evalPatch(B, i, j, u, v, c);
   p = vec3(q.p);
-  n = vec3(surfaceNormal(i, j, u, v, q, c));
+  REAL3 cr = cross(q.u, q.v);
+  REAL len = length(cr);
+  bool corner = ALPHA_EB != 0u && (u == REAL(0) || u == REAL(1)) && (v == REAL(0) || v == REAL(1));
+  bool full = corner || degenerateCrossLength(q.u, q.v, len);
+  n = full ? vec3(0) : vec3(cr / len);
+  for (uint f = 0u; f < (full ? 1u : 0u); ++f) n = vec3(surfaceNormal(i, j, u, v, q, c));
 }
 
 vec3 normalOf(uint a, uint b, REAL u, REAL v) {
@@ -81,9 +101,9 @@ void corner(uint k) {
   store(k, a0, b0, u0, v0, p, meanNormal(sum, n0, samples));
 }
 
-// Edge x (u-edges, then v-edges): its points k/e, 0 < k < e, from the owner patch, the normal
+// Point k of edge x (u-edges, then v-edges), at k/e, 0 < k < e, from the owner patch, the normal
 // averaged with the patch on the other side where there is one.
-void edge(uint x) {
+void edgePoint(uint x, uint k) {
   uvec2 rec = edges[x];
   uint e = rec.x;
   uint eu = uEdgeCount();
@@ -108,41 +128,78 @@ void edge(uint x) {
     oa = (aa + pc.patchesU - 1u) % pc.patchesU;
     ob = b;
   }
-  for (uint k = 1u + gl_LocalInvocationID.x; k < e; k += gl_WorkGroupSize.x) {
-    REAL t = REAL(k) / REAL(e);
-    REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
-    vec3 p, n0;
-    evalPointNormal(a, b, u, v, p, n0);
-    vec3 n = n0;
-    if (shared_) {
-      n = meanNormal(n0 + normalOf(oa, ob, alongU ? t : REAL(1), alongU ? REAL(1) : t), n0, 2u);
-    }
-    store(rec.y + k - 1u, a, b, u, v, p, n);
-  }
+  REAL t = REAL(k) / REAL(e);
+  REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
+  vec3 p, n0;
+  evalPointNormal(a, b, u, v, p, n0);
+  vec3 n = n0;
+  if (shared_) n = meanNormal(n0 + normalOf(oa, ob, alongU ? t : REAL(1), alongU ? REAL(1) : t), n0, 2u);
+  store(rec.y + k - 1u, a, b, u, v, p, n);
 }
 
-void interior(uint patchIndex) {
+// Row block t of patch p: interior rows i = 1 + t R .. (R = rowsPerBlock(m), tess_adaptive_grid.glsl),
+// u = i/n, v = j/m for 0 < j < m, evaluated row-wise (the patch loaded once for the block); a
+// sample whose derivatives are degenerate takes the full §5.3 rule, in a loop as above.
+void interiorRows(uint patchIndex, uint t) {
   uvec4 rec = patchRecords[patchIndex];
   uint n = rec.x, m = rec.y;
   uint a = patchIndex / pc.patchesV, b = patchIndex - a * pc.patchesV;
-  uint count = (n - 1u) * (m - 1u);
-  for (uint q = gl_LocalInvocationID.x; q < count; q += gl_WorkGroupSize.x) {
-    uint i = 1u + q / (m - 1u), j = 1u + q % (m - 1u);
-    REAL u = REAL(i) / REAL(n), v = REAL(j) / REAL(m);
-    vec3 p, nn;
-    evalPointNormal(a, b, u, v, p, nn);
-    store(rec.z + q, a, b, u, v, p, nn);
+  uint mi = a + pc.firstSpanU, mj = b + pc.firstSpanV;
+  loadPatchRows(mi, mj);
+  uint R = rowsPerBlock(m), i0 = 1u + t * R, i1 = min(i0 + R, n);
+  for (uint i = i0; i < i1; ++i) {
+    REAL u = REAL(i) / REAL(n);
+    setupRow(u);
+    uint first = rec.z + (i - 1u) * (m - 1u);
+    for (uint j = 1u; j < m; ++j) {
+      REAL v = REAL(j) / REAL(m);
+      REAL3 p, du, dv;
+      evalSample(v, p, du, dv);
+      REAL3 cr = cross(du, dv);
+      REAL len = length(cr);
+      bool degenerate = degenerateCrossLength(du, dv, len);
+      vec3 normal = degenerate ? vec3(0) : vec3(cr / len);
+      for (uint f = 0u; f < (degenerate ? 1u : 0u); ++f) {
+        Basis2 B;
+        hornerBasis(u, v, B);
+        PatchDerivs c;
+        PatchDerivs q = evalPatch(B, mi, mj, u, v, c);
+        normal = vec3(surfaceNormal(mi, mj, u, v, q, c));
+      }
+      store(first + j - 1u, a, b, u, v, vec3(p), normal);
+    }
   }
 }
 
-void main() {
-  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  if (pc.mode == kAdaptModeCorners) {
-    uint k = group * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-    if (k < cornerCount()) corner(k);
-  } else if (pc.mode == kAdaptModeEdges) {
-    if (group < uEdgeCount() + vEdgeCount()) edge(group);
-  } else if (group < pc.patchesU * pc.patchesV) {
-    interior(group);
+// The last of `count` sorted firsts that is <= k.
+#define LAST_AT_MOST(result, count, FIRST, k) \
+  {                                           \
+    uint lo_ = 0u, hi_ = (count) - 1u;        \
+    while (lo_ < hi_) {                       \
+      uint mid_ = (lo_ + hi_ + 1u) / 2u;      \
+      if (FIRST(mid_) <= (k)) lo_ = mid_;     \
+      else hi_ = mid_ - 1u;                   \
+    }                                         \
+    result = lo_;                             \
   }
+#define EDGE_FIRST(x) edges[x].y
+#define ROW_FIRST(x) rowFirst[x]
+
+void main() {
+  uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+  if (pc.mode == kAdaptModeShared) {
+    if (k >= frame[kAdaptFrameSharedCount]) return;
+    if (k < cornerCount()) {
+      corner(k);
+      return;
+    }
+    uint x;
+    LAST_AT_MOST(x, uEdgeCount() + vEdgeCount(), EDGE_FIRST, k)
+    edgePoint(x, k - edges[x].y + 1u);
+    return;
+  }
+  if (k >= frame[kAdaptFrameRowCount]) return;
+  uint p;
+  LAST_AT_MOST(p, pc.patchesU * pc.patchesV, ROW_FIRST, k)
+  interiorRows(p, k - rowFirst[p]);
 }

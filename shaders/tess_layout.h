@@ -119,9 +119,14 @@ TS_FUNC TS_UINT tessPerimeterSlot(TS_UINT n, TS_UINT m, TS_UINT a, TS_UINT b) {
 //  5 PATCHES  (uvec4) per patch: n, m, first interior vertex, first index (layout pass)
 //  6 EDGES    (uvec2) per edge, the u-edges (TessRates::edgeU order) then the v-edges: rate, first
 //                     edge vertex
-//  7 FRAME    (uint)  VkDrawIndexedIndirectCommand at 0 (5 words), then kAdaptFrame* counters
+//  7 FRAME    (uint)  VkDrawIndexedIndirectCommand at 0 (5 words), then kAdaptFrame* counters and
+//                     the VkDispatchIndirectCommand of the vertex and quad passes
 //  8 VERTICES (vec4)  output, 2 vec4 per vertex (the layout above)
 //  9 INDICES  (uint)  output triangle list
+// 10 PROBES   (uvec4, 2 per patch) the probe pass's maxima: float bits of A, B, C, 0; the planes
+//                     some probe is inside of, whether a probe is behind the near plane or not finite
+// 11 QUADS    (uint)  per patch: its first interior quad (prefix sum of (n-2)(m-2))
+// 12 ROWS     (uint)  per patch: its first block of interior rows (tess_adaptive_grid.glsl rowBlocks)
 // Vertex numbering and triangles are core/tess_topology.cpp buildTessTopology's: corners, u-edge
 // points, v-edge points, patch interiors; per patch its four transition rings, then its quads.
 TS_CONST(TS_UINT, kAdaptBindingView, 3u);
@@ -131,18 +136,28 @@ TS_CONST(TS_UINT, kAdaptBindingEdges, 6u);
 TS_CONST(TS_UINT, kAdaptBindingFrame, 7u);
 TS_CONST(TS_UINT, kAdaptBindingVertices, 8u);
 TS_CONST(TS_UINT, kAdaptBindingIndices, 9u);
+TS_CONST(TS_UINT, kAdaptBindingProbes, 10u);
+TS_CONST(TS_UINT, kAdaptBindingQuads, 11u);
+TS_CONST(TS_UINT, kAdaptBindingRows, 12u);
 TS_CONST(TS_UINT, kAdaptFrameVertexCount, 5u);
 TS_CONST(TS_UINT, kAdaptFrameCulled, 6u);
 TS_CONST(TS_UINT, kAdaptFrameClamped, 7u);
 TS_CONST(TS_UINT, kAdaptFrameNear, 8u);
-TS_CONST(TS_UINT, kAdaptFrameWords, 16u);
+TS_CONST(TS_UINT, kAdaptFrameQuadCount, 9u);
+TS_CONST(TS_UINT, kAdaptFrameQuadDispatch, 10u);    // 3 words: x, y, z workgroups
+TS_CONST(TS_UINT, kAdaptFrameSharedCount, 13u);     // corners and edge points
+TS_CONST(TS_UINT, kAdaptFrameSharedDispatch, 14u);  // 3 words
+TS_CONST(TS_UINT, kAdaptFrameRowCount, 17u);        // interior row blocks of all patches
+TS_CONST(TS_UINT, kAdaptFrameRowDispatch, 18u);     // 3 words
+TS_CONST(TS_UINT, kAdaptFrameWords, 24u);
 TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
 // mode of each pass's dispatches (AdaptivePush.mode)
-TS_CONST(TS_UINT, kAdaptModeCorners, 0u);  // vertices: one invocation per patch-grid corner
-TS_CONST(TS_UINT, kAdaptModeEdges, 1u);    // vertices: one workgroup per edge
-TS_CONST(TS_UINT, kAdaptModeInterior, 2u); // vertices: one workgroup per patch
+TS_CONST(TS_UINT, kAdaptModeProbes, 0u);   // rates: one invocation per probe sample
+TS_CONST(TS_UINT, kAdaptModeRates, 1u);    // rates: one invocation per patch
+TS_CONST(TS_UINT, kAdaptModeShared, 0u);   // vertices: one invocation per corner or edge point
+TS_CONST(TS_UINT, kAdaptModeRows, 1u);     // vertices: one invocation per block of interior rows
 TS_CONST(TS_UINT, kAdaptModeRings, 0u);    // indices: one invocation per patch side
-TS_CONST(TS_UINT, kAdaptModeQuads, 1u);    // indices: one workgroup per patch
+TS_CONST(TS_UINT, kAdaptModeQuads, 1u);    // indices: one invocation per interior quad (indirect)
 
 // Push constants of every tess_adaptive_*.comp pass; the net/α fields are those of layout.h
 // EvalPush, under the same names (surface_patch.glsl reads them).

@@ -62,38 +62,7 @@ void writePerimeter(uint b, REAL3 p, REAL3 n) {
 }
 
 
-// Point, Q_u, Q_v at v = t of the current row, branch-free. The row data: its u contraction in
-// the power basis of v, W0[d] = Σ_s c_s,d Σ_r B_r(u) P[r][s] and W1[d] likewise with B_r'(u), where
-// B_s(v) = Σ_d c_s,d v^d are the v basis coefficients (SpanBasis); the patch's corner V and α and
-// their blend with the u factors of the row. A sample is then one Horner pass over d for the point, Q_v (its
-// derivative) and Q_u, instead of evaluating every v basis function and contracting with them:
-// 90 instead of 228 operations per sample at degree 5 (llvmpipe does not fuse multiply-adds). The
-// rounding bound is the same, Σ |c_s,d| |P| ulps either way. (Globals: a struct of arrays sized
-// by specialization constants miscompiles.)
-REAL3 gW0[DV + 1u], gW1[DV + 1u], gV[4];
-REAL gAl[4];
-CornerHalf gH0, gH1;  // the u halves of the α-EB corner weights of the row, u orders 0 and 1
-REAL cv[MV][DV + 1u];  // v basis coefficients (PARAMS)
-
-void evalSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
-  p = gW0[DV];
-  du = gW1[DV];
-  dv = REAL3(0);
-  REAL3 unused0 = REAL3(0), unused1 = REAL3(0), unused2 = REAL3(0);  // dead code after inlining
-  [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
-    hornerStep(p, dv, unused0, t, gW0[d]);
-    hornerStep(du, unused1, unused2, t, gW1[d]);
-  }
-  if (kAEB) {
-    // docs/math.md §5.3 (evalAlphaEBPatch) for Q, Q_u, Q_v, the u halves of the weights from the row.
-    BlendFactors fv = blendFactors(singularBlend(t));
-    AlphaEBWeights w = alphaEBWeightsZero();
-    cornerBlendV(gH0, fv.f00, fv.f01, w.a00, w.L00);
-    cornerBlendV(gH1, fv.f00, fv.f01, w.a10, w.L10);
-    cornerBlendV(gH0, fv.f10, fv.f11, w.a01, w.L01);
-    alphaEBBlendFirst(w, p, du, dv);
-  }
-}
+#include "patch_rows.glsl"
 
 // Samples whose normal needs the full §5.3 convention (α = 1 patch corners, where Q_u or Q_v
 // vanishes, and other degenerate crosses): the first two of a row are remembered, more make the
@@ -138,49 +107,12 @@ void main() {
   uint pa = patchIndex / pc.patchesV;
   uint i = pa + pc.firstSpanU, j = patchIndex - pa * pc.patchesV + pc.firstSpanV;
   gUV0 = vec2(float(i), float(j));
-  uint base = netBase(i, j);
-
-  // Per-invocation data (per-lane gathers on llvmpipe: shared by all rows of the invocation).
-  REAL3 P[MU][MV];
-  [[unroll]] for (uint r = 0; r < MU; ++r)
-    [[unroll]] for (uint s = 0; s < MV; ++s) P[r][s] = net[base + r * pc.netCols + s].xyz;
-  REAL cu[MU][DU + 1u];
-  [[unroll]] for (uint r = 0; r < MU; ++r)
-    [[unroll]] for (uint d = 0; d <= DU; ++d) cu[r][d] = params[kParamCoefU + r * kCoefStride + d];
-  [[unroll]] for (uint s = 0; s < MV; ++s)
-    [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[kParamCoefV + s * kCoefStride + d];
-  if (kAEB) loadPatchCorners(i, j, gV, gAl);
+  loadPatchRows(i, j);
   REAL denV = REAL(gM);
   for (uint row = 0u; row < rowCount; ++row) {
     gA = a0 + row * step;
     REAL tu = REAL(gA) / REAL(gN);
-    REAL3 T0[MV], T1[MV];  // Σ_r B_r(u) P[r][s], Σ_r B_r'(u) P[r][s]
-    [[unroll]] for (uint s = 0; s < MV; ++s) {
-      T0[s] = REAL3(0);
-      T1[s] = REAL3(0);
-    }
-    [[unroll]] for (uint r = 0; r < MU; ++r) {
-      REAL w0 = cu[r][DU], dp = REAL(0), unused = REAL(0);
-      [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) hornerStep(w0, dp, unused, tu, cu[r][d]);
-      [[unroll]] for (uint s = 0; s < MV; ++s) {
-        T0[s] += w0 * P[r][s];
-        T1[s] += dp * P[r][s];
-      }
-    }
-    [[unroll]] for (uint d = 0; d <= DV; ++d) {
-      REAL3 w0 = REAL3(0), w1 = REAL3(0);
-      [[unroll]] for (uint s = 0; s < MV; ++s) {
-        w0 += cv[s][d] * T0[s];
-        w1 += cv[s][d] * T1[s];
-      }
-      gW0[d] = w0;
-      gW1[d] = w1;
-    }
-    if (kAEB) {
-      BlendFactors fu = blendFactors(singularBlend(tu));
-      gH0 = cornerBlendU(fu.f00, fu.f01, gAl, gV);
-      gH1 = cornerBlendU(fu.f10, fu.f11, gAl, gV);
-    }
+    setupRow(tu);
     uint fallbackCount = 0u, fallback0 = 0u, fallback1 = 0u;
 
     // Interior samples b = 1 .. m-1 of an inner row (none for rows 0 and n), in groups of 4; the

@@ -60,7 +60,7 @@ Capacity capacityAt(int patchesU, int patchesV, bool closedU, bool closedV, int 
 
 struct AdaptiveTessellator::Impl {
   std::unique_ptr<KernelSet> kernels;
-  vk::Buffer view, rates, patches, edges;
+  vk::Buffer view, rates, patches, edges, probes, quads, rows;
   vk::DescriptorSet rateSet, layoutSet, vertexSet, indexSet, vertexPassSet;
   bool resetPending = true;
 };
@@ -107,6 +107,9 @@ void AdaptiveTessellator::allocate() {
   impl_->rates = local(patches * 8, vk::kStorageUsage, "adaptive.rates");
   impl_->patches = local(patches * 16, vk::kStorageUsage, "adaptive.patches");
   impl_->edges = local(edges * 8, vk::kStorageUsage, "adaptive.edges");
+  impl_->probes = local(patches * 32, vk::kStorageUsage, "adaptive.probes");
+  impl_->quads = local(patches * 4, vk::kStorageUsage, "adaptive.quads");
+  impl_->rows = local(patches * 4, vk::kStorageUsage, "adaptive.rows");
   for (vk::DescriptorSet* set : {&impl_->rateSet, &impl_->layoutSet, &impl_->vertexSet, &impl_->indexSet})
     *set = vk::DescriptorSet();
   impl_->resetPending = true;
@@ -149,7 +152,10 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
         .bind(tl::kAdaptBindingEdges, impl_->edges)
         .bind(tl::kAdaptBindingFrame, indirect_)
         .bind(tl::kAdaptBindingVertices, vertices_)
-        .bind(tl::kAdaptBindingIndices, indices_);
+        .bind(tl::kAdaptBindingIndices, indices_)
+        .bind(tl::kAdaptBindingProbes, impl_->probes)
+        .bind(tl::kAdaptBindingQuads, impl_->quads)
+        .bind(tl::kAdaptBindingRows, impl_->rows);
   };
   makeSet(impl_->rateSet, ratesPipe);
   makeSet(impl_->layoutSet, layoutPipe);
@@ -173,8 +179,10 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   block.limits[0] = uint32_t(options_.maxRate);
   block.limits[1] = uint32_t(options_.probeRate);
   block.limits[2] = options_.cull ? 1u : 0u;
+  block.limits[3] = ctx_->limits().maxComputeWorkGroupCount[0];
   vkCmdUpdateBuffer(cmd, impl_->view.handle(), 0, sizeof(block), &block);
   vkCmdFillBuffer(cmd, indirect_.handle(), 0, kFrameBytes, 0);
+  vkCmdFillBuffer(cmd, impl_->probes.handle(), 0, VK_WHOLE_SIZE, 0);
   if (impl_->resetPending) {
     vkCmdFillBuffer(cmd, impl_->rates.handle(), 0, VK_WHOLE_SIZE, 0);
     impl_->resetPending = false;
@@ -207,24 +215,35 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   setSurfaceNetFields(push, surface_);
   const uint64_t wg = k.workgroupSize();
   const uint64_t patches = uint64_t(patchesU_) * patchesV_;
-  const uint64_t BU = closedU_ ? patchesU_ : patchesU_ + 1, BV = closedV_ ? patchesV_ : patchesV_ + 1;
-  const uint64_t edges = uint64_t(patchesU_) * BV + BU * uint64_t(patchesV_);
-  auto run = [&](const vk::ComputePipeline& pipe, const vk::DescriptorSet& set, uint32_t mode, uint64_t invocations) {
+  auto bind = [&](const vk::ComputePipeline& pipe, const vk::DescriptorSet& set, uint32_t mode) {
     push.mode = mode;
     pipe.bind(cmd, set.handle());
     pipe.push(cmd, push);
+  };
+  auto run = [&](const vk::ComputePipeline& pipe, const vk::DescriptorSet& set, uint32_t mode, uint64_t invocations) {
+    bind(pipe, set, mode);
     k.dispatch(cmd, invocations);
   };
-  // (2) rates, (3) layout, (4) vertices, (5) indices.
-  run(ratesPipe, impl_->rateSet, 0, patches * wg);
+  auto runIndirect = [&](const vk::ComputePipeline& pipe, const vk::DescriptorSet& set, uint32_t mode, uint32_t word) {
+    bind(pipe, set, mode);
+    vkCmdDispatchIndirect(cmd, indirect_.handle(), VkDeviceSize(word) * 4);
+  };
+  // (2) rates: probes, then per patch.
+  const uint64_t probesPerPatch = uint64_t(options_.probeRate + 1) * uint64_t(options_.probeRate + 1);
+  run(ratesPipe, impl_->rateSet, tl::kAdaptModeProbes, patches * probesPerPatch);
   vk::computeBarrier(cmd);
+  run(ratesPipe, impl_->rateSet, tl::kAdaptModeRates, patches);
+  vk::computeBarrier(cmd);
+  // (3) layout; its counts size the indirect dispatches.
   run(layoutPipe, impl_->layoutSet, 0, wg);
-  vk::computeBarrier(cmd);
-  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeCorners, BU * BV);
-  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeEdges, edges * wg);
-  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeInterior, patches * wg);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+  // (4) vertices, (5) indices.
+  runIndirect(vertexPipe, impl_->vertexSet, tl::kAdaptModeShared, tl::kAdaptFrameSharedDispatch);
+  runIndirect(vertexPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
   run(indexPipe, impl_->indexSet, tl::kAdaptModeRings, 4 * patches);
-  run(indexPipe, impl_->indexSet, tl::kAdaptModeQuads, patches * wg);
+  runIndirect(indexPipe, impl_->indexSet, tl::kAdaptModeQuads, tl::kAdaptFrameQuadDispatch);
   // (6) The mesh and the draw command to vertex input and indirect reads (and to copies out).
   memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |

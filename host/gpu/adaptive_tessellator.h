@@ -52,7 +52,7 @@ struct AdaptiveOptions {
   // A rate is raised as soon as the bound needs it and lowered only when the needed rate r falls
   // so far that ceil(r * (1 + hysteresis)) is below it; 0 follows the needed rate exactly.
   float hysteresis = 0.25f;
-  int probeRate = 8;         // (probeRate + 1)^2 derivative samples per patch
+  int probeRate = 4;         // (probeRate + 1)^2 derivative samples per patch
   float safety = 1.25f;      // the sampled second-derivative maxima are multiplied by this
   bool cull = true;          // patches outside the frustum take rate 2
 };
