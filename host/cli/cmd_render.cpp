@@ -35,15 +35,6 @@ struct Sweep {
   std::vector<double> values;      // empty: one frame at the model's parameters
 };
 
-std::pair<int, int> parseSize(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 16 || h < 16 ||
-      w > 8192 || h > 8192)
-    throw InputError("--size", text, "expected WxH with 16 <= W, H <= 8192");
-  return {w, h};
-}
-
 Sweep parseSweep(const std::string& text) {
   Sweep s;
   if (text.empty()) return s;
@@ -131,7 +122,7 @@ class TileLabeller {
 };
 
 void runRender(const RenderArgs& a) {
-  const auto [w, h] = parseSize(a.size);
+  const auto [w, h] = parseImageSize(a.size, "--size", 16);
   const Sweep sweep = parseSweep(a.sweep);
   if (a.rate < 1 || a.rate > 256) throw InputError("--rate", std::to_string(a.rate), "expected 1..256 segments per patch edge");
   io::Model model = loadModel(a.model);

@@ -20,18 +20,9 @@ struct ViewArgs {
 };
 
 #ifdef SHAPESPLINE_HAS_VIEWER
-std::pair<int, int> parseWindowSize(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 64 || h < 64 ||
-      w > 8192 || h > 8192)
-    throw InputError("--size", text, "expected WxH with 64 <= W, H <= 8192");
-  return {w, h};
-}
-
 void runView(const ViewArgs& a) {
   viewer::ViewerOptions o;
-  std::tie(o.width, o.height) = parseWindowSize(a.size);
+  std::tie(o.width, o.height) = parseImageSize(a.size, "--size", 64);
   o.validation = a.validation;
   o.quiet = a.quiet;
   o.screenshotDir = a.screenshotDir;

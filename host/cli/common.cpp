@@ -47,6 +47,15 @@ nlohmann::json readJsonFile(const std::string& path, const std::string& field) {
   return io::parseJsonText(text, field, field);
 }
 
+std::pair<int, int> parseImageSize(const std::string& text, const std::string& field, int minSide) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < minSide ||
+      h < minSide || w > 8192 || h > 8192)
+    throw InputError(field, text, "expected WxH with " + std::to_string(minSide) + " <= W, H <= 8192");
+  return {w, h};
+}
+
 std::vector<double> parseNumbers(const std::string& text, const std::string& field) {
   std::vector<double> out;
   size_t pos = 0;

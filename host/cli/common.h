@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,8 @@ nlohmann::json readJsonFile(const std::string& path, const std::string& field);
 glm::dvec3 parsePoint(const std::string& text, const std::string& field, int* dims = nullptr);
 // "a,b,c" -> finite numbers.
 std::vector<double> parseNumbers(const std::string& text, const std::string& field);
+// "WxH" (or WXH) of an image or window, minSide <= W, H <= 8192; InputError naming `field`.
+std::pair<int, int> parseImageSize(const std::string& text, const std::string& field, int minSide);
 
 // --device auto|vulkan|cpu ("gpu" = vulkan), --precision float|double, --require-device.
 sampling::DeviceKind parseDevice(const std::string& text);
