@@ -85,12 +85,7 @@ Orbit makeOrbit(const SurfaceModel& m, const Args& a) {
   for (int f = 0; f < a.frames; ++f) {
     const double az = 2 * M_PI * f / a.frames, el = glm::radians(30.0);
     const glm::dvec3 eye = centre + dist * glm::dvec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-    render::Camera c;
-    c.eye = glm::vec3(eye);
-    c.view = glm::mat4(glm::lookAtRH(eye, centre, glm::dvec3(0, 0, 1)));
-    c.proj = glm::mat4(glm::perspectiveRH_ZO(glm::radians(45.0), aspect, 0.02 * radius, 4.0 * radius));
-    c.proj[1][1] *= -1.0f;
-    o.cameras.push_back(c);
+    o.cameras.push_back(render::Camera::look(eye, centre, glm::dvec3(0, 0, 1), 45.0, aspect, 0.02 * radius, 4.0 * radius));
   }
   return o;
 }

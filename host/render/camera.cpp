@@ -26,13 +26,19 @@ ViewAxes viewAxes(double azDeg, double elDeg) {
   return {-towardsEye, up};
 }
 
-Camera lookFrom(const glm::dvec3& eye, const ViewAxes& axes, double fovY, double aspect, double zNear, double zFar) {
+// Camera::look with fovY in radians.
+Camera lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, double fovY, double aspect,
+              double zNear, double zFar) {
   Camera c;
   c.eye = glm::vec3(eye);
-  c.view = glm::mat4(glm::lookAtRH(eye, eye + axes.forward, axes.up));
+  c.view = glm::mat4(glm::lookAtRH(eye, target, up));
   c.proj = glm::mat4(glm::perspectiveRH_ZO(fovY, aspect, zNear, zFar));
   c.proj[1][1] *= -1.0f;  // Vulkan's y axis points down
   return c;
+}
+
+Camera lookFrom(const glm::dvec3& eye, const ViewAxes& axes, double fovY, double aspect, double zNear, double zFar) {
+  return lookAt(eye, eye + axes.forward, axes.up, fovY, aspect, zNear, zFar);
 }
 
 // One image axis of Camera::fit. Points have lateral coordinate s_i and depth coordinate z_i along
@@ -52,6 +58,11 @@ struct AxisFit {
 };
 
 }  // namespace
+
+Camera Camera::look(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, double fovYDeg,
+                    double aspect, double zNear, double zFar) {
+  return lookAt(eye, target, up, glm::radians(fovYDeg), aspect, zNear, zFar);
+}
 
 glm::dvec3 Camera::toPixel(const glm::dvec3& p, int width, int height) const {
   const glm::dvec4 c = glm::dmat4(viewProj()) * glm::dvec4(p, 1.0);

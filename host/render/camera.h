@@ -20,6 +20,11 @@ struct Camera {
   // z is the depth in [0,1]. Same matrices as the renderer.
   glm::dvec3 toPixel(const glm::dvec3& p, int width, int height) const;
 
+  // Perspective from `eye` towards `target` with the `up` hint, Vulkan conventions; fovY in
+  // degrees, aspect = width / height. What every other camera here is made with.
+  static Camera look(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, double fovYDeg,
+                     double aspect, double zNear, double zFar);
+
   // Looks at the centre of the box [lo, hi] from azimuth azDeg (about +z, from +x) and elevation
   // elDeg (above the xy plane) at a distance where the box's bounding sphere fits both fields of
   // view: the distance does not change with the direction (an orbit keeps its size). +z is up (+y

@@ -1,7 +1,5 @@
 #include <shapespline/viewer/orbit_camera.h>
 
-#include <glm/ext/matrix_clip_space.hpp>
-#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
@@ -48,12 +46,8 @@ render::Camera OrbitCamera::camera(int width, int height) const {
   const glm::dvec3 eye = target_ - dist_ * forward();
   const double zNear = std::max(dist_ - 2.0 * radius_, 1e-3 * dist_);
   const double zFar = dist_ + 2.0 * radius_;
-  render::Camera c;
-  c.eye = glm::vec3(eye);
-  c.view = glm::mat4(glm::lookAtRH(eye, target_, glm::dvec3(0, 0, 1)));
-  c.proj = glm::mat4(glm::perspectiveRH_ZO(glm::radians(fovYDeg_), double(width) / std::max(height, 1), zNear, zFar));
-  c.proj[1][1] *= -1.0f;  // Vulkan's y axis points down, as render::Camera
-  return c;
+  return render::Camera::look(eye, target_, glm::dvec3(0, 0, 1), fovYDeg_, double(width) / std::max(height, 1), zNear,
+                              zFar);
 }
 
 }  // namespace shapespline::viewer
