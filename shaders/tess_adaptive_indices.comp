@@ -14,6 +14,7 @@ layout(std430, binding = kAdaptBindingQuads) readonly buffer QuadBuf { uint quad
 layout(std430, binding = kAdaptBindingFrame) readonly buffer FrameBuf { uint frame[]; };
 layout(std430, binding = kAdaptBindingIndices) writeonly buffer IndexOut { uint outIndices[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
+layout(constant_id = kSpecAdaptMode) const uint MODE = 0u;  // = pc.mode, a constant per pipeline
 
 #include "tess_adaptive_grid.glsl"
 
@@ -76,7 +77,7 @@ uvec4 sideRates(uint a, uint b) {
 void main() {
   uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
   uint patches = pc.patchesU * pc.patchesV;
-  if (pc.mode == kAdaptModeRings) {
+  if (MODE == kAdaptModeRings) {
     if (k >= 4u * patches) return;
     uint p = k / 4u, s = k - 4u * p;
     uint a = p / pc.patchesV, b = p - a * pc.patchesV;

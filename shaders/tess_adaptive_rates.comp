@@ -18,6 +18,7 @@ layout(std430, binding = kAdaptBindingRates) buffer RateBuf { uvec2 rates[]; };
 layout(std430, binding = kAdaptBindingFrame) buffer FrameBuf { uint frame[]; };
 layout(std430, binding = kAdaptBindingProbes) buffer ProbeBuf { uvec4 probes[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
+layout(constant_id = kSpecAdaptMode) const uint MODE = 0u;  // = pc.mode, a constant per pipeline
 
 #include "surface_patch.glsl"
 
@@ -115,6 +116,6 @@ void choosePatchRates(uint patchIndex) {
 
 void main() {
   uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (pc.mode == kAdaptModeProbes) probe(k);
+  if (MODE == kAdaptModeProbes) probe(k);
   else choosePatchRates(k);
 }

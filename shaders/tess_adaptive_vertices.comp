@@ -20,6 +20,7 @@ layout(std430, binding = kAdaptBindingFrame) readonly buffer FrameBuf { uint fra
 layout(std430, binding = kAdaptBindingRows) readonly buffer RowBuf { uint rowFirst[]; };
 layout(std430, binding = kAdaptBindingVertices) writeonly buffer VertexOut { vec4 outVerts[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
+layout(constant_id = kSpecAdaptMode) const uint MODE = 0u;  // = pc.mode, a constant per pipeline
 
 #include "surface_patch.glsl"
 #include "tess_adaptive_grid.glsl"
@@ -187,7 +188,7 @@ void interiorRows(uint patchIndex, uint t) {
 
 void main() {
   uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (pc.mode == kAdaptModeShared) {
+  if (MODE == kAdaptModeShared) {
     if (k >= frame[kAdaptFrameSharedCount]) return;
     if (k < cornerCount()) {
       corner(k);

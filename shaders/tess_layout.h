@@ -151,7 +151,10 @@ TS_CONST(TS_UINT, kAdaptFrameRowCount, 17u);        // interior row blocks of al
 TS_CONST(TS_UINT, kAdaptFrameRowDispatch, 18u);     // 3 words
 TS_CONST(TS_UINT, kAdaptFrameWords, 24u);
 TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
-// mode of each pass's dispatches (AdaptivePush.mode)
+// mode of each pass's dispatches (AdaptivePush.mode, and the specialization constant kSpecAdaptMode:
+// one pipeline per mode, so that llvmpipe, which runs an if's body whatever the lane mask, compiles
+// only the mode's code)
+TS_CONST(TS_UINT, kSpecAdaptMode, 11u);
 TS_CONST(TS_UINT, kAdaptModeProbes, 0u);   // rates: one invocation per probe sample
 TS_CONST(TS_UINT, kAdaptModeRates, 1u);    // rates: one invocation per patch
 TS_CONST(TS_UINT, kAdaptModeShared, 0u);   // vertices: one invocation per corner or edge point

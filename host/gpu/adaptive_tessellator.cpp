@@ -135,10 +135,19 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   const bool aeb = surface_.alphaEB();
   SpecValues evalSpec = basisSpec(surface_.basisU(), surface_.basisV());
   evalSpec[layout::kSpecAlphaEB] = aeb ? 1u : 0u;
-  const vk::ComputePipeline& ratesPipe = k.pipeline(Kernel::AdaptiveRates, evalSpec);
+  // One pipeline per mode (tess_layout.h kSpecAdaptMode); the sets are made for the mode-0 ones
+  // (same layouts).
+  auto withMode = [](SpecValues spec, uint32_t mode) {
+    spec[tl::kSpecAdaptMode] = mode;
+    return spec;
+  };
+  const vk::ComputePipeline& ratesPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeProbes));
+  const vk::ComputePipeline& ratesPatchPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeRates));
   const vk::ComputePipeline& layoutPipe = k.pipeline(Kernel::AdaptiveLayout, {});
-  const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, evalSpec);
-  const vk::ComputePipeline& indexPipe = k.pipeline(Kernel::AdaptiveIndices, {});
+  const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeShared));
+  const vk::ComputePipeline& vertexRowsPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeRows));
+  const vk::ComputePipeline& indexPipe = k.pipeline(Kernel::AdaptiveIndices, withMode({}, tl::kAdaptModeRings));
+  const vk::ComputePipeline& indexQuadsPipe = k.pipeline(Kernel::AdaptiveIndices, withMode({}, tl::kAdaptModeQuads));
   auto makeSet = [&](vk::DescriptorSet& set, const vk::ComputePipeline& pipe) {
     if (set.handle()) return;
     set = vk::DescriptorSet::create(*ctx_, pipe);
@@ -232,7 +241,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   const uint64_t probesPerPatch = uint64_t(options_.probeRate + 1) * uint64_t(options_.probeRate + 1);
   run(ratesPipe, impl_->rateSet, tl::kAdaptModeProbes, patches * probesPerPatch);
   vk::computeBarrier(cmd);
-  run(ratesPipe, impl_->rateSet, tl::kAdaptModeRates, patches);
+  run(ratesPatchPipe, impl_->rateSet, tl::kAdaptModeRates, patches);
   vk::computeBarrier(cmd);
   // (3) layout; its counts size the indirect dispatches.
   run(layoutPipe, impl_->layoutSet, 0, wg);
@@ -241,9 +250,9 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
                 VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
   // (4) vertices, (5) indices.
   runIndirect(vertexPipe, impl_->vertexSet, tl::kAdaptModeShared, tl::kAdaptFrameSharedDispatch);
-  runIndirect(vertexPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
+  runIndirect(vertexRowsPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
   run(indexPipe, impl_->indexSet, tl::kAdaptModeRings, 4 * patches);
-  runIndirect(indexPipe, impl_->indexSet, tl::kAdaptModeQuads, tl::kAdaptFrameQuadDispatch);
+  runIndirect(indexQuadsPipe, impl_->indexSet, tl::kAdaptModeQuads, tl::kAdaptFrameQuadDispatch);
   // (6) The mesh and the draw command to vertex input and indirect reads (and to copies out).
   memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
