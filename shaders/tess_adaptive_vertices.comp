@@ -18,7 +18,8 @@ layout(std430, binding = kAdaptBindingPatches) readonly buffer PatchBuf { uvec4 
 layout(std430, binding = kAdaptBindingEdges) readonly buffer EdgeBuf { uvec2 edges[]; };
 layout(std430, binding = kAdaptBindingFrame) readonly buffer FrameBuf { uint frame[]; };
 layout(std430, binding = kAdaptBindingRows) readonly buffer RowBuf { uint rowFirst[]; };
-layout(std430, binding = kAdaptBindingVertices) writeonly buffer VertexOut { vec4 outVerts[]; };
+// Not writeonly: an edge invocation parks the neighbour's normals in its own vertices first.
+layout(std430, binding = kAdaptBindingVertices) buffer VertexOut { vec4 outVerts[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
 layout(constant_id = kSpecAdaptMode) const uint MODE = 0u;  // = pc.mode, a constant per pipeline
 
@@ -102,13 +103,97 @@ void corner(uint k) {
   store(k, a0, b0, u0, v0, p, meanNormal(sum, n0, samples));
 }
 
-// Point k of edge x (u-edges, then v-edges), at k/e, 0 < k < e, from the owner patch, the normal
-// averaged with the patch on the other side where there is one.
-void edgePoint(uint x, uint k) {
+// The full §5.3 normal of patch (a, b) at local (u, v) (surfaceNormal; for the rare samples whose
+// row-wise derivatives are degenerate).
+vec3 fullNormal(uint a, uint b, REAL u, REAL v) {
+  uint i = a + pc.firstSpanU, j = b + pc.firstSpanV;
+  Basis2 B;
+  hornerBasis(u, v, B);
+  PatchDerivs c;
+  PatchDerivs q = evalPatch(B, i, j, u, v, c);
+  return vec3(surfaceNormal(i, j, u, v, q, c));
+}
+
+// Column-wise evaluation (v = const, u varies), the transpose of patch_rows.glsl's setupRow /
+// evalSample on the patch loadPatchRows loaded: the v contraction once per column in the power
+// basis of u, X0[d] = Σ_r cu_r,d Σ_s B_s(v) P[r][s] and X1[d] likewise with B_s'(v); a sample is
+// one Horner pass in u. α-EB: the v factors once, the corner weights per sample.
+REAL3 gX0[DU + 1u], gX1[DU + 1u];
+BlendFactors gFv;
+
+void setupColumn(REAL tv) {
+  REAL3 T0[MU], T1[MU];
+  [[unroll]] for (uint r = 0; r < MU; ++r) {
+    T0[r] = REAL3(0);
+    T1[r] = REAL3(0);
+  }
+  [[unroll]] for (uint s = 0; s < MV; ++s) {
+    REAL w0 = cv[s][DV], dp = REAL(0), unused = REAL(0);
+    [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) hornerStep(w0, dp, unused, tv, cv[s][d]);
+    [[unroll]] for (uint r = 0; r < MU; ++r) {
+      T0[r] += w0 * gP[r][s];
+      T1[r] += dp * gP[r][s];
+    }
+  }
+  [[unroll]] for (uint d = 0; d <= DU; ++d) {
+    REAL3 w0 = REAL3(0), w1 = REAL3(0);
+    [[unroll]] for (uint r = 0; r < MU; ++r) {
+      w0 += gCu[r][d] * T0[r];
+      w1 += gCu[r][d] * T1[r];
+    }
+    gX0[d] = w0;
+    gX1[d] = w1;
+  }
+  if (kAEB) gFv = blendFactors(singularBlend(tv));
+}
+
+void evalColumnSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
+  p = gX0[DU];
+  du = REAL3(0);
+  dv = gX1[DU];
+  REAL3 unused0 = REAL3(0), unused1 = REAL3(0), unused2 = REAL3(0);
+  [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) {
+    hornerStep(p, du, unused0, t, gX0[d]);
+    hornerStep(dv, unused1, unused2, t, gX1[d]);
+  }
+  if (kAEB) {
+    BlendFactors fu = blendFactors(singularBlend(t));
+    AlphaEBWeights w = alphaEBWeightsZero();
+    cornerBlend(fu.f00, fu.f01, gFv.f00, gFv.f01, gAl, gV, w.a00, w.L00);
+    cornerBlend(fu.f10, fu.f11, gFv.f00, gFv.f01, gAl, gV, w.a10, w.L10);
+    cornerBlend(fu.f00, fu.f01, gFv.f10, gFv.f11, gAl, gV, w.a01, w.L01);
+    alphaEBBlendFirst(w, p, du, dv);
+  }
+}
+
+// The points of one edge at t = k/e, 0 < k < e, of patch (a, b): along u (v = fixed, columns) or
+// along v (u = fixed, a row). Point and Q_u x Q_v normal, the full rule where that is degenerate.
+void edgeSample(bool alongU, uint a, uint b, REAL fixedLocal, REAL t, out REAL3 p, out vec3 n) {
+  REAL3 du, dv;
+  if (alongU) evalColumnSample(t, p, du, dv);
+  else evalSample(t, p, du, dv);
+  REAL3 cr = cross(du, dv);
+  REAL len = length(cr);
+  bool degenerate = degenerateCrossLength(du, dv, len);
+  n = degenerate ? vec3(0) : vec3(cr / len);
+  REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
+  for (uint f = 0u; f < (degenerate ? 1u : 0u); ++f) n = fullNormal(a, b, u, v);
+}
+
+void setupEdge(bool alongU, uint a, uint b, REAL fixedLocal) {
+  loadPatchRows(a + pc.firstSpanU, b + pc.firstSpanV);
+  if (alongU) setupColumn(fixedLocal);
+  else setupRow(fixedLocal);
+}
+
+// Edge x (u-edges, then v-edges; alongU is a constant of the mode): its e - 1 points from the
+// owner patch, evaluated along the edge with the patch loaded once; the normal averaged with the
+// patch on the other side where there is one (its normals, evaluated first the same way, wait in
+// the point's vertex slot).
+void edgePoints(uint x, bool alongU) {
   uvec2 rec = edges[x];
-  uint e = rec.x;
+  uint e = rec.x, first = rec.y;
   uint eu = uEdgeCount();
-  bool alongU = x < eu;
   uint a, b, oa, ob;
   REAL fixedLocal;
   bool shared_;
@@ -129,13 +214,27 @@ void edgePoint(uint x, uint k) {
     oa = (aa + pc.patchesU - 1u) % pc.patchesU;
     ob = b;
   }
-  REAL t = REAL(k) / REAL(e);
-  REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
-  vec3 p, n0;
-  evalPointNormal(a, b, u, v, p, n0);
-  vec3 n = n0;
-  if (shared_) n = meanNormal(n0 + normalOf(oa, ob, alongU ? t : REAL(1), alongU ? REAL(1) : t), n0, 2u);
-  store(rec.y + k - 1u, a, b, u, v, p, n);
+  REAL den = REAL(e);
+  for (uint f = 0u; f < (shared_ ? 1u : 0u); ++f) {
+    setupEdge(alongU, oa, ob, REAL(1));
+    for (uint k = 1u; k < e; ++k) {
+      REAL3 p;
+      vec3 n1;
+      edgeSample(alongU, oa, ob, REAL(1), REAL(k) / den, p, n1);
+      outVerts[2u * (first + k - 1u)] = vec4(n1, 0.0);
+    }
+  }
+  setupEdge(alongU, a, b, fixedLocal);
+  for (uint k = 1u; k < e; ++k) {
+    REAL t = REAL(k) / den;
+    REAL3 p;
+    vec3 n0;
+    edgeSample(alongU, a, b, fixedLocal, t, p, n0);
+    vec3 n = n0;
+    for (uint f = 0u; f < (shared_ ? 1u : 0u); ++f) n = meanNormal(n0 + outVerts[2u * (first + k - 1u)].xyz, n0, 2u);
+    REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
+    store(first + k - 1u, a, b, u, v, vec3(p), n);
+  }
 }
 
 // Row block t of patch p: interior rows i = 1 + t R .. (R = rowsPerBlock(m), tess_adaptive_grid.glsl),
@@ -189,14 +288,15 @@ void interiorRows(uint patchIndex, uint t) {
 void main() {
   uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
   if (MODE == kAdaptModeShared) {
-    if (k >= frame[kAdaptFrameSharedCount]) return;
-    if (k < cornerCount()) {
-      corner(k);
-      return;
-    }
-    uint x;
-    LAST_AT_MOST(x, uEdgeCount() + vEdgeCount(), EDGE_FIRST, k)
-    edgePoint(x, k - edges[x].y + 1u);
+    if (k < cornerCount()) corner(k);
+    return;
+  }
+  if (MODE == kAdaptModeEdgesU) {
+    if (k < uEdgeCount()) edgePoints(k, true);
+    return;
+  }
+  if (MODE == kAdaptModeEdgesV) {
+    if (k < vEdgeCount()) edgePoints(uEdgeCount() + k, false);
     return;
   }
   if (k >= frame[kAdaptFrameRowCount]) return;

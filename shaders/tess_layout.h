@@ -157,7 +157,9 @@ TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
 TS_CONST(TS_UINT, kSpecAdaptMode, 11u);
 TS_CONST(TS_UINT, kAdaptModeProbes, 0u);   // rates: one invocation per probe sample
 TS_CONST(TS_UINT, kAdaptModeRates, 1u);    // rates: one invocation per patch
-TS_CONST(TS_UINT, kAdaptModeShared, 0u);   // vertices: one invocation per corner or edge point
+TS_CONST(TS_UINT, kAdaptModeShared, 0u);   // vertices: one invocation per corner
+TS_CONST(TS_UINT, kAdaptModeEdgesU, 2u);   // vertices: one invocation per u-edge (its points row-wise in u)
+TS_CONST(TS_UINT, kAdaptModeEdgesV, 3u);   // vertices: one invocation per v-edge (its points row-wise in v)
 TS_CONST(TS_UINT, kAdaptModeRows, 1u);     // vertices: one invocation per block of interior rows
 TS_CONST(TS_UINT, kAdaptModeRings, 0u);    // indices: one invocation per patch side
 TS_CONST(TS_UINT, kAdaptModeQuads, 1u);    // indices: one invocation per interior quad (indirect)

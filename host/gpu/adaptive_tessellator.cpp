@@ -145,6 +145,8 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   const vk::ComputePipeline& ratesPatchPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeRates));
   const vk::ComputePipeline& layoutPipe = k.pipeline(Kernel::AdaptiveLayout, {});
   const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeShared));
+  const vk::ComputePipeline& vertexEdgesUPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeEdgesU));
+  const vk::ComputePipeline& vertexEdgesVPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeEdgesV));
   const vk::ComputePipeline& vertexRowsPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeRows));
   const vk::ComputePipeline& indexPipe = k.pipeline(Kernel::AdaptiveIndices, withMode({}, tl::kAdaptModeRings));
   const vk::ComputePipeline& indexQuadsPipe = k.pipeline(Kernel::AdaptiveIndices, withMode({}, tl::kAdaptModeQuads));
@@ -249,7 +251,12 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
   // (4) vertices, (5) indices.
-  runIndirect(vertexPipe, impl_->vertexSet, tl::kAdaptModeShared, tl::kAdaptFrameSharedDispatch);
+  // Corners, u-edges, v-edges (one invocation each; counts of the patch grid), interior row blocks.
+  const uint64_t boundsU = closedU_ ? uint64_t(patchesU_) : uint64_t(patchesU_) + 1;
+  const uint64_t boundsV = closedV_ ? uint64_t(patchesV_) : uint64_t(patchesV_) + 1;
+  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeShared, boundsU * boundsV);
+  run(vertexEdgesUPipe, impl_->vertexSet, tl::kAdaptModeEdgesU, uint64_t(patchesU_) * boundsV);
+  run(vertexEdgesVPipe, impl_->vertexSet, tl::kAdaptModeEdgesV, boundsU * uint64_t(patchesV_));
   runIndirect(vertexRowsPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
   run(indexPipe, impl_->indexSet, tl::kAdaptModeRings, 4 * patches);
   runIndirect(indexQuadsPipe, impl_->indexSet, tl::kAdaptModeQuads, tl::kAdaptFrameQuadDispatch);
