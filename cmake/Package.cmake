@@ -14,9 +14,9 @@ set(SHAPESPLINE_PUBLIC_HEADERS
     io/atomic_file.h io/job_metadata.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
     vk/buffer.h vk/context.h vk/error.h vk/handle.h vk/pipeline.h vk/pipeline_cache.h vk/submit.h
     gpu/basis_table_evaluator.h gpu/curve_evaluator.h gpu/evaluator.h gpu/evaluator_options.h gpu/gpu_model.h
-    gpu/surface_evaluator.h gpu/tessellator.h
+    gpu/surface_evaluator.h gpu/tessellator.h gpu/adaptive_tessellator.h
     sampling/devices.h sampling/gpu_limits.h sampling/net_scale.h sampling/report.h sampling/session.h
-    render/camera.h render/painter.h render/renderer.h
+    render/camera.h render/painter.h render/renderer.h render/scene_pipelines.h
     shaders/tess_layout.h)
 foreach(header IN LISTS SHAPESPLINE_PUBLIC_HEADERS)
   get_filename_component(dir ${header} DIRECTORY)
