@@ -141,7 +141,6 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
     spec[tl::kSpecAdaptMode] = mode;
     return spec;
   };
-  const vk::ComputePipeline& ratesPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeProbes));
   const vk::ComputePipeline& ratesPatchPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeRates));
   const vk::ComputePipeline& layoutPipe = k.pipeline(Kernel::AdaptiveLayout, {});
   const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeShared));
@@ -168,7 +167,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
         .bind(tl::kAdaptBindingQuads, impl_->quads)
         .bind(tl::kAdaptBindingRows, impl_->rows);
   };
-  makeSet(impl_->rateSet, ratesPipe);
+  makeSet(impl_->rateSet, ratesPatchPipe);
   makeSet(impl_->layoutSet, layoutPipe);
   makeSet(impl_->vertexSet, vertexPipe);
   makeSet(impl_->indexSet, indexPipe);
@@ -193,7 +192,6 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   block.limits[3] = ctx_->limits().maxComputeWorkGroupCount[0];
   vkCmdUpdateBuffer(cmd, impl_->view.handle(), 0, sizeof(block), &block);
   vkCmdFillBuffer(cmd, indirect_.handle(), 0, kFrameBytes, 0);
-  vkCmdFillBuffer(cmd, impl_->probes.handle(), 0, VK_WHOLE_SIZE, 0);
   if (impl_->resetPending) {
     vkCmdFillBuffer(cmd, impl_->rates.handle(), 0, VK_WHOLE_SIZE, 0);
     impl_->resetPending = false;
@@ -239,10 +237,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
     bind(pipe, set, mode);
     vkCmdDispatchIndirect(cmd, indirect_.handle(), VkDeviceSize(word) * 4);
   };
-  // (2) rates: probes, then per patch.
-  const uint64_t probesPerPatch = uint64_t(options_.probeRate + 1) * uint64_t(options_.probeRate + 1);
-  run(ratesPipe, impl_->rateSet, tl::kAdaptModeProbes, patches * probesPerPatch);
-  vk::computeBarrier(cmd);
+  // (2) rates: per patch, its probes and rates.
   run(ratesPatchPipe, impl_->rateSet, tl::kAdaptModeRates, patches);
   vk::computeBarrier(cmd);
   // (3) layout; its counts size the indirect dispatches.
