@@ -70,10 +70,6 @@ void writeVertexRecord(uint e, uint first) {
   }
   uint p = e - eu - ev;
   patchRecords[p].xyz = uvec3(rates[p], first);
-  if (p == 0u) {  // every vertex before the interiors is a corner or an edge point
-    frame[kAdaptFrameSharedCount] = first;
-    writeDispatch(kAdaptFrameSharedDispatch, first);
-  }
 }
 
 uint indexCountOf(uint p) {

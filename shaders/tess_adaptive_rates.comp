@@ -17,7 +17,6 @@ layout(std430, binding = kBindingVerts) readonly buffer VertBuf { REAL4 verts[];
 layout(std430, binding = kAdaptBindingView) readonly buffer ViewBuf { AdaptiveViewBlock view; };
 layout(std430, binding = kAdaptBindingRates) buffer RateBuf { uvec2 rates[]; };
 layout(std430, binding = kAdaptBindingFrame) buffer FrameBuf { uint frame[]; };
-layout(std430, binding = kAdaptBindingProbes) buffer ProbeBuf { uvec4 probes[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
 layout(constant_id = kSpecAdaptMode) const uint MODE = 0u;  // = pc.mode, a constant per pipeline
 

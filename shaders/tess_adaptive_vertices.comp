@@ -287,7 +287,7 @@ void interiorRows(uint patchIndex, uint t) {
 
 void main() {
   uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (MODE == kAdaptModeShared) {
+  if (MODE == kAdaptModeCorners) {
     if (k < cornerCount()) corner(k);
     return;
   }

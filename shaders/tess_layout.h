@@ -120,11 +120,9 @@ TS_FUNC TS_UINT tessPerimeterSlot(TS_UINT n, TS_UINT m, TS_UINT a, TS_UINT b) {
 //  6 EDGES    (uvec2) per edge, the u-edges (TessRates::edgeU order) then the v-edges: rate, first
 //                     edge vertex
 //  7 FRAME    (uint)  VkDrawIndexedIndirectCommand at 0 (5 words), then kAdaptFrame* counters and
-//                     the VkDispatchIndirectCommand of the vertex and quad passes
+//                     the VkDispatchIndirectCommand of the interior-row and quad passes
 //  8 VERTICES (vec4)  output, 2 vec4 per vertex (the layout above)
 //  9 INDICES  (uint)  output triangle list
-// 10 PROBES   (uvec4, 2 per patch) the probe pass's maxima: float bits of A, B, C, 0; the planes
-//                     some probe is inside of, whether a probe is behind the near plane or not finite
 // 11 QUADS    (uint)  per patch: its first interior quad (prefix sum of (n-2)(m-2))
 // 12 ROWS     (uint)  per patch: its first block of interior rows (tess_adaptive_grid.glsl rowBlocks)
 // Vertex numbering and triangles are core/tess_topology.cpp buildTessTopology's: corners, u-edge
@@ -136,7 +134,6 @@ TS_CONST(TS_UINT, kAdaptBindingEdges, 6u);
 TS_CONST(TS_UINT, kAdaptBindingFrame, 7u);
 TS_CONST(TS_UINT, kAdaptBindingVertices, 8u);
 TS_CONST(TS_UINT, kAdaptBindingIndices, 9u);
-TS_CONST(TS_UINT, kAdaptBindingProbes, 10u);
 TS_CONST(TS_UINT, kAdaptBindingQuads, 11u);
 TS_CONST(TS_UINT, kAdaptBindingRows, 12u);
 TS_CONST(TS_UINT, kAdaptFrameVertexCount, 5u);
@@ -145,8 +142,6 @@ TS_CONST(TS_UINT, kAdaptFrameClamped, 7u);
 TS_CONST(TS_UINT, kAdaptFrameNear, 8u);
 TS_CONST(TS_UINT, kAdaptFrameQuadCount, 9u);
 TS_CONST(TS_UINT, kAdaptFrameQuadDispatch, 10u);    // 3 words: x, y, z workgroups
-TS_CONST(TS_UINT, kAdaptFrameSharedCount, 13u);     // corners and edge points
-TS_CONST(TS_UINT, kAdaptFrameSharedDispatch, 14u);  // 3 words
 TS_CONST(TS_UINT, kAdaptFrameRowCount, 17u);        // interior row blocks of all patches
 TS_CONST(TS_UINT, kAdaptFrameRowDispatch, 18u);     // 3 words
 TS_CONST(TS_UINT, kAdaptFrameWords, 24u);
@@ -155,9 +150,8 @@ TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
 // one pipeline per mode, so that llvmpipe, which runs an if's body whatever the lane mask, compiles
 // only the mode's code)
 TS_CONST(TS_UINT, kSpecAdaptMode, 11u);
-TS_CONST(TS_UINT, kAdaptModeProbes, 0u);   // rates: one invocation per probe sample
 TS_CONST(TS_UINT, kAdaptModeRates, 1u);    // rates: one invocation per patch
-TS_CONST(TS_UINT, kAdaptModeShared, 0u);   // vertices: one invocation per corner
+TS_CONST(TS_UINT, kAdaptModeCorners, 0u);   // vertices: one invocation per corner
 TS_CONST(TS_UINT, kAdaptModeEdgesU, 2u);   // vertices: one invocation per u-edge (its points row-wise in u)
 TS_CONST(TS_UINT, kAdaptModeEdgesV, 3u);   // vertices: one invocation per v-edge (its points row-wise in v)
 TS_CONST(TS_UINT, kAdaptModeRows, 1u);     // vertices: one invocation per block of interior rows

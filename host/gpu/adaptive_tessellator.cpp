@@ -60,7 +60,7 @@ Capacity capacityAt(int patchesU, int patchesV, bool closedU, bool closedV, int 
 
 struct AdaptiveTessellator::Impl {
   std::unique_ptr<KernelSet> kernels;
-  vk::Buffer view, rates, patches, edges, probes, quads, rows;
+  vk::Buffer view, rates, patches, edges, quads, rows;
   vk::DescriptorSet rateSet, layoutSet, vertexSet, indexSet, vertexPassSet;
   bool resetPending = true;
 };
@@ -107,7 +107,6 @@ void AdaptiveTessellator::allocate() {
   impl_->rates = local(patches * 8, vk::kStorageUsage, "adaptive.rates");
   impl_->patches = local(patches * 16, vk::kStorageUsage, "adaptive.patches");
   impl_->edges = local(edges * 8, vk::kStorageUsage, "adaptive.edges");
-  impl_->probes = local(patches * 32, vk::kStorageUsage, "adaptive.probes");
   impl_->quads = local(patches * 4, vk::kStorageUsage, "adaptive.quads");
   impl_->rows = local(patches * 4, vk::kStorageUsage, "adaptive.rows");
   for (vk::DescriptorSet* set : {&impl_->rateSet, &impl_->layoutSet, &impl_->vertexSet, &impl_->indexSet})
@@ -143,7 +142,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   };
   const vk::ComputePipeline& ratesPatchPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeRates));
   const vk::ComputePipeline& layoutPipe = k.pipeline(Kernel::AdaptiveLayout, {});
-  const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeShared));
+  const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeCorners));
   const vk::ComputePipeline& vertexEdgesUPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeEdgesU));
   const vk::ComputePipeline& vertexEdgesVPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeEdgesV));
   const vk::ComputePipeline& vertexRowsPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeRows));
@@ -163,7 +162,6 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
         .bind(tl::kAdaptBindingFrame, indirect_)
         .bind(tl::kAdaptBindingVertices, vertices_)
         .bind(tl::kAdaptBindingIndices, indices_)
-        .bind(tl::kAdaptBindingProbes, impl_->probes)
         .bind(tl::kAdaptBindingQuads, impl_->quads)
         .bind(tl::kAdaptBindingRows, impl_->rows);
   };
@@ -249,7 +247,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   // Corners, u-edges, v-edges (one invocation each; counts of the patch grid), interior row blocks.
   const uint64_t boundsU = closedU_ ? uint64_t(patchesU_) : uint64_t(patchesU_) + 1;
   const uint64_t boundsV = closedV_ ? uint64_t(patchesV_) : uint64_t(patchesV_) + 1;
-  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeShared, boundsU * boundsV);
+  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeCorners, boundsU * boundsV);
   run(vertexEdgesUPipe, impl_->vertexSet, tl::kAdaptModeEdgesU, uint64_t(patchesU_) * boundsV);
   run(vertexEdgesVPipe, impl_->vertexSet, tl::kAdaptModeEdgesV, boundsU * uint64_t(patchesV_));
   runIndirect(vertexRowsPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);

@@ -6,17 +6,19 @@
 //
 // Passes of record(), in one command buffer:
 //  (1) the α-EB vertex pass (as SurfaceTessellator);
-//  (2) rates (tess_adaptive_rates.comp): per patch, the exact screen-space second derivatives of
-//      the projected patch on a probe grid give the rates (n, m) for which the piecewise-linear
-//      mesh stays within the tolerance (the bound is stated in docs/tessellation.md); integer rates
-//      in [2, maxRate], with hysteresis against the previous frame's rates (kept on the GPU);
-//      patches entirely outside the frustum take rate 2;
+//  (2) rates (tess_adaptive_rates.comp, one invocation per patch): the exact screen-space second
+//      derivatives of the projected patch on a probe grid (evaluated row-wise) give the rates
+//      (n, m) for which the piecewise-linear mesh stays within the tolerance (the bound is stated
+//      in docs/tessellation.md); integer rates in [2, maxRate], with hysteresis against the
+//      previous frame's rates (kept on the GPU); patches entirely outside the frustum take rate 2;
 //  (3) layout (tess_adaptive_layout.comp, one workgroup): edge rates = the max of the two patches'
 //      rates along the edge (so both sides of an edge read one rate: crack-free by construction),
-//      prefix sums of vertex and index counts, the indirect draw command;
+//      prefix sums of vertex, index, quad and row counts, the indirect draw command and the
+//      indirect dispatches of (4) and (5);
 //  (4) vertices (tess_adaptive_vertices.comp): every corner, edge point and interior point once,
-//      shared ones from their canonical patch with the normalised mean normal (as SurfaceTessellator);
-//  (5) indices (tess_adaptive_indices.comp);
+//      shared ones from their canonical patch with the normalised mean normal (as
+//      SurfaceTessellator); edges along their edge and interiors by rows (shaders/patch_rows.glsl);
+//  (5) indices (tess_adaptive_indices.comp): transition rings, interior quads;
 //  (6) a barrier: shader writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ | INDIRECT_COMMAND_READ.
 // The mesh of a frame is exactly buildTessTopology(rates) of core/tess_topology.h (same vertex
 // numbering, same triangles), with the vertex layout of shaders/tess_layout.h.
@@ -52,7 +54,7 @@ struct AdaptiveOptions {
   // A rate is raised as soon as the bound needs it and lowered only when the needed rate r falls
   // so far that ceil(r * (1 + hysteresis)) is below it; 0 follows the needed rate exactly.
   float hysteresis = 0.25f;
-  int probeRate = 4;         // (probeRate + 1)^2 derivative samples per patch
+  int probeRate = 4;         // (probeRate + 1)^2 second-derivative samples per patch
   float safety = 1.25f;      // the sampled second-derivative maxima are multiplied by this
   bool cull = true;          // patches outside the frustum take rate 2
 };
@@ -101,7 +103,7 @@ class AdaptiveTessellator {
   // Inspection (tests, bench, the viewer's counters): waits for the queue to be idle and reads the
   // last recorded frame back. Not for the frame loop.
   AdaptiveStats stats() const;
-  TessRates rates() const;  // patch rates of the last frame (edge rates resolved)
+  TessRates rates() const;  // patch rates of the last frame (edges: the max of their patches)
   struct Mesh {
     TessRates rates;
     std::vector<tess_layout::TessVertex> vertices;
