@@ -1,5 +1,6 @@
 #include <shapespline/gpu/adaptive_tessellator.h>
 
+#include <shapespline/gpu/kernel_runs.h>
 #include <shapespline/gpu/kernels.h>
 #include <shapespline/shaders/layout.h>
 #include <shapespline/vk/pipeline.h>
@@ -198,21 +199,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
   // (1) α-EB nodes and V from the current PARAMS.
-  if (aeb) {
-    const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {{layout::kSpecSurface, 1u}});
-    if (!impl_->vertexPassSet.handle()) {
-      impl_->vertexPassSet = vk::DescriptorSet::create(*ctx_, pipe);
-      for (uint32_t b = 0; b < kBindingCount; ++b) impl_->vertexPassSet.bind(b, k.dummy());
-      impl_->vertexPassSet.bind(layout::kBindingNet, surface_.netBuffer())
-          .bind(layout::kBindingParams, surface_.paramBuffer())
-          .bind(layout::kBindingVerts, surface_.vertexBuffer());
-    }
-    const layout::VertexPush pc{surface_.vertexRows(), surface_.vertexCols(), surface_.netCols(), surface_.alphaOffset()};
-    pipe.bind(cmd, impl_->vertexPassSet.handle());
-    pipe.push(cmd, pc);
-    k.dispatch(cmd, uint64_t(pc.rows) * pc.cols);
-    vk::computeBarrier(cmd);
-  }
+  if (aeb) recordAlphaEBVertices(k, surface_, true, cmd, impl_->vertexPassSet);
 
   tl::AdaptivePush push{};
   push.patchesU = uint32_t(patchesU_);

@@ -30,16 +30,8 @@ SpecValues evalSpec(const GpuModel& m, FieldMask fields, uint32_t listMode) {
 void recordVertexPass(KernelSet& k, GpuModel& m, bool surface, VkCommandBuffer cmd,
                       std::vector<vk::DescriptorSet>& keep) {
   if (!m.alphaEB() || !m.verticesDirty()) return;
-  const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {{layout::kSpecSurface, surface ? 1u : 0u}});
-  keep.push_back(makeSet(k, pipe));
-  keep.back().bind(layout::kBindingNet, m.netBuffer())
-      .bind(layout::kBindingParams, m.paramBuffer())
-      .bind(layout::kBindingVerts, m.vertexBuffer());
-  layout::VertexPush pc{m.vertexRows(), m.vertexCols(), m.netCols(), m.alphaOffset()};
-  pipe.bind(cmd, keep.back().handle());
-  pipe.push(cmd, pc);
-  k.dispatch(cmd, uint64_t(pc.rows) * pc.cols);
-  vk::computeBarrier(cmd);
+  keep.emplace_back();
+  recordAlphaEBVertices(k, m, surface, cmd, keep.back());
 }
 
 }  // namespace
@@ -51,6 +43,21 @@ vk::DescriptorSet makeSet(KernelSet& k, const vk::ComputePipeline& pipe) {
   vk::DescriptorSet set = vk::DescriptorSet::create(k.context(), pipe);
   for (uint32_t b = 0; b < kBindingCount; ++b) set.bind(b, k.dummy());
   return set;
+}
+
+void recordAlphaEBVertices(KernelSet& k, const GpuModel& m, bool surface, VkCommandBuffer cmd, vk::DescriptorSet& set) {
+  const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {{layout::kSpecSurface, surface ? 1u : 0u}});
+  if (!set.handle()) {
+    set = makeSet(k, pipe);
+    set.bind(layout::kBindingNet, m.netBuffer())
+        .bind(layout::kBindingParams, m.paramBuffer())
+        .bind(layout::kBindingVerts, m.vertexBuffer());
+  }
+  const layout::VertexPush pc{m.vertexRows(), m.vertexCols(), m.netCols(), m.alphaOffset()};
+  pipe.bind(cmd, set.handle());
+  pipe.push(cmd, pc);
+  k.dispatch(cmd, uint64_t(pc.rows) * pc.cols);
+  vk::computeBarrier(cmd);
 }
 
 // A buffer of `reals` REALs rounded up to whole REAL4 so the shaders' REAL4 view covers every value.

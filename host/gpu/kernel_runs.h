@@ -26,6 +26,10 @@ inline constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Fi
 // A descriptor set of `pipe` with every binding at the dummy buffer (validation wants a valid
 // descriptor for bindings a variant does not use).
 vk::DescriptorSet makeSet(KernelSet& k, const vk::ComputePipeline& pipe);
+// Records the α-EB vertex pass (alpha_eb_vertices.comp: nodes and V points from the current PARAMS)
+// of `m` and a compute barrier. `set` (the model's NET, PARAMS, VERTS) is made on first use; the
+// caller keeps it alive until the command buffer has run.
+void recordAlphaEBVertices(KernelSet& k, const GpuModel& m, bool surface, VkCommandBuffer cmd, vk::DescriptorSet& set);
 // A buffer of `reals` REALs rounded up to whole REAL4 (the shaders' REAL4 view covers every value).
 size_t realBufferBytes(const KernelSet& k, size_t reals);
 vk::Buffer realBuffer(KernelSet& k, size_t reals, vk::MemoryUse use, const char* label);

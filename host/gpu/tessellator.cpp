@@ -1,5 +1,6 @@
 #include <shapespline/gpu/tessellator.h>
 
+#include <shapespline/gpu/kernel_runs.h>
 #include <shapespline/gpu/kernels.h>
 #include <shapespline/shaders/layout.h>
 #include "shaders/tessellate_pack_comp.h"
@@ -310,21 +311,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
 
   // (1) α-EB nodes and V from the current PARAMS (a few hundred invocations: always run, so that a
   // recorded command buffer never depends on host-side dirty state).
-  if (aeb) {
-    const auto& pipe = k.pipeline(Kernel::AlphaEBVertices, {{layout::kSpecSurface, 1u}});
-    if (!impl_->vertexPassSet.handle()) {
-      impl_->vertexPassSet = vk::DescriptorSet::create(*ctx_, pipe);
-      for (uint32_t b = 0; b < kBindingCount; ++b) impl_->vertexPassSet.bind(b, k.dummy());
-      impl_->vertexPassSet.bind(layout::kBindingNet, surface_.netBuffer())
-          .bind(layout::kBindingParams, surface_.paramBuffer())
-          .bind(layout::kBindingVerts, surface_.vertexBuffer());
-    }
-    const layout::VertexPush pc{surface_.vertexRows(), surface_.vertexCols(), surface_.netCols(), surface_.alphaOffset()};
-    pipe.bind(cmd, impl_->vertexPassSet.handle());
-    pipe.push(cmd, pc);
-    k.dispatch(cmd, uint64_t(pc.rows) * pc.cols);
-    vk::computeBarrier(cmd);
-  }
+  if (aeb) recordAlphaEBVertices(k, surface_, true, cmd, impl_->vertexPassSet);
 
   // (2) Edge points that are not on their patch's grid (mixed edge rates): list mode.
   if (listSampleCount_ > 0) {

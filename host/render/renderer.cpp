@@ -45,56 +45,12 @@ OffscreenRenderer::OffscreenRenderer(std::shared_ptr<vk::Context> ctx, int width
                                 VK_IMAGE_ASPECT_COLOR_BIT, width, height);
   impl_->depth = makeAttachment(c, df, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT, width, height);
 
-  // Render pass: clear both, the colour ends in TRANSFER_SRC for the readback copy.
-  VkAttachmentDescription att[2] = {};
-  att[0].format = kColorFormat;
-  att[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  att[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  att[1] = att[0];
-  att[1].format = df;
-  att[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-  const VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  const VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription sub{};
-  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  sub.colorAttachmentCount = 1;
-  sub.pColorAttachments = &colorRef;
-  sub.pDepthStencilAttachment = &depthRef;
-  // In: the previous frame's readback copy / depth use must finish before this frame's writes.
-  // Out: colour writes -> the transfer that copies the image to the readback buffer.
-  VkSubpassDependency deps[2] = {};
-  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-  deps[0].dstSubpass = 0;
-  deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-  deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-  deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                          VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  deps[1].srcSubpass = 0;
-  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-  deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rp.attachmentCount = 2;
-  rp.pAttachments = att;
-  rp.subpassCount = 1;
-  rp.pSubpasses = &sub;
-  rp.dependencyCount = 2;
-  rp.pDependencies = deps;
-  VkRenderPass pass;
-  vk::check(vkCreateRenderPass(dev, &rp, nullptr, &pass), "vkCreateRenderPass (offscreen)");
-  impl_->renderPass = RenderPassHandle(dev, pass);
+  // The colour ends in TRANSFER_SRC for the readback copy; the previous frame's copy finishes first.
+  impl_->renderPass = makeColorDepthPass(c, kColorFormat, df, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                         VK_PIPELINE_STAGE_TRANSFER_BIT, "offscreen");
   const VkImageView views[2] = {impl_->color.view.get(), impl_->depth.view.get()};
   VkFramebufferCreateInfo fi{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  fi.renderPass = pass;
+  fi.renderPass = impl_->renderPass.get();
   fi.attachmentCount = 2;
   fi.pAttachments = views;
   fi.width = uint32_t(width);
@@ -104,7 +60,7 @@ OffscreenRenderer::OffscreenRenderer(std::shared_ptr<vk::Context> ctx, int width
   vk::check(vkCreateFramebuffer(dev, &fi, nullptr, &fb), "vkCreateFramebuffer (offscreen)");
   impl_->framebuffer = FramebufferHandle(dev, fb);
 
-  impl_->pipelines = std::make_unique<ScenePipelines>(c, pass);
+  impl_->pipelines = std::make_unique<ScenePipelines>(c, impl_->renderPass.get());
   impl_->readback = vk::Buffer::create(c, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                        vk::MemoryUse::Readback, "render.readback");
 }

@@ -41,6 +41,13 @@ struct Attachment {
 Attachment makeAttachment(vk::Context& ctx, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
                           int width, int height);
 
+// A one-subpass render pass that clears one colour and one depth attachment; the colour ends in
+// colorFinalLayout and its writes are made visible to a later TRANSFER read (readback or
+// screenshot). `colorInStages`: the stages of earlier work on the colour image the pass waits for
+// (the readback copy, or the swapchain acquire at COLOR_ATTACHMENT_OUTPUT).
+RenderPassHandle makeColorDepthPass(vk::Context& ctx, VkFormat color, VkFormat depth, VkImageLayout colorFinalLayout,
+                                    VkPipelineStageFlags colorInStages, const char* label);
+
 class ScenePipelines {
  public:
   // Throws VulkanError. The context must outlive the pipelines.

@@ -47,53 +47,11 @@ Swapchain::Swapchain(vk::Context& ctx, VkSurfaceKHR surface, VkExtent2D extent) 
   presentMode_ = choosePresentMode(ctx.physicalDevice(), surface);
   depthFormat_ = render::depthAttachmentFormat(ctx);
 
-  VkAttachmentDescription att[2] = {};
-  att[0].format = format_;
-  att[0].samples = VK_SAMPLE_COUNT_1_BIT;
-  att[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  att[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  att[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  att[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  att[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  att[0].finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
-  att[1] = att[0];
-  att[1].format = depthFormat_;
-  att[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  att[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-  const VkAttachmentReference colorRef{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  const VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription sub{};
-  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  sub.colorAttachmentCount = 1;
-  sub.pColorAttachments = &colorRef;
-  sub.pDepthStencilAttachment = &depthRef;
-  // In: the acquire semaphore is waited at COLOR_ATTACHMENT_OUTPUT, so the layout transition waits
-  // for it there; the one depth buffer is reused by every frame in flight (the previous frame's
-  // depth writes finish first). Out: colour writes before a screenshot copy (TRANSFER) or present.
-  VkSubpassDependency deps[2] = {};
-  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
-  deps[0].dstSubpass = 0;
-  deps[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-  deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-  deps[0].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                          VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  deps[1].srcSubpass = 0;
-  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
-  deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rp.attachmentCount = 2;
-  rp.pAttachments = att;
-  rp.subpassCount = 1;
-  rp.pSubpasses = &sub;
-  rp.dependencyCount = 2;
-  rp.pDependencies = deps;
-  VkRenderPass pass;
-  vk::check(vkCreateRenderPass(ctx.device(), &rp, nullptr, &pass), "vkCreateRenderPass (viewer)");
-  renderPass_ = render::RenderPassHandle(ctx.device(), pass);
+  // The acquire semaphore is waited at COLOR_ATTACHMENT_OUTPUT, so the layout transition waits for
+  // it there; the one depth buffer is reused by every frame in flight (the previous frame's depth
+  // writes finish first). Colour writes are visible to a screenshot copy (TRANSFER) or present.
+  renderPass_ = render::makeColorDepthPass(ctx, format_, depthFormat_, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, "viewer");
   build(extent);
 }
 
