@@ -47,15 +47,6 @@ vk::Buffer uploaded(vk::Context& ctx, const std::vector<T>& values, const char* 
   return b;
 }
 
-void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags srcAccess, VkPipelineStageFlags dst,
-                   VkAccessFlags dstAccess) {
-  VkMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = srcAccess;
-  b.dstAccessMask = dstAccess;
-  vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
-}
-
 // Uniform rates: each grid-pass invocation takes as many inner rows of its patch as leaves at least
 // this many invocations (the per-invocation start-up, measured on llvmpipe, costs more than the
 // lanes lost to a short last block).
@@ -302,7 +293,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   const bool aeb = surface_.alphaEB();
 
   // Earlier draws read the vertex/index buffers, earlier tessellations wrote our planes: WAR/WAW.
-  memoryBarrier(cmd,
+  vk::memoryBarrier(cmd,
                 VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -382,7 +373,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
     dstAccess |= VK_ACCESS_INDEX_READ_BIT;
   }
   // (6) Make the results visible to vertex input (and to compute/transfer/host consumers).
-  memoryBarrier(cmd, srcStage, srcAccess,
+  vk::memoryBarrier(cmd, srcStage, srcAccess,
                 VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 dstAccess | VK_ACCESS_INDEX_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
 }

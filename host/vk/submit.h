@@ -79,6 +79,9 @@ void runOneShot(Context& ctx, const std::function<void(VkCommandBuffer)>& record
 // Global memory barrier between a dispatch and whatever consumes its results: compute-shader and
 // transfer writes -> shader read/write, transfer read/write, host read.
 void computeBarrier(VkCommandBuffer cmd);
+// One global memory barrier: writes `srcAccess` of stages `src` before accesses `dstAccess` of `dst`.
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags srcAccess, VkPipelineStageFlags dst,
+                   VkAccessFlags dstAccess);
 // Transfer writes (copy/fill) -> compute shader reads, transfer reads, host reads.
 void transferBarrier(VkCommandBuffer cmd);
 
