@@ -22,6 +22,7 @@
 #include <shapespline/vk/context.h>
 #include <shapespline/vk/error.h>
 #include <shapespline/vk/submit.h>
+#include <shapespline/vk/timestamps.h>
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
@@ -398,6 +399,26 @@ int main(int argc, char** argv) try {
     frameMs.push_back(1e3 * seconds(t1, t2));
   }
 
+  // 2b. Where the adaptive frame's time goes: GPU timestamps after each pass (the same orbit again).
+  vk::PassTimer timer(*ctx, 16);
+  std::vector<std::string> passNames;
+  std::vector<std::vector<double>> passMs;
+  std::vector<double> gpuTotalMs;
+  for (const auto& cam : orbit.cameras) {
+    vk::runOneShot(*ctx, [&](VkCommandBuffer cmd) { tess.record(cmd, viewOf(cam, a), &timer); });
+    const auto passes = timer.passes();
+    double total = 0;
+    for (size_t k = 0; k < passes.size(); ++k) {
+      if (passMs.size() <= k) {
+        passNames.push_back(passes[k].first);
+        passMs.emplace_back();
+      }
+      passMs[k].push_back(passes[k].second);
+      total += passes[k].second;
+    }
+    if (!passes.empty()) gpuTotalMs.push_back(total);
+  }
+
   // 3. Peers at the median uniform rate of equal error.
   gpu::SurfaceTessellator fixed(ctx, surface, gpu::SurfaceTessellator::uniformRates(surface, uniformRate));
   vk::runOneShot(*ctx, [&](VkCommandBuffer cmd) { fixed.record(cmd); });
@@ -422,6 +443,9 @@ int main(int argc, char** argv) try {
   const Smoothness without = measureSmoothness(*ctx, need, orbit, a);
 
   const double tessMed = median(tessMs), frameMed = median(frameMs), bfrMed = median(bfrMs);
+  std::string passesJson;
+  for (size_t k = 0; k < passNames.size(); ++k)
+    passesJson += (k ? ", \"" : "\"") + passNames[k] + "\": " + std::to_string(median(passMs[k]));
   std::printf("realtime bench on %s: %zu patches, %dx%d, tolerance %.2f px, %d frames orbiting\n",
               ctx->deviceName().c_str(), patches, a.width, a.height, a.tol, a.frames);
   std::printf("  adaptive triangles per frame (median)      %10.0f\n", median(adaptiveTris));
@@ -431,6 +455,11 @@ int main(int argc, char** argv) try {
   std::printf("  uniform triangles / adaptive (median)      %10.2f  (target >= 3)\n", median(triRatio));
   std::printf("  adaptive: rates + tessellation, ms (med)   %10.2f\n", tessMed);
   std::printf("  adaptive: draw 1280x720, ms (median)       %10.2f\n", frameMed);
+  if (!gpuTotalMs.empty()) {
+    std::printf("  adaptive: GPU time of the passes, ms (med) %10.2f\n", median(gpuTotalMs));
+    for (size_t k = 0; k < passNames.size(); ++k)
+      std::printf("    %-38s %10.3f\n", passNames[k].c_str(), median(passMs[k]));
+  }
   std::printf("  fixed-rate %d: re-tessellation, ms (med)   %10.2f  (%zu vertices)\n", uniformRate, median(fixedMs),
               size_t(fixed.vertexCount()));
   std::printf("  Bfr rate %d on %d threads, ms (median)     %10.2f  (%zu faces, %zu regular, %zu vertices)\n",
@@ -448,6 +477,8 @@ int main(int argc, char** argv) try {
       << ",\n  \"adaptive_triangles_median\": " << median(adaptiveTris) << ",\n  \"uniform_rate_median\": " << uniformRate
       << ",\n  \"uniform_over_adaptive_triangles_median\": " << median(triRatio)
       << ",\n  \"adaptive_rates_and_tessellation_ms_median\": " << tessMed << ",\n  \"adaptive_draw_ms_median\": " << frameMed
+      << ",\n  \"adaptive_gpu_ms_median\": " << median(gpuTotalMs) << ",\n  \"adaptive_gpu_passes_ms_median\": {" << passesJson
+      << "}"
       << ",\n  \"fixed_rate_retessellation_ms_median\": " << median(fixedMs) << ",\n  \"bfr_ms_median\": " << bfrMed
       << ", \"bfr_threads\": " << a.threads << ",\n  \"bfr_over_adaptive\": " << bfrMed / tessMed
       << ",\n  \"smoothness\": {\"hysteresis\": " << a.hysteresis << ", \"frames_with_changes\": [" << withH.framesWithChanges

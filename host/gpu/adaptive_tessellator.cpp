@@ -115,7 +115,7 @@ void AdaptiveTessellator::setOptions(const AdaptiveOptions& options) {
 
 void AdaptiveTessellator::resetRates() { impl_->resetPending = true; }
 
-void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) {
+void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view, vk::PassTimer* timer) {
   if (!(view.viewportWidth >= 1.0f && view.viewportHeight >= 1.0f && std::isfinite(view.viewportWidth) &&
         std::isfinite(view.viewportHeight)))
     throw std::invalid_argument("AdaptiveView: viewport " + std::to_string(view.viewportWidth) + " x " +
@@ -169,6 +169,10 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  auto mark = [&](const char* pass) {
+    if (timer) timer->mark(cmd, pass);
+  };
+  if (timer) timer->reset(cmd);
   tl::AdaptiveViewBlock block{};
   std::copy(view.viewProj.begin(), view.viewProj.end(), block.viewProj);
   block.viewport[0] = view.viewportWidth;
@@ -189,8 +193,10 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   vk::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 
+  mark("clear");
   // (1) α-EB nodes and V from the current PARAMS.
   if (aeb) recordAlphaEBVertices(k, surface_, true, cmd, impl_->vertexPassSet);
+  mark("alpha-eb vertices");
 
   tl::AdaptivePush push{};
   push.patchesU = uint32_t(patchesU_);
@@ -216,21 +222,29 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view) 
   // (2) rates: per patch, its probes and rates.
   run(ratesPatchPipe, impl_->rateSet, tl::kAdaptModeRates, patches);
   vk::computeBarrier(cmd);
+  mark("rates");
   // (3) layout; its counts size the indirect dispatches.
   run(layoutPipe, impl_->layoutSet, 0, wg);
   vk::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+  mark("layout");
   // (4) vertices, (5) indices.
   // Corners, u-edges, v-edges (one invocation each; counts of the patch grid), interior row blocks.
   const uint64_t boundsU = closedU_ ? uint64_t(patchesU_) : uint64_t(patchesU_) + 1;
   const uint64_t boundsV = closedV_ ? uint64_t(patchesV_) : uint64_t(patchesV_) + 1;
   run(vertexPipe, impl_->vertexSet, tl::kAdaptModeCorners, boundsU * boundsV);
+  mark("vertices: corners");
   run(vertexEdgesUPipe, impl_->vertexSet, tl::kAdaptModeEdgesU, uint64_t(patchesU_) * boundsV);
+  mark("vertices: u-edges");
   run(vertexEdgesVPipe, impl_->vertexSet, tl::kAdaptModeEdgesV, boundsU * uint64_t(patchesV_));
+  mark("vertices: v-edges");
   runIndirect(vertexRowsPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
+  mark("vertices: interior rows");
   run(indexPipe, impl_->indexSet, tl::kAdaptModeRings, 4 * patches);
+  mark("indices: rings");
   runIndirect(indexQuadsPipe, impl_->indexSet, tl::kAdaptModeQuads, tl::kAdaptFrameQuadDispatch);
+  mark("indices: quads");
   // (6) The mesh and the draw command to vertex input and indirect reads (and to copies out).
   vk::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |

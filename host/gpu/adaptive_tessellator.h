@@ -31,6 +31,7 @@
 #include <shapespline/shaders/tess_layout.h>
 #include <shapespline/vk/buffer.h>
 #include <shapespline/vk/context.h>
+#include <shapespline/vk/timestamps.h>
 
 #include <vulkan/vulkan_core.h>
 
@@ -85,8 +86,9 @@ class AdaptiveTessellator {
   // Forgets the previous frame's rates: the next record() takes the needed rates without hysteresis.
   void resetRates();
 
-  // Records passes (1)-(6) for `view` into cmd (see the header comment).
-  void record(VkCommandBuffer cmd, const AdaptiveView& view);
+  // Records passes (1)-(6) for `view` into cmd (see the header comment). With a timer, the passes
+  // are timed on the GPU (profiling: timer->passes() once the submission has completed).
+  void record(VkCommandBuffer cmd, const AdaptiveView& view, vk::PassTimer* timer = nullptr);
   // Binds vertexBuffer() (binding 0) and indexBuffer() and draws the last recorded mesh with
   // vkCmdDrawIndexedIndirect; inside a render pass whose pipeline uses vertexBinding().
   void recordDraw(VkCommandBuffer cmd) const;

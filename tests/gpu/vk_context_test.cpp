@@ -7,6 +7,7 @@
 #include <shapespline/vk/pipeline.h>
 #include <shapespline/vk/pipeline_cache.h>
 #include <shapespline/vk/submit.h>
+#include <shapespline/vk/timestamps.h>
 
 #include <cstdint>
 // Generated at build time from shaders/*.comp (cmake/EmbedShaders.cmake).
@@ -16,6 +17,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
@@ -359,6 +362,52 @@ TEST_F(VkContextTest, SelftestShaderFloat32) {
     out.downloadSpan(std::span(y));
     expectSelftestOutput(x, y, 0.5f);
   }
+}
+
+// PassTimer: one interval per mark, in order, in milliseconds of the device clock: each finite and
+// non-negative, a pass of 16 dispatches over 4 M floats longer than zero, and the sum no longer
+// than the host's wall time around the whole submission (a wrong timestampPeriod scale fails).
+TEST_F(VkContextTest, PassTimerTimesEachPass) {
+  vk::PassTimer timer(ctx(), 3);
+  ASSERT_TRUE(timer.available()) << "lavapipe has timestamps on its queue";
+  const uint32_t count = 1u << 22, localSize = 64;
+  const std::vector<float> x = ramp(count);
+  vk::Buffer in = vk::Buffer::create(ctx(), count * 4, vk::kStorageUsage, vk::MemoryUse::Upload, "x");
+  vk::Buffer out = vk::Buffer::create(ctx(), count * 4, vk::kStorageUsage, vk::MemoryUse::Readback, "y");
+  in.uploadSpan(std::span<const float>(x));
+  vk::ComputePipeline pipeline = selftestPipeline(ctx(), localSize);
+  vk::DescriptorSet set = vk::DescriptorSet::create(ctx(), pipeline);
+  set.bind({{0, &in}, {1, &out}});
+  const auto t0 = std::chrono::steady_clock::now();
+  vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    timer.mark(cmd, "nothing");
+    pipeline.bind(cmd, set.handle());
+    for (int rep = 0; rep < 16; ++rep) {
+      pipeline.push(cmd, SelftestPush{count, 0, 0.5f, 0});
+      vk::dispatchChunked(cmd, ctx(), pipeline, {count / localSize, offsetof(SelftestPush, baseGroup), 0});
+      vk::computeBarrier(cmd);
+    }
+    timer.mark(cmd, "selftest x16");
+    timer.mark(cmd, "after");
+    EXPECT_THROW(timer.mark(cmd, "one too many"), std::length_error);
+  });
+  const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto passes = timer.passes();
+  ASSERT_EQ(passes.size(), 3u);
+  EXPECT_EQ(passes[0].first, "nothing");
+  EXPECT_EQ(passes[1].first, "selftest x16");
+  EXPECT_EQ(passes[2].first, "after");
+  double sum = 0;
+  for (const auto& [name, ms] : passes) {
+    EXPECT_TRUE(std::isfinite(ms) && ms >= 0.0) << name << ": " << ms;
+    sum += ms;
+  }
+  EXPECT_GT(passes[1].second, 0.0);
+  EXPECT_LE(sum, wallMs) << "GPU intervals longer than the submission itself";
+  std::vector<float> y(count);
+  out.downloadSpan(std::span(y));
+  expectSelftestOutput(x, y, 0.5f);
 }
 
 TEST_F(VkContextTest, SelftestShaderFloat64) {
