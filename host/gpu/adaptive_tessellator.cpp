@@ -1,5 +1,7 @@
 #include <shapespline/gpu/adaptive_tessellator.h>
 
+#include <shapespline/vk/timestamps.h>
+
 #include <shapespline/gpu/kernel_runs.h>
 #include <shapespline/gpu/kernels.h>
 #include <shapespline/shaders/layout.h>

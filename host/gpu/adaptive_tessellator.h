@@ -31,7 +31,6 @@
 #include <shapespline/shaders/tess_layout.h>
 #include <shapespline/vk/buffer.h>
 #include <shapespline/vk/context.h>
-#include <shapespline/vk/timestamps.h>
 
 #include <vulkan/vulkan_core.h>
 
@@ -39,6 +38,10 @@
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+namespace shapespline::vk {
+class PassTimer;  // vk/timestamps.h (profiling only; not an installed header)
+}  // namespace shapespline::vk
 
 namespace shapespline::gpu {
 
