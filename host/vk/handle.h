@@ -57,5 +57,6 @@ using DescriptorSetLayoutHandle = Handle<VkDescriptorSetLayout, VkDevice, vkDest
 using DescriptorPoolHandle = Handle<VkDescriptorPool, VkDevice, vkDestroyDescriptorPool>;
 using CommandPoolHandle = Handle<VkCommandPool, VkDevice, vkDestroyCommandPool>;
 using FenceHandle = Handle<VkFence, VkDevice, vkDestroyFence>;
+using QueryPoolHandle = Handle<VkQueryPool, VkDevice, vkDestroyQueryPool>;
 
 }  // namespace shapespline::vk

@@ -18,18 +18,16 @@ PassTimer::PassTimer(Context& ctx, uint32_t maxMarks) : ctx_(ctx), capacity_(max
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   info.queryType = VK_QUERY_TYPE_TIMESTAMP;
   info.queryCount = capacity_;
-  check(vkCreateQueryPool(ctx.device(), &info, nullptr, &pool_), "vkCreateQueryPool");
-}
-
-PassTimer::~PassTimer() {
-  if (pool_ != VK_NULL_HANDLE) vkDestroyQueryPool(ctx_.device(), pool_, nullptr);
+  VkQueryPool pool = VK_NULL_HANDLE;
+  check(vkCreateQueryPool(ctx.device(), &info, nullptr, &pool), "vkCreateQueryPool");
+  pool_ = QueryPoolHandle(ctx.device(), pool);
 }
 
 void PassTimer::reset(VkCommandBuffer cmd) {
   names_.clear();
   if (!available()) return;
-  vkCmdResetQueryPool(cmd, pool_, 0, capacity_);
-  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, 0);
+  vkCmdResetQueryPool(cmd, pool_.get(), 0, capacity_);
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), 0);
 }
 
 void PassTimer::mark(VkCommandBuffer cmd, std::string name) {
@@ -44,14 +42,14 @@ void PassTimer::mark(VkCommandBuffer cmd, std::string name) {
   all.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &all, 0,
                        nullptr, 0, nullptr);
-  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, uint32_t(names_.size()));
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), uint32_t(names_.size()));
 }
 
 std::vector<std::pair<std::string, double>> PassTimer::passes() const {
   std::vector<std::pair<std::string, double>> out;
   if (!available() || names_.empty()) return out;
   std::vector<uint64_t> ticks(names_.size() + 1);
-  check(vkGetQueryPoolResults(ctx_.device(), pool_, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),
+  check(vkGetQueryPoolResults(ctx_.device(), pool_.get(), 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),
                               ticks.data(), sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
         "vkGetQueryPoolResults");
   for (size_t k = 0; k < names_.size(); ++k) {

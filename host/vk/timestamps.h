@@ -6,6 +6,7 @@
 // serialised: the sum is an upper bound of the unprofiled frame, each interval its pass's. A queue
 // family without timestamps (timestampValidBits == 0) makes it inert: passes() is then empty.
 #include <shapespline/vk/context.h>
+#include <shapespline/vk/handle.h>
 
 #include <vulkan/vulkan_core.h>
 
@@ -19,11 +20,8 @@ class PassTimer {
  public:
   // Room for `maxMarks` marks per command buffer (plus the reset's own).
   PassTimer(Context& ctx, uint32_t maxMarks);
-  ~PassTimer();
-  PassTimer(const PassTimer&) = delete;
-  PassTimer& operator=(const PassTimer&) = delete;
 
-  bool available() const { return pool_ != VK_NULL_HANDLE; }
+  bool available() const { return bool(pool_); }
   void reset(VkCommandBuffer cmd);                        // resets the pool and writes the start time
   void mark(VkCommandBuffer cmd, std::string name);       // the time once every earlier command is done
   // (name, ms since the previous mark) for every mark of the last recording; waits for the results.
@@ -31,7 +29,7 @@ class PassTimer {
 
  private:
   Context& ctx_;
-  VkQueryPool pool_ = VK_NULL_HANDLE;
+  QueryPoolHandle pool_;
   uint32_t capacity_ = 0;
   double periodNs_ = 1.0;
   uint64_t validMask_ = ~0ull;
