@@ -85,4 +85,24 @@ void setupRow(REAL tu) {
   }
 }
 
+// Samples of a row (or edge) whose Q_u x Q_v is degenerate take the full §5.3 rule
+// (fullNormalAt), which is rare. The sample loop only notes them, with selects: a branch or loop
+// inside it made llvmpipe spill the row data around it, and the whole loop ran ~5x slower. A loop
+// after the sample loop redoes them: the first two noted, or all of the row's samples when more.
+struct Fallbacks {
+  uint count, first, second;
+};
+Fallbacks noFallbacks() { return Fallbacks(0u, 0u, 0u); }
+void noteFallback(bool degenerate, uint index, inout Fallbacks f) {
+  f.first = degenerate && f.count == 0u ? index : f.first;
+  f.second = degenerate && f.count == 1u ? index : f.second;
+  f.count += degenerate ? 1u : 0u;
+}
+// How many samples to redo for a row of `samples` samples, and the k-th of them (samples are
+// numbered from `firstSample`).
+uint fallbackCount(Fallbacks f, uint samples) { return f.count <= 2u ? f.count : samples; }
+uint fallbackSample(Fallbacks f, uint k, uint firstSample) {
+  return f.count <= 2u ? (k == 0u ? f.first : f.second) : firstSample + k;
+}
+
 #endif  // SHAPESPLINE_PATCH_ROWS_GLSL

@@ -109,4 +109,14 @@ REAL3 surfaceNormal(uint i, uint j, REAL u, REAL v, in PatchDerivs q, in PatchDe
   return fixedAxisNormal();
 }
 
+// The §5.3 normal of patch (i, j) at local (u, v) from scratch (bases by Horner, as basis_table.comp
+// gives them): for the rare samples whose row-wise Q_u x Q_v is degenerate.
+REAL3 fullNormalAt(uint i, uint j, REAL u, REAL v) {
+  Basis2 B;
+  hornerBasis(u, v, B);
+  PatchDerivs c;
+  PatchDerivs q = evalPatch(B, i, j, u, v, c);
+  return surfaceNormal(i, j, u, v, q, c);
+}
+
 #endif  // SHAPESPLINE_SURFACE_PATCH_GLSL

@@ -70,6 +70,12 @@ void store(uint k, uint a, uint b, REAL u, REAL v, vec3 p, vec3 n) {
   outVerts[2u * k + 1u] = vec4(n.yz, uv);
 }
 
+// Replaces the normal of vertex k.
+void storeNormal(uint k, vec3 n) {
+  outVerts[2u * k].w = n.x;
+  outVerts[2u * k + 1u].xy = n.yz;
+}
+
 // The patch and local coordinate that own patch-grid boundary `boundary` (the lower patch index).
 void owner(uint boundary, uint patches, out uint patchIndex, out REAL local) {
   patchIndex = min(boundary, patches - 1u);
@@ -101,17 +107,6 @@ void corner(uint k) {
       ++samples;
     }
   store(k, a0, b0, u0, v0, p, meanNormal(sum, n0, samples));
-}
-
-// The full §5.3 normal of patch (a, b) at local (u, v) (surfaceNormal; for the rare samples whose
-// row-wise derivatives are degenerate).
-vec3 fullNormal(uint a, uint b, REAL u, REAL v) {
-  uint i = a + pc.firstSpanU, j = b + pc.firstSpanV;
-  Basis2 B;
-  hornerBasis(u, v, B);
-  PatchDerivs c;
-  PatchDerivs q = evalPatch(B, i, j, u, v, c);
-  return vec3(surfaceNormal(i, j, u, v, q, c));
 }
 
 // Column-wise evaluation (v = const, u varies), the transpose of patch_rows.glsl's setupRow /
@@ -166,18 +161,16 @@ void evalColumnSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
   }
 }
 
-// The points of one edge at t = k/e, 0 < k < e, of patch (a, b): along u (v = fixed, columns) or
-// along v (u = fixed, a row). Point and Q_u x Q_v normal, the full rule where that is degenerate.
-void edgeSample(bool alongU, uint a, uint b, REAL fixedLocal, REAL t, out REAL3 p, out vec3 n) {
+// Point and Q_u x Q_v normal of the current edge at t: along u (v fixed: a column) or along v (u
+// fixed: a row); `degenerate` when the normal needs the full rule (Fallbacks).
+void edgeSample(bool alongU, REAL t, out REAL3 p, out vec3 n, out bool degenerate) {
   REAL3 du, dv;
   if (alongU) evalColumnSample(t, p, du, dv);
   else evalSample(t, p, du, dv);
   REAL3 cr = cross(du, dv);
   REAL len = length(cr);
-  bool degenerate = degenerateCrossLength(du, dv, len);
-  n = degenerate ? vec3(0) : vec3(cr / len);
-  REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
-  for (uint f = 0u; f < (degenerate ? 1u : 0u); ++f) n = fullNormal(a, b, u, v);
+  degenerate = degenerateCrossLength(du, dv, len);
+  n = vec3(cr / len);
 }
 
 void setupEdge(bool alongU, uint a, uint b, REAL fixedLocal) {
@@ -215,31 +208,50 @@ void edgePoints(uint x, bool alongU) {
     ob = b;
   }
   REAL den = REAL(e);
+  // The local (u, v) of edge point k in the owner (fixedLocal) or the neighbour (1).
+#define EDGE_UV(k, fixed) (alongU ? REAL(k) / den : (fixed)), (alongU ? (fixed) : REAL(k) / den)
   for (uint f = 0u; f < (shared_ ? 1u : 0u); ++f) {
     setupEdge(alongU, oa, ob, REAL(1));
+    Fallbacks fallbacks = noFallbacks();
     for (uint k = 1u; k < e; ++k) {
       REAL3 p;
       vec3 n1;
-      edgeSample(alongU, oa, ob, REAL(1), REAL(k) / den, p, n1);
+      bool degenerate;
+      edgeSample(alongU, REAL(k) / den, p, n1, degenerate);
+      noteFallback(degenerate, k, fallbacks);
       outVerts[2u * (first + k - 1u)] = vec4(n1, 0.0);
+    }
+    for (uint g = 0u; g < fallbackCount(fallbacks, e - 1u); ++g) {
+      uint k = fallbackSample(fallbacks, g, 1u);
+      outVerts[2u * (first + k - 1u)] = vec4(fullNormalAt(oa + pc.firstSpanU, ob + pc.firstSpanV, EDGE_UV(k, REAL(1))), 0.0);
     }
   }
   setupEdge(alongU, a, b, fixedLocal);
+  Fallbacks fallbacks = noFallbacks();
   for (uint k = 1u; k < e; ++k) {
-    REAL t = REAL(k) / den;
     REAL3 p;
     vec3 n0;
-    edgeSample(alongU, a, b, fixedLocal, t, p, n0);
-    vec3 n = n0;
-    for (uint f = 0u; f < (shared_ ? 1u : 0u); ++f) n = meanNormal(n0 + outVerts[2u * (first + k - 1u)].xyz, n0, 2u);
-    REAL u = alongU ? t : fixedLocal, v = alongU ? fixedLocal : t;
-    store(first + k - 1u, a, b, u, v, vec3(p), n);
+    bool degenerate;
+    edgeSample(alongU, REAL(k) / den, p, n0, degenerate);
+    noteFallback(degenerate, k, fallbacks);
+    vec3 parked = outVerts[2u * (first + k - 1u)].xyz;  // the neighbour's normal (when shared)
+    vec3 n = shared_ ? meanNormal(n0 + parked, n0, 2u) : n0;
+    store(first + k - 1u, a, b, EDGE_UV(k, fixedLocal), vec3(p), n);
   }
+  // Degenerate owner normals: both sides' normals again from scratch (the parked one is overwritten).
+  for (uint g = 0u; g < fallbackCount(fallbacks, e - 1u); ++g) {
+    uint k = fallbackSample(fallbacks, g, 1u);
+    vec3 n0 = vec3(fullNormalAt(a + pc.firstSpanU, b + pc.firstSpanV, EDGE_UV(k, fixedLocal)));
+    vec3 n = n0;
+    for (uint f = 0u; f < (shared_ ? 1u : 0u); ++f) n = meanNormal(n0 + normalOf(oa, ob, EDGE_UV(k, REAL(1))), n0, 2u);
+    storeNormal(first + k - 1u, n);
+  }
+#undef EDGE_UV
 }
 
 // Row block t of patch p: interior rows i = 1 + t R .. (R = rowsPerBlock(m), tess_adaptive_grid.glsl),
 // u = i/n, v = j/m for 0 < j < m, evaluated row-wise (the patch loaded once for the block); a
-// sample whose derivatives are degenerate takes the full §5.3 rule, in a loop as above.
+// sample whose derivatives are degenerate takes the full §5.3 rule after its row (Fallbacks).
 void interiorRows(uint patchIndex, uint t) {
   uvec4 rec = patchRecords[patchIndex];
   uint n = rec.x, m = rec.y;
@@ -251,22 +263,20 @@ void interiorRows(uint patchIndex, uint t) {
     REAL u = REAL(i) / REAL(n);
     setupRow(u);
     uint first = rec.z + (i - 1u) * (m - 1u);
+    Fallbacks fallbacks = noFallbacks();
     for (uint j = 1u; j < m; ++j) {
       REAL v = REAL(j) / REAL(m);
       REAL3 p, du, dv;
       evalSample(v, p, du, dv);
       REAL3 cr = cross(du, dv);
       REAL len = length(cr);
-      bool degenerate = degenerateCrossLength(du, dv, len);
-      vec3 normal = degenerate ? vec3(0) : vec3(cr / len);
-      for (uint f = 0u; f < (degenerate ? 1u : 0u); ++f) {
-        Basis2 B;
-        hornerBasis(u, v, B);
-        PatchDerivs c;
-        PatchDerivs q = evalPatch(B, mi, mj, u, v, c);
-        normal = vec3(surfaceNormal(mi, mj, u, v, q, c));
-      }
-      store(first + j - 1u, a, b, u, v, vec3(p), normal);
+      noteFallback(degenerateCrossLength(du, dv, len), j, fallbacks);
+      store(first + j - 1u, a, b, u, v, vec3(p), vec3(cr / len));
+    }
+    uint todo = fallbackCount(fallbacks, m - 1u);
+    for (uint f = 0u; f < todo; ++f) {
+      uint j = fallbackSample(fallbacks, f, 1u);
+      storeNormal(first + j - 1u, vec3(fullNormalAt(mi, mj, u, REAL(j) / REAL(m))));
     }
   }
 }

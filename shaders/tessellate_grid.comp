@@ -64,15 +64,6 @@ void writePerimeter(uint b, REAL3 p, REAL3 n) {
 
 #include "patch_rows.glsl"
 
-// Samples whose normal needs the full §5.3 convention (α = 1 patch corners, where Q_u or Q_v
-// vanishes, and other degenerate crosses): the first two of a row are remembered, more make the
-// row redo all of its normals. Selects, no branches.
-void noteFallback(bool degenerate, uint b, inout uint count, inout uint f0, inout uint f1) {
-  f0 = degenerate && count == 0u ? b : f0;
-  f1 = degenerate && count == 1u ? b : f1;
-  count += degenerate ? 1u : 0u;
-}
-
 void main() {
   uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   if (q >= pc.invocations) return;
@@ -113,7 +104,7 @@ void main() {
     gA = a0 + row * step;
     REAL tu = REAL(gA) / REAL(gN);
     setupRow(tu);
-    uint fallbackCount = 0u, fallback0 = 0u, fallback1 = 0u;
+    Fallbacks fallbacks = noFallbacks();
 
     // Interior samples b = 1 .. m-1 of an inner row (none for rows 0 and n), in groups of 4; the
     // last group repeats sample m-1 (the same value stored twice) instead of branching.
@@ -126,7 +117,7 @@ void main() {
         evalSample(t, p, du, dv);
         REAL3 n = cross(du, dv);
         REAL len = length(n);
-        noteFallback(degenerateCrossLength(du, dv, len), b, fallbackCount, fallback0, fallback1);
+        noteFallback(degenerateCrossLength(du, dv, len), b, fallbacks);
         writeInterior(b, p, n / len, tu, t);
       }
     }
@@ -139,21 +130,17 @@ void main() {
       evalSample(t, p, du, dv);
       REAL3 n = cross(du, dv);
       REAL len = length(n);
-      noteFallback(degenerateCrossLength(du, dv, len), b, fallbackCount, fallback0, fallback1);
+      noteFallback(degenerateCrossLength(du, dv, len), b, fallbacks);
       writePerimeter(b, p, n / len);
     }
 
     // The fallback normals, as surface_eval.comp computes them, overwriting those stored above. A
     // loop, not an if: on llvmpipe a loop body runs only while some lane still has points left.
-    uint todo = fallbackCount <= 2u ? fallbackCount : gM + 1u;
+    uint todo = fallbackCount(fallbacks, gM + 1u);
     for (uint f = 0u; f < todo; ++f) {
-      uint b = fallbackCount <= 2u ? (f == 0u ? fallback0 : fallback1) : f;
+      uint b = fallbackSample(fallbacks, f, 0u);
       REAL v = REAL(b) / denV;
-      Basis2 B;
-      hornerBasis(tu, v, B);
-      PatchDerivs c;
-      PatchDerivs qd = evalPatch(B, i, j, tu, v, c);
-      REAL3 n = surfaceNormal(i, j, tu, v, qd, c);
+      REAL3 n = fullNormalAt(i, j, tu, v);
       // The whole sample again, point from the same arithmetic as above (a packed vertex has no
       // normal-only store); only in this rare loop, so the branch costs the sample loops nothing.
       REAL3 p, du, dv;

@@ -6,6 +6,19 @@
 
 namespace shapespline::vk {
 
+namespace {
+
+// Every earlier command completes before any later one starts (and lavapipe flushes its context).
+void fullBarrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier all{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  all.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+  all.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &all, 0,
+                       nullptr, 0, nullptr);
+}
+
+}  // namespace
+
 PassTimer::PassTimer(Context& ctx, uint32_t maxMarks) : ctx_(ctx), capacity_(maxMarks + 1) {
   uint32_t count = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(ctx.physicalDevice(), &count, nullptr);
@@ -27,7 +40,9 @@ void PassTimer::reset(VkCommandBuffer cmd) {
   names_.clear();
   if (!available()) return;
   vkCmdResetQueryPool(cmd, pool_.get(), 0, capacity_);
+  fullBarrier(cmd);
   vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), 0);
+  fullBarrier(cmd);
 }
 
 void PassTimer::mark(VkCommandBuffer cmd, std::string name) {
@@ -37,12 +52,12 @@ void PassTimer::mark(VkCommandBuffer cmd, std::string name) {
   // Everything recorded so far completes first: a bare timestamp needs only earlier commands to
   // have reached the stage, and lavapipe writes it before the compute work it follows has run,
   // charging that work to a later pass.
-  VkMemoryBarrier all{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  all.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-  all.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &all, 0,
-                       nullptr, 0, nullptr);
+  fullBarrier(cmd);
   vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), uint32_t(names_.size()));
+  // And the timestamp is taken now: llvmpipe bins a timestamp query into its current scene, which
+  // runs only at the next flush (a barrier), so without this one each mark read the clock after
+  // the *next* pass, and every interval was charged to the pass before it.
+  fullBarrier(cmd);
 }
 
 std::vector<std::pair<std::string, double>> PassTimer::passes() const {
