@@ -1,4 +1,4 @@
-// Row-wise patch evaluation shared by tessellate_grid.comp and tess_adaptive_vertices.comp: a patch's
+// Row-wise patch evaluation shared by tessellate_grid.comp and tess_adaptive_mesh.comp: a patch's
 // net and bases are loaded once (loadPatchRows), each row u = const is contracted once (setupRow),
 // and each sample of the row is one Horner pass in v (evalSample). The includer declares `pc` with
 // the EvalPush net fields and the VertBuf `verts`, and includes surface_patch.glsl first; kAEB,

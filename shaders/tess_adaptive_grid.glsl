@@ -21,11 +21,12 @@ uint sideEdge(uint a, uint b, uint s) {
 // interior row: one triangle per step of either.
 uint ringTriangles(uint e, uint L) { return e + L - 2u; }
 
-// Triangles of a patch with rates r = (n, m) and side rates e (sides 0..3).
-uint patchTriangles(uvec2 r, uvec4 e) {
-  return ringTriangles(e.x, r.x) + ringTriangles(e.y, r.y) + ringTriangles(e.z, r.x) + ringTriangles(e.w, r.y) +
-         2u * (r.x - 2u) * (r.y - 2u);
+// Triangles of the four rings of a patch with rates r = (n, m) and side rates e (sides 0..3), and
+// of its interior quads.
+uint ringsTriangles(uvec2 r, uvec4 e) {
+  return ringTriangles(e.x, r.x) + ringTriangles(e.y, r.y) + ringTriangles(e.z, r.x) + ringTriangles(e.w, r.y);
 }
+uint quadTriangles(uvec2 r) { return 2u * (r.x - 2u) * (r.y - 2u); }
 
 // Interior rows one vertex-pass invocation evaluates for a patch with m - 1 samples a row: at
 // least 32 samples, so that loading the patch's net is shared by enough of them.

@@ -3,8 +3,8 @@
 // the rates of the two patches along the edge (TessRates' default), so both patches of an edge read
 // one rate. Vertex and index counts are those of core/tess_topology.cpp, numbered the same way, and
 // their exclusive prefix sums give each corner, edge and patch its first vertex and each patch its
-// first index and first interior quad; the totals go into the indirect draw command and the
-// indirect dispatches of the vertex and quad passes.
+// first index and the index of its first interior quad; the totals go into the indirect draw
+// command and the indirect dispatch of the interior-row pass.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "tess_layout.h"
@@ -20,8 +20,7 @@ layout(push_constant) uniform PushBlock { AdaptivePush pc; };
 
 #include "tess_adaptive_grid.glsl"
 
-shared uint sVertexSums[kAdaptMaxWorkgroup], sIndexSums[kAdaptMaxWorkgroup], sQuadSums[kAdaptMaxWorkgroup],
-    sRowSums[kAdaptMaxWorkgroup];
+shared uint sVertexSums[kAdaptMaxWorkgroup], sIndexSums[kAdaptMaxWorkgroup], sRowSums[kAdaptMaxWorkgroup];
 
 // The rate of u-edge (a, b) (at v-boundary b of patch column a) and of v-edge (a, b) (at
 // u-boundary a of patch row b): the max of the patches on either side; an open boundary has one.
@@ -72,17 +71,14 @@ void writeVertexRecord(uint e, uint first) {
   patchRecords[p].xyz = uvec3(rates[p], first);
 }
 
-uint indexCountOf(uint p) {
+// Indices of patch p's four transition rings, and of its interior quads.
+uint ringIndexCountOf(uint p) {
   uint a = p / pc.patchesV, b = p - a * pc.patchesV;
   uvec4 e = uvec4(edgeRate(sideEdge(a, b, 0u)), edgeRate(sideEdge(a, b, 1u)), edgeRate(sideEdge(a, b, 2u)),
                   edgeRate(sideEdge(a, b, 3u)));
-  return 3u * patchTriangles(rates[p], e);
+  return 3u * ringsTriangles(rates[p], e);
 }
-
-uint quadCountOf(uint p) {
-  uvec2 r = rates[p];
-  return (r.x - 2u) * (r.y - 2u);
-}
+uint quadIndexCountOf(uint p) { return 3u * quadTriangles(rates[p]); }
 
 void main() {
   uint t = gl_LocalInvocationID.x, threads = gl_WorkGroupSize.x;
@@ -92,29 +88,25 @@ void main() {
   uint vBlock = (elements + threads - 1u) / threads, pBlock = (patches + threads - 1u) / threads;
   uint v0 = min(t * vBlock, elements), v1 = min(v0 + vBlock, elements);
   uint p0 = min(t * pBlock, patches), p1 = min(p0 + pBlock, patches);
-  uint vs = 0u, is = 0u, qs = 0u, rs = 0u;
+  uint vs = 0u, is = 0u, rs = 0u;
   for (uint e = v0; e < v1; ++e) vs += vertexCountOf(e);
   for (uint p = p0; p < p1; ++p) {
-    is += indexCountOf(p);
-    qs += quadCountOf(p);
+    is += ringIndexCountOf(p) + quadIndexCountOf(p);
     rs += rowBlocks(rates[p]);
   }
   sVertexSums[t] = vs;
   sIndexSums[t] = is;
-  sQuadSums[t] = qs;
   sRowSums[t] = rs;
   barrier();
   if (t == 0u) {  // exclusive scan of the block sums (at most kAdaptMaxWorkgroup)
-    uint va = 0u, ia = 0u, qa = 0u, ra = 0u;
+    uint va = 0u, ia = 0u, ra = 0u;
     for (uint k = 0u; k < threads; ++k) {
-      uint x = sVertexSums[k], y = sIndexSums[k], z = sQuadSums[k], w = sRowSums[k];
+      uint x = sVertexSums[k], y = sIndexSums[k], w = sRowSums[k];
       sVertexSums[k] = va;
       sIndexSums[k] = ia;
-      sQuadSums[k] = qa;
       sRowSums[k] = ra;
       va += x;
       ia += y;
-      qa += z;
       ra += w;
     }
     frame[0] = ia;  // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex, vertexOffset, firstInstance
@@ -123,22 +115,20 @@ void main() {
     frame[3] = 0u;
     frame[4] = 0u;
     frame[kAdaptFrameVertexCount] = va;
-    frame[kAdaptFrameQuadCount] = qa;
-    writeDispatch(kAdaptFrameQuadDispatch, qa);
     frame[kAdaptFrameRowCount] = ra;
     writeDispatch(kAdaptFrameRowDispatch, ra);
   }
   barrier();
-  uint vertex = sVertexSums[t], index = sIndexSums[t], quad = sQuadSums[t], row = sRowSums[t];
+  uint vertex = sVertexSums[t], index = sIndexSums[t], row = sRowSums[t];
   for (uint e = v0; e < v1; ++e) {
     writeVertexRecord(e, vertex);
     vertex += vertexCountOf(e);
   }
   for (uint p = p0; p < p1; ++p) {
     patchRecords[p].w = index;
-    index += indexCountOf(p);
-    quadFirst[p] = quad;
-    quad += quadCountOf(p);
+    index += ringIndexCountOf(p);
+    quadFirst[p] = index;
+    index += quadIndexCountOf(p);
     rowFirst[p] = row;
     row += rowBlocks(rates[p]);
   }

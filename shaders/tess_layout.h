@@ -120,10 +120,10 @@ TS_FUNC TS_UINT tessPerimeterSlot(TS_UINT n, TS_UINT m, TS_UINT a, TS_UINT b) {
 //  6 EDGES    (uvec2) per edge, the u-edges (TessRates::edgeU order) then the v-edges: rate, first
 //                     edge vertex
 //  7 FRAME    (uint)  VkDrawIndexedIndirectCommand at 0 (5 words), then kAdaptFrame* counters and
-//                     the VkDispatchIndirectCommand of the interior-row and quad passes
+//                     the VkDispatchIndirectCommand of the interior-row pass
 //  8 VERTICES (vec4)  output, 2 vec4 per vertex (the layout above)
 //  9 INDICES  (uint)  output triangle list
-// 11 QUADS    (uint)  per patch: its first interior quad (prefix sum of (n-2)(m-2))
+// 11 QUADS    (uint)  per patch: the index (into INDICES) of its first interior-quad triangle
 // 12 ROWS     (uint)  per patch: its first block of interior rows (tess_adaptive_grid.glsl rowBlocks)
 // Vertex numbering and triangles are core/tess_topology.cpp buildTessTopology's: corners, u-edge
 // points, v-edge points, patch interiors; per patch its four transition rings, then its quads.
@@ -140,10 +140,8 @@ TS_CONST(TS_UINT, kAdaptFrameVertexCount, 5u);
 TS_CONST(TS_UINT, kAdaptFrameCulled, 6u);
 TS_CONST(TS_UINT, kAdaptFrameClamped, 7u);
 TS_CONST(TS_UINT, kAdaptFrameNear, 8u);
-TS_CONST(TS_UINT, kAdaptFrameQuadCount, 9u);
-TS_CONST(TS_UINT, kAdaptFrameQuadDispatch, 10u);    // 3 words: x, y, z workgroups
 TS_CONST(TS_UINT, kAdaptFrameRowCount, 17u);        // interior row blocks of all patches
-TS_CONST(TS_UINT, kAdaptFrameRowDispatch, 18u);     // 3 words
+TS_CONST(TS_UINT, kAdaptFrameRowDispatch, 18u);     // 3 words: x, y, z workgroups
 TS_CONST(TS_UINT, kAdaptFrameWords, 24u);
 TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
 // mode of each pass's dispatches (AdaptivePush.mode, and the specialization constant kSpecAdaptMode:
@@ -151,12 +149,10 @@ TS_CONST(TS_UINT, kAdaptMaxWorkgroup, 256u);  // the layout pass's shared arrays
 // only the mode's code)
 TS_CONST(TS_UINT, kSpecAdaptMode, 11u);
 TS_CONST(TS_UINT, kAdaptModeRates, 1u);    // rates: one invocation per patch
-TS_CONST(TS_UINT, kAdaptModeCorners, 0u);   // vertices: one invocation per corner
-TS_CONST(TS_UINT, kAdaptModeEdgesU, 2u);   // vertices: one invocation per u-edge (its points row-wise in u)
-TS_CONST(TS_UINT, kAdaptModeEdgesV, 3u);   // vertices: one invocation per v-edge (its points row-wise in v)
-TS_CONST(TS_UINT, kAdaptModeRows, 1u);     // vertices: one invocation per block of interior rows
-TS_CONST(TS_UINT, kAdaptModeRings, 0u);    // indices: one invocation per patch side
-TS_CONST(TS_UINT, kAdaptModeQuads, 1u);    // indices: one invocation per interior quad (indirect)
+TS_CONST(TS_UINT, kAdaptModeCorners, 0u);  // mesh: one invocation per corner
+TS_CONST(TS_UINT, kAdaptModeEdgesU, 2u);   // mesh: one invocation per u-edge (its points along u; the rings of sides 0, 2)
+TS_CONST(TS_UINT, kAdaptModeEdgesV, 3u);   // mesh: one invocation per v-edge (its points along v; the rings of sides 1, 3)
+TS_CONST(TS_UINT, kAdaptModeRows, 1u);     // mesh: one invocation per block of interior rows (their points and quads)
 
 // Push constants of every tess_adaptive_*.comp pass; the net/α fields are those of layout.h
 // EvalPush, under the same names (surface_patch.glsl reads them).

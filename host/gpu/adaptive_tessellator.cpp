@@ -55,7 +55,7 @@ Capacity capacityAt(int patchesU, int patchesV, bool closedU, bool closedV, int 
 struct AdaptiveTessellator::Impl {
   std::unique_ptr<KernelSet> kernels;
   vk::Buffer view, rates, patches, edges, quads, rows;
-  vk::DescriptorSet rateSet, layoutSet, vertexSet, indexSet, vertexPassSet;
+  vk::DescriptorSet rateSet, layoutSet, meshSet, vertexPassSet;
   bool resetPending = true;
 };
 
@@ -103,7 +103,7 @@ void AdaptiveTessellator::allocate() {
   impl_->edges = local(edges * 8, vk::kStorageUsage, "adaptive.edges");
   impl_->quads = local(patches * 4, vk::kStorageUsage, "adaptive.quads");
   impl_->rows = local(patches * 4, vk::kStorageUsage, "adaptive.rows");
-  for (vk::DescriptorSet* set : {&impl_->rateSet, &impl_->layoutSet, &impl_->vertexSet, &impl_->indexSet})
+  for (vk::DescriptorSet* set : {&impl_->rateSet, &impl_->layoutSet, &impl_->meshSet})
     *set = vk::DescriptorSet();
   impl_->resetPending = true;
 }
@@ -136,12 +136,10 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view, 
   };
   const vk::ComputePipeline& ratesPatchPipe = k.pipeline(Kernel::AdaptiveRates, withMode(evalSpec, tl::kAdaptModeRates));
   const vk::ComputePipeline& layoutPipe = k.pipeline(Kernel::AdaptiveLayout, {});
-  const vk::ComputePipeline& vertexPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeCorners));
-  const vk::ComputePipeline& vertexEdgesUPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeEdgesU));
-  const vk::ComputePipeline& vertexEdgesVPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeEdgesV));
-  const vk::ComputePipeline& vertexRowsPipe = k.pipeline(Kernel::AdaptiveVertices, withMode(evalSpec, tl::kAdaptModeRows));
-  const vk::ComputePipeline& indexPipe = k.pipeline(Kernel::AdaptiveIndices, withMode({}, tl::kAdaptModeRings));
-  const vk::ComputePipeline& indexQuadsPipe = k.pipeline(Kernel::AdaptiveIndices, withMode({}, tl::kAdaptModeQuads));
+  const vk::ComputePipeline& cornersPipe = k.pipeline(Kernel::AdaptiveMesh, withMode(evalSpec, tl::kAdaptModeCorners));
+  const vk::ComputePipeline& edgesUPipe = k.pipeline(Kernel::AdaptiveMesh, withMode(evalSpec, tl::kAdaptModeEdgesU));
+  const vk::ComputePipeline& edgesVPipe = k.pipeline(Kernel::AdaptiveMesh, withMode(evalSpec, tl::kAdaptModeEdgesV));
+  const vk::ComputePipeline& rowsPipe = k.pipeline(Kernel::AdaptiveMesh, withMode(evalSpec, tl::kAdaptModeRows));
   auto makeSet = [&](vk::DescriptorSet& set, const vk::ComputePipeline& pipe) {
     if (set.handle()) return;
     set = vk::DescriptorSet::create(*ctx_, pipe);
@@ -161,8 +159,7 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view, 
   };
   makeSet(impl_->rateSet, ratesPatchPipe);
   makeSet(impl_->layoutSet, layoutPipe);
-  makeSet(impl_->vertexSet, vertexPipe);
-  makeSet(impl_->indexSet, indexPipe);
+  makeSet(impl_->meshSet, cornersPipe);
 
   // Earlier frames read the mesh (vertex input, indirect) and wrote our buffers: WAR/WAW.
   vk::memoryBarrier(cmd,
@@ -231,23 +228,19 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view, 
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
   mark("layout");
-  // (4) vertices, (5) indices.
-  // Corners, u-edges, v-edges (one invocation each; counts of the patch grid), interior row blocks.
+  // (4) the mesh: corners, u-edges (+ rings), v-edges (+ rings), one invocation each (counts of the
+  // patch grid); interior row blocks (+ quads), sized by the layout.
   const uint64_t boundsU = closedU_ ? uint64_t(patchesU_) : uint64_t(patchesU_) + 1;
   const uint64_t boundsV = closedV_ ? uint64_t(patchesV_) : uint64_t(patchesV_) + 1;
-  run(vertexPipe, impl_->vertexSet, tl::kAdaptModeCorners, boundsU * boundsV);
-  mark("vertices: corners");
-  run(vertexEdgesUPipe, impl_->vertexSet, tl::kAdaptModeEdgesU, uint64_t(patchesU_) * boundsV);
-  mark("vertices: u-edges");
-  run(vertexEdgesVPipe, impl_->vertexSet, tl::kAdaptModeEdgesV, boundsU * uint64_t(patchesV_));
-  mark("vertices: v-edges");
-  runIndirect(vertexRowsPipe, impl_->vertexSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
-  mark("vertices: interior rows");
-  run(indexPipe, impl_->indexSet, tl::kAdaptModeRings, 4 * patches);
-  mark("indices: rings");
-  runIndirect(indexQuadsPipe, impl_->indexSet, tl::kAdaptModeQuads, tl::kAdaptFrameQuadDispatch);
-  mark("indices: quads");
-  // (6) The mesh and the draw command to vertex input and indirect reads (and to copies out).
+  run(cornersPipe, impl_->meshSet, tl::kAdaptModeCorners, boundsU * boundsV);
+  mark("mesh: corners");
+  run(edgesUPipe, impl_->meshSet, tl::kAdaptModeEdgesU, uint64_t(patchesU_) * boundsV);
+  mark("mesh: u-edges + rings");
+  run(edgesVPipe, impl_->meshSet, tl::kAdaptModeEdgesV, boundsU * uint64_t(patchesV_));
+  mark("mesh: v-edges + rings");
+  runIndirect(rowsPipe, impl_->meshSet, tl::kAdaptModeRows, tl::kAdaptFrameRowDispatch);
+  mark("mesh: interior rows + quads");
+  // (5) The mesh and the draw command to vertex input and indirect reads (and to copies out).
   vk::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT |
                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,

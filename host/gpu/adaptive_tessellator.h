@@ -13,13 +13,14 @@
 //      previous frame's rates (kept on the GPU); patches entirely outside the frustum take rate 2;
 //  (3) layout (tess_adaptive_layout.comp, one workgroup): edge rates = the max of the two patches'
 //      rates along the edge (so both sides of an edge read one rate: crack-free by construction),
-//      prefix sums of vertex, index, quad and row counts, the indirect draw command and the
-//      indirect dispatches of (4) and (5);
-//  (4) vertices (tess_adaptive_vertices.comp): every corner, edge point and interior point once,
-//      shared ones from their canonical patch with the normalised mean normal (as
-//      SurfaceTessellator); edges along their edge and interiors by rows (shaders/patch_rows.glsl);
-//  (5) indices (tess_adaptive_indices.comp): transition rings, interior quads;
-//  (6) a barrier: shader writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ | INDIRECT_COMMAND_READ.
+//      prefix sums of vertex, index and row counts, the indirect draw command and the indirect
+//      dispatch of the interior rows;
+//  (4) mesh (tess_adaptive_mesh.comp): every corner, edge point and interior point once, shared
+//      ones from their canonical patch with the normalised mean normal (as SurfaceTessellator);
+//      edges along their edge and interiors by rows (shaders/patch_rows.glsl); each edge
+//      invocation writes the transition rings of the patch sides along it, each interior-row
+//      invocation the quads between its rows (tess_adaptive_triangles.glsl);
+//  (5) a barrier: shader writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ | INDIRECT_COMMAND_READ.
 // The mesh of a frame is exactly buildTessTopology(rates) of core/tess_topology.h (same vertex
 // numbering, same triangles), with the vertex layout of shaders/tess_layout.h.
 //
@@ -89,7 +90,7 @@ class AdaptiveTessellator {
   // Forgets the previous frame's rates: the next record() takes the needed rates without hysteresis.
   void resetRates();
 
-  // Records passes (1)-(6) for `view` into cmd (see the header comment). With a timer, the passes
+  // Records passes (1)-(5) for `view` into cmd (see the header comment). With a timer, the passes
   // are timed on the GPU (profiling: timer->passes() once the submission has completed).
   void record(VkCommandBuffer cmd, const AdaptiveView& view, vk::PassTimer* timer = nullptr);
   // Binds vertexBuffer() (binding 0) and indexBuffer() and draws the last recorded mesh with

@@ -21,14 +21,12 @@
 #include "shaders/surface_grid_comp_f64.h"
 #include "shaders/surface_grid_comp_f64_pk.h"
 #include "shaders/surface_grid_comp_pk.h"
-#include "shaders/tess_adaptive_indices_comp.h"
-#include "shaders/tess_adaptive_indices_comp_f64.h"
 #include "shaders/tess_adaptive_layout_comp.h"
 #include "shaders/tess_adaptive_layout_comp_f64.h"
+#include "shaders/tess_adaptive_mesh_comp.h"
+#include "shaders/tess_adaptive_mesh_comp_f64.h"
 #include "shaders/tess_adaptive_rates_comp.h"
 #include "shaders/tess_adaptive_rates_comp_f64.h"
-#include "shaders/tess_adaptive_vertices_comp.h"
-#include "shaders/tess_adaptive_vertices_comp_f64.h"
 #include "shaders/tessellate_grid_comp.h"
 #include "shaders/tessellate_grid_comp_f64.h"
 #include "shaders/tessellate_grid_comp_f64_pk.h"
@@ -138,15 +136,10 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const SpecValues& 
       push = sizeof(tess_layout::AdaptivePush);
       label = "tess_adaptive_layout";
       break;
-    case Kernel::AdaptiveVertices:
-      code = {tess_adaptive_vertices_comp, tess_adaptive_vertices_comp_f64, {}, {}};
+    case Kernel::AdaptiveMesh:
+      code = {tess_adaptive_mesh_comp, tess_adaptive_mesh_comp_f64, {}, {}};
       push = sizeof(tess_layout::AdaptivePush);
-      label = "tess_adaptive_vertices";
-      break;
-    case Kernel::AdaptiveIndices:
-      code = {tess_adaptive_indices_comp, tess_adaptive_indices_comp_f64, {}, {}};
-      push = sizeof(tess_layout::AdaptivePush);
-      label = "tess_adaptive_indices";
+      label = "tess_adaptive_mesh";
       break;
     case Kernel::AlphaEBVertices:
       code = {alpha_eb_vertices_comp, alpha_eb_vertices_comp_f64, {}, {}};

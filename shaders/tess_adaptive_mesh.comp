@@ -1,13 +1,16 @@
 #version 450
-// Vertex pass of the adaptive tessellator (tess_layout.h): every corner, edge point and interior
-// point of the frame's layout once, numbered as core/tess_topology.cpp. A shared vertex takes its
-// position from its canonical patch (the lower patch index, as SurfaceTessellator) and the
-// normalised mean of the docs/math.md §5.3 normals of every patch that contains it, summed in the
-// topology's order; one evaluation per vertex, so both patches of an edge reference bitwise the
-// same vertex. Two indirect dispatches the layout pass sized (AdaptivePush.mode): the shared
-// vertices, one invocation each, which find their edge by binary search in the layout's sorted
-// first-vertex records; the interior vertices, one invocation per block of interior rows of a
-// patch, evaluated row-wise as tessellate_grid.comp does (patch_rows.glsl).
+// Mesh pass of the adaptive tessellator (tess_layout.h): every corner, edge point and interior
+// point of the frame's layout once, numbered as core/tess_topology.cpp, and the triangles
+// (tess_adaptive_triangles.glsl). A shared vertex takes its position from its canonical patch
+// (the lower patch index, as SurfaceTessellator) and the normalised mean of the docs/math.md §5.3
+// normals of every patch that contains it, summed in the topology's order; one evaluation per
+// vertex, so both patches of an edge reference bitwise the same vertex. Dispatches
+// (AdaptivePush.mode, one pipeline each): corners, one invocation each; u-edges and v-edges, one
+// invocation per edge, its points evaluated along the edge with each patch loaded once, then the
+// transition rings of the patch sides along it; interior rows, an indirect dispatch the layout
+// pass sized, one invocation per block of interior rows of a patch (found by binary search in
+// ROWS), evaluated row-wise as tessellate_grid.comp does (patch_rows.glsl), then the quads between
+// those rows.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
@@ -18,6 +21,8 @@ layout(std430, binding = kAdaptBindingPatches) readonly buffer PatchBuf { uvec4 
 layout(std430, binding = kAdaptBindingEdges) readonly buffer EdgeBuf { uvec2 edges[]; };
 layout(std430, binding = kAdaptBindingFrame) readonly buffer FrameBuf { uint frame[]; };
 layout(std430, binding = kAdaptBindingRows) readonly buffer RowBuf { uint rowFirst[]; };
+layout(std430, binding = kAdaptBindingQuads) readonly buffer QuadBuf { uint quadFirst[]; };
+layout(std430, binding = kAdaptBindingIndices) writeonly buffer IndexOut { uint outIndices[]; };
 // Not writeonly: an edge invocation parks the neighbour's normals in its own vertices first.
 layout(std430, binding = kAdaptBindingVertices) buffer VertexOut { vec4 outVerts[]; };
 layout(push_constant) uniform PushBlock { AdaptivePush pc; };
@@ -25,6 +30,7 @@ layout(constant_id = kSpecAdaptMode) const uint MODE = 0u;  // = pc.mode, a cons
 
 #include "surface_patch.glsl"
 #include "tess_adaptive_grid.glsl"
+#include "tess_adaptive_triangles.glsl"
 
 const bool kAEB = ALPHA_EB != 0u;
 const uint MU = BASIS_COUNT_U;
@@ -278,6 +284,23 @@ void interiorRows(uint patchIndex, uint t) {
       uint j = fallbackSample(fallbacks, f, 1u);
       storeNormal(first + j - 1u, vec3(fullNormalAt(mi, mj, u, REAL(j) / REAL(m))));
     }
+    quadRow(patchIndex, rec, i);
+  }
+}
+
+// The transition rings of the patch sides along edge x: for a u-edge at v-boundary bb, side 0 of
+// the patch after it and side 2 of the one before; for a v-edge at u-boundary aa, sides 3 and 1.
+void edgeRings(uint x, bool alongU) {
+  if (alongU) {
+    uint BV = boundariesV();
+    uint a = x / BV, bb = x - a * BV;
+    if (bb < pc.patchesV) ring(a, bb, 0u);
+    if (bb > 0u || pc.closedV != 0u) ring(a, (bb + pc.patchesV - 1u) % pc.patchesV, 2u);
+  } else {
+    uint y = x - uEdgeCount();
+    uint aa = y / pc.patchesV, b = y - aa * pc.patchesV;
+    if (aa < pc.patchesU) ring(aa, b, 3u);
+    if (aa > 0u || pc.closedU != 0u) ring((aa + pc.patchesU - 1u) % pc.patchesU, b, 1u);
   }
 }
 
@@ -292,7 +315,6 @@ void interiorRows(uint patchIndex, uint t) {
     }                                         \
     result = lo_;                             \
   }
-#define EDGE_FIRST(x) edges[x].y
 #define ROW_FIRST(x) rowFirst[x]
 
 void main() {
@@ -302,11 +324,17 @@ void main() {
     return;
   }
   if (MODE == kAdaptModeEdgesU) {
-    if (k < uEdgeCount()) edgePoints(k, true);
+    if (k < uEdgeCount()) {
+      edgePoints(k, true);
+      edgeRings(k, true);
+    }
     return;
   }
   if (MODE == kAdaptModeEdgesV) {
-    if (k < vEdgeCount()) edgePoints(uEdgeCount() + k, false);
+    if (k < vEdgeCount()) {
+      edgePoints(uEdgeCount() + k, false);
+      edgeRings(uEdgeCount() + k, false);
+    }
     return;
   }
   if (k >= frame[kAdaptFrameRowCount]) return;
