@@ -392,8 +392,10 @@ void runSample(const SampleArgs& given) {
       const bool inject = first == 0 && chunk.firstItem == layout.firstItem && chunk.firstItemPoint() == 0 &&
                           injectNan.exchange(false);
       const GridChunk& c = inject ? withInjectedNan(chunk, count, nanD, nanF) : chunk;
-      requireFinite(c, first, count, fileFloat);
-      writer->writeSlice(c, first, count);
+      // The raw and .npy writers check the values as they convert them (one pass over the slice
+      // instead of two); a slice they did not check, or found a value out of range in, is read
+      // again here, which finds and reports the first such value.
+      if (!writer->writeSlice(c, first, count)) requireFinite(c, first, count, fileFloat);
     };
     const ChunkConsumer sink = [&](const GridChunk& c) {
       writer->consume(c);

@@ -50,7 +50,9 @@ class NpyWriter final : public SampleWriter {
     placed_.begin(out_, layout_, fields_, float64(), header.size());  // the records follow the header
   }
 
-  void writeSlice(const GridChunk& chunk, size_t first, size_t count) override { placed_.slice(chunk, first, count); }
+  bool writeSlice(const GridChunk& chunk, size_t first, size_t count) override {
+    return placed_.slice(chunk, first, count);
+  }
   void consume(const GridChunk& chunk) override { placed_.consume(chunk); }
 
   void finish() override {

@@ -40,7 +40,8 @@ class PlacedRecords {
   PlacedRecords() = default;
   ~PlacedRecords();
   void begin(AtomicFile& out, const SampleLayout& layout, const std::vector<Field>& fields, bool float64, uint64_t base);
-  void slice(const GridChunk& chunk, size_t first, size_t count);
+  // True when every value lies in the finite range of the file's precision (SampleWriter::writeSlice).
+  bool slice(const GridChunk& chunk, size_t first, size_t count);
   void consume(const GridChunk& chunk);
   void finish();
 

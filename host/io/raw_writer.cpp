@@ -8,13 +8,16 @@
 #include <shapespline/io/shard_info.h>
 
 #include <algorithm>
-#if defined(__SSE2__)
-#include <emmintrin.h>
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
 #endif
 #include <atomic>
 #include <thread>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace shapespline::io {
@@ -31,64 +34,113 @@ std::vector<Field> recordFields(FieldMask mask) {
 
 namespace {
 
-// Interleaves points [first, first + count) of the field planes into records of `Dst` at `dst`: one
-// tight loop per (source, file) precision pair, which the compiler keeps in registers (the
-// per-value precision branch of GridChunk::coord made this the slowest stage of a raw job).
+// The largest magnitude a value may have: a file of fp32 values or fp32 planes hold at most
+// FLT_MAX, fp64 ones any finite value (cli requireFinite's rule, checked here as the values pass).
 template <class Src, class Dst>
-void interleave(char* dst, const Src* const* planes, size_t fieldCount, size_t first, size_t count);
-
-#if defined(__SSE2__)
-// fp64 planes to fp32 records, the common case (CPU sampler, .f32 / float .npy): x and y of a field
-// converted and stored as one pair, 2 stores per field instead of 3 (the stores bound this loop).
-template <>
-void interleave<double, float>(char* dst, const double* const* planes, size_t fieldCount, size_t first, size_t count) {
-  for (size_t p = first; p < first + count; ++p) {
-    for (size_t f = 0; f < fieldCount; ++f) {
-      const double* s = planes[f] + p * 3;
-      _mm_storel_pi(reinterpret_cast<__m64*>(dst), _mm_cvtpd_ps(_mm_loadu_pd(s)));
-      _mm_store_ss(reinterpret_cast<float*>(dst + 8), _mm_cvtsd_ss(_mm_setzero_ps(), _mm_load_sd(s + 2)));
-      dst += 12;
-    }
-  }
+constexpr double rangeLimit() {
+  return std::is_same_v<Src, float> || std::is_same_v<Dst, float> ? double(std::numeric_limits<float>::max())
+                                                                   : std::numeric_limits<double>::max();
 }
-#endif
 
+// Interleaves points [first, first + count) of the field planes into records of `Dst` at `dst`,
+// and tells whether every value lies within rangeLimit (NaN does not): one tight loop per
+// (source, file) precision pair, which the compiler keeps in registers (the per-value precision
+// branch of GridChunk::coord made this the slowest stage of a raw job).
 template <class Src, class Dst>
-void interleave(char* dst, const Src* const* planes, size_t fieldCount, size_t first, size_t count) {
+bool interleave(char* dst, const Src* const* planes, size_t fieldCount, size_t first, size_t count) {
+  constexpr double limit = rangeLimit<Src, Dst>();
+  bool inRange = true;
   for (size_t p = first; p < first + count; ++p) {
     for (size_t f = 0; f < fieldCount; ++f) {
       const Src* s = planes[f] + p * 3;
       for (int k = 0; k < 3; ++k) {  // one store each (a temporary array went through the stack)
+        inRange &= std::abs(double(s[k])) <= limit;
         const Dst v = static_cast<Dst>(s[k]);
         std::memcpy(dst, &v, sizeof v);
         dst += sizeof v;
       }
     }
   }
+  return inRange;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// fp64 planes to fp32 records, the common case (CPU sampler, .f32 / float .npy), 4 points a step
+// with AVX2: a field's 12 values of 4 points are 3 loads, 3 conversions and 4 shifts into
+// (x, y, z, next) quadruples, each stored as 16 bytes; the 4th float lands on the next field or
+// record and is overwritten by its own store, which comes later since points go in order and
+// fields in order within a point (so the last point of the range is left to the scalar loop). The
+// range check is 2 operations per 4 values. About twice the speed of the SSE2 pair loop it replaced.
+// 4 doubles to floats; bad collects the lanes above limit or NaN.
+__attribute__((target("avx2"))) inline __m128 convertChecked(const double* s, __m256d limit, __m256d absMask,
+                                                             __m256d& bad) {
+  const __m256d d = _mm256_loadu_pd(s);
+  bad = _mm256_or_pd(bad, _mm256_cmp_pd(_mm256_and_pd(d, absMask), limit, _CMP_NLE_UQ));
+  return _mm256_cvtpd_ps(d);
+}
+
+__attribute__((target("avx2"))) bool interleaveDoubleToFloatAvx2(char* dst, const double* const* planes,
+                                                                 size_t fieldCount, size_t first, size_t count) {
+  const size_t recordBytes = fieldCount * 12;
+  const __m256d limit = _mm256_set1_pd(double(std::numeric_limits<float>::max()));
+  const __m256d absMask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
+  __m256d bad = _mm256_setzero_pd();
+  size_t p = first;
+  char* out = dst;
+  __m128 points[kFieldCount][4];
+  for (; p + 4 < first + count; p += 4) {
+    for (size_t f = 0; f < fieldCount; ++f) {
+      const double* s = planes[f] + p * 3;
+      const __m128 a = convertChecked(s, limit, absMask, bad), b = convertChecked(s + 4, limit, absMask, bad),
+                   c = convertChecked(s + 8, limit, absMask, bad);  // x0y0z0x1 y1z1x2y2 z2x3y3z3
+      points[f][0] = a;
+      points[f][1] = _mm_castsi128_ps(_mm_alignr_epi8(_mm_castps_si128(b), _mm_castps_si128(a), 12));
+      points[f][2] = _mm_castsi128_ps(_mm_alignr_epi8(_mm_castps_si128(c), _mm_castps_si128(b), 8));
+      points[f][3] = _mm_castsi128_ps(_mm_srli_si128(_mm_castps_si128(c), 4));
+    }
+    for (int k = 0; k < 4; ++k, out += recordBytes)
+      for (size_t f = 0; f < fieldCount; ++f) _mm_storeu_ps(reinterpret_cast<float*>(out + f * 12), points[f][k]);
+  }
+  const bool tail = interleave<double, float>(out, planes, fieldCount, p, first + count - p);
+  return tail && _mm256_movemask_pd(bad) == 0;
+}
+#endif
+
+bool interleaveDoubleToFloat(char* dst, const double* const* planes, size_t fieldCount, size_t first, size_t count) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return interleaveDoubleToFloatAvx2(dst, planes, fieldCount, first, count);
+#endif
+  return interleave<double, float>(dst, planes, fieldCount, first, count);
 }
 
 // Calls put(first, count, recordBytes, interleaveInto) over blocks of at most `blockBytes`, with
-// interleaveInto(dst) filling that block's records.
+// interleaveInto(dst) filling that block's records and telling whether its values are in range;
+// returns whether all were.
 template <class Put>
-void forEachBlock(const GridChunk& chunk, const std::vector<Field>& fields, bool float64, size_t first, size_t count,
+bool forEachBlock(const GridChunk& chunk, const std::vector<Field>& fields, bool float64, size_t first, size_t count,
                   size_t blockBytes, Put put) {
   const void* planes[kFieldCount];
   for (size_t f = 0; f < fields.size(); ++f) planes[f] = chunk.planes[static_cast<size_t>(fields[f])];
   const size_t recordBytes = fields.size() * 3 * (float64 ? 8 : 4);
   const size_t block = std::max<size_t>(1, blockBytes / recordBytes);
+  bool inRange = true;
   for (size_t b = first; b < first + count; b += block) {
     const size_t n = std::min(block, first + count - b);
     put(b, n, recordBytes, [&](char* dst) {
       const size_t nf = fields.size();
+      bool ok;
       if (chunk.precision == Precision::Double) {
         const auto* const* src = reinterpret_cast<const double* const*>(planes);
-        float64 ? interleave<double, double>(dst, src, nf, b, n) : interleave<double, float>(dst, src, nf, b, n);
+        ok = float64 ? interleave<double, double>(dst, src, nf, b, n) : interleaveDoubleToFloat(dst, src, nf, b, n);
       } else {
         const auto* const* src = reinterpret_cast<const float* const*>(planes);
-        float64 ? interleave<float, double>(dst, src, nf, b, n) : interleave<float, float>(dst, src, nf, b, n);
+        ok = float64 ? interleave<float, double>(dst, src, nf, b, n) : interleave<float, float>(dst, src, nf, b, n);
       }
+      inRange &= ok;
     });
   }
+  return inRange;
 }
 
 }  // namespace
@@ -101,9 +153,9 @@ void writeRecords(AtomicFile& out, const GridChunk& chunk, const std::vector<Fie
                });
 }
 
-void writeRecordsAt(BlockWriter& out, uint64_t offset, const GridChunk& chunk, size_t first, size_t count,
+bool writeRecordsAt(BlockWriter& out, uint64_t offset, const GridChunk& chunk, size_t first, size_t count,
                     const std::vector<Field>& fields, bool float64) {
-  forEachBlock(chunk, fields, float64, first, count, out.blockBytes(),
+  return forEachBlock(chunk, fields, float64, first, count, out.blockBytes(),
                [&](size_t b, size_t n, size_t recordBytes, const auto& fill) {
                  const BlockWriter::Block block = out.acquire();
                  fill(block.data);
@@ -133,9 +185,9 @@ uint64_t PlacedRecords::offsetOf(const GridChunk& chunk, size_t first) const {
   return base_ + point * recordBytes_;
 }
 
-void PlacedRecords::slice(const GridChunk& chunk, size_t first, size_t count) {
+bool PlacedRecords::slice(const GridChunk& chunk, size_t first, size_t count) {
   sliced_.store(true, std::memory_order_relaxed);
-  writeRecordsAt(*writer_, offsetOf(chunk, first), chunk, first, count, fields_, float64_);
+  return writeRecordsAt(*writer_, offsetOf(chunk, first), chunk, first, count, fields_, float64_);
 }
 
 void PlacedRecords::consume(const GridChunk& chunk) {
@@ -159,7 +211,9 @@ class RawWriter final : public SampleWriter {
     placed_.begin(out_, layout_, fields_, precision_ == Precision::Double, 0);
   }
 
-  void writeSlice(const GridChunk& chunk, size_t first, size_t count) override { placed_.slice(chunk, first, count); }
+  bool writeSlice(const GridChunk& chunk, size_t first, size_t count) override {
+    return placed_.slice(chunk, first, count);
+  }
   void consume(const GridChunk& chunk) override { placed_.consume(chunk); }
 
   // The sidecar describes this file's own items only (io/shard_info.h), so its size follows the

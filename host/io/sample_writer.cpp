@@ -135,14 +135,17 @@ class CheckedWriter final : public SampleWriter {
       inner_->begin(layout);
     });
   }
+  bool writeSlice(const GridChunk& chunk, size_t first, size_t count) override {
+    return guard([&] { return inner_->writeSlice(chunk, first, count); });
+  }
   void consume(const GridChunk& chunk) override { guard([&] { inner_->consume(chunk); }); }
   void finish() override { guard([&] { inner_->finish(); }); }
 
  private:
   template <class F>
-  void guard(const F& f) {
+  auto guard(const F& f) -> decltype(f()) {
     try {
-      f();
+      return f();
     } catch (const DerivedValueError& e) {
       throw OutputWriteError(out_.option(), out_.target().string(), e.what());
     }

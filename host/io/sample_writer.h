@@ -110,10 +110,15 @@ class SampleWriter {
   // sit at offsets known from the point index (raw, .npy) writes them here, on every core, and
   // consume() then has nothing left to write; the others ignore it. A caller may skip it: then
   // consume() writes everything.
-  virtual void writeSlice(const GridChunk& chunk, size_t first, size_t count) {
+  // Returns true when the writer also checked every value of the slice while it had it in hand,
+  // and each lies in the finite range of the file's precision (|v| <= FLT_MAX for an fp32 file or
+  // fp32 planes, else finite): the caller need not read the slice again to check it. False: not
+  // checked, or a value is out of range (the caller finds and reports it; the file is discarded).
+  virtual bool writeSlice(const GridChunk& chunk, size_t first, size_t count) {
     (void)chunk;
     (void)first;
     (void)count;
+    return false;
   }
   // Writes trailing data (PLY faces, SVG body, sidecar); the caller then commits the files.
   virtual void finish() = 0;
