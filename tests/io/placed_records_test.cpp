@@ -111,6 +111,9 @@ TEST(PlacedRecords, RawAndNpyWritersTakeSlicesAndConvertAsACastDoes) {
   const fs::path f32 = tempFile("a.f32"), f64 = tempFile("a.f64"), npy = tempFile("a.npy");
   EXPECT_EQ(writeSliced(OutputFormat::RawF32, job, job.chunk(Precision::Double), f32), std::vector<bool>({true, true}));
   expectRecords<float>(readFile(f32), 0, job);
+  // fp32 planes (GPU chunks) into fp32 records.
+  EXPECT_EQ(writeSliced(OutputFormat::RawF32, job, job.chunk(Precision::Float), f32), std::vector<bool>({true, true}));
+  expectRecords<float>(readFile(f32), 0, job);
   EXPECT_EQ(writeSliced(OutputFormat::RawF64, job, job.chunk(Precision::Double), f64), std::vector<bool>({true, true}));
   expectRecords<double>(readFile(f64), 0, job);
   Job floatJob = job;
@@ -143,6 +146,9 @@ TEST(PlacedRecords, ASliceTellsWhetherEveryValueFitsTheFilePrecision) {
       {OutputFormat::RawF32, Precision::Double, 5, std::nan(""), false},
       {OutputFormat::RawF64, Precision::Double, 2, 1e300, true},
       {OutputFormat::RawF64, Precision::Double, 9, std::numeric_limits<double>::infinity(), false},
+      {OutputFormat::RawF32, Precision::Float, 3, fltMax, true},
+      {OutputFormat::RawF32, Precision::Float, 2, std::numeric_limits<double>::infinity(), false},
+      {OutputFormat::RawF32, Precision::Float, 34, std::nan(""), false},
       {OutputFormat::RawF64, Precision::Float, 2, fltMax, true},
       {OutputFormat::RawF64, Precision::Float, 30, std::numeric_limits<double>::infinity(), false},
   };
