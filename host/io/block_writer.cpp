@@ -16,13 +16,15 @@ BlockWriter::~BlockWriter() {
     std::lock_guard lock(mutex_);
     stop_ = true;
   }
-  changed_.notify_all();
+  queued_.notify_one();
   thread_.join();
 }
 
 BlockWriter::Block BlockWriter::acquire() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return failure_ || !free_.empty(); });
+  ++acquirers_;
+  freed_.wait(lock, [&] { return failure_ || !free_.empty(); });
+  --acquirers_;
   if (failure_) std::rethrow_exception(failure_);
   const size_t k = free_.back();
   free_.pop_back();
@@ -30,23 +32,27 @@ BlockWriter::Block BlockWriter::acquire() {
 }
 
 void BlockWriter::submit(Block block, uint64_t offset, size_t size) {
+  bool idle;
   {
     std::lock_guard lock(mutex_);
+    idle = head_ == queue_.size() && !writing_;  // the writer thread waits for work
     queue_.push_back({block.index, offset, size});
   }
-  changed_.notify_all();
+  if (idle) queued_.notify_one();
 }
 
 void BlockWriter::finish() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [&] { return failure_ || (head_ == queue_.size() && !writing_); });
+  ++acquirers_;
+  freed_.wait(lock, [&] { return failure_ || (head_ == queue_.size() && !writing_); });
+  --acquirers_;
   if (failure_) std::rethrow_exception(failure_);
 }
 
 void BlockWriter::run() {
   std::unique_lock lock(mutex_);
   while (true) {
-    changed_.wait(lock, [&] { return stop_ || head_ < queue_.size(); });
+    queued_.wait(lock, [&] { return stop_ || head_ < queue_.size(); });
     if (stop_) return;
     const Pending p = queue_[head_++];
     if (head_ == queue_.size()) {  // drained: reuse the queue's storage
@@ -65,7 +71,7 @@ void BlockWriter::run() {
     writing_ = false;
     free_.push_back(p.index);
     if (error && !failure_) failure_ = error;
-    changed_.notify_all();
+    if (acquirers_ > 0) freed_.notify_all();
   }
 }
 
