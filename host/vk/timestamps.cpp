@@ -54,9 +54,10 @@ void PassTimer::mark(VkCommandBuffer cmd, std::string name) {
   // charging that work to a later pass.
   fullBarrier(cmd);
   vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_.get(), uint32_t(names_.size()));
-  // And the timestamp is taken now: llvmpipe bins a timestamp query into its current scene, which
-  // runs only at the next flush (a barrier), so without this one each mark read the clock after
-  // the *next* pass, and every interval was charged to the pass before it.
+  // And the timestamp is taken now: llvmpipe can defer a timestamp to its next flush (it bins the
+  // query into its render scene), and in the real-time bench, after frames had been drawn, each
+  // mark then read the clock after the *next* pass: every interval was charged to the pass before
+  // it (removing a pass emptied the interval before its own).
   fullBarrier(cmd);
 }
 

@@ -2,8 +2,9 @@
 // PassTimer: GPU timestamps between the passes of one command buffer, for benchmarks and profiling.
 // reset(cmd) at the start, mark(cmd, "name") after each pass, and once the submission has completed
 // passes() gives each named interval in milliseconds (device clock, timestampPeriod). Each mark
-// records a full pipeline barrier before its timestamp, so passes that would overlap are
-// serialised: the sum is an upper bound of the unprofiled frame, each interval its pass's. A queue
+// records a full pipeline barrier before its timestamp and one after it (llvmpipe may otherwise
+// read the clock at its next flush), so passes that would overlap are serialised: the sum is an
+// upper bound of the unprofiled frame, each interval its pass's. A queue
 // family without timestamps (timestampValidBits == 0) makes it inert: passes() is then empty.
 #include <shapespline/vk/context.h>
 #include <shapespline/vk/handle.h>
