@@ -6,7 +6,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-bash scripts/build.sh
+# The test code itself at -Og (what it tests keeps Release's -O3): it compiles in half the time
+# (test sources were 45% of the build's CPU time), and the sanitizer stage runs it so already.
+bash scripts/build.sh -DSHAPESPLINE_TEST_CXX_FLAGS=-Og
 ctest --test-dir build --output-on-failure -j "$(nproc)" | tee build/ctest-summary.log
 total=$(sed -n 's/.*tests failed out of \([0-9]*\).*/\1/p' build/ctest-summary.log | tail -n 1)
 if [[ "${SHAPESPLINE_SKIP_SANITIZERS:-0}" != 1 ]]; then
