@@ -397,6 +397,9 @@ void runSample(const SampleArgs& given) {
       // again here, which finds and reports the first such value.
       if (!writer->writeSlice(c, first, count)) requireFinite(c, first, count, fileFloat);
     };
+    // The raw and .npy records, straight from the CPU sampler's rows (GPU chunks go through the
+    // slices above). Not with the NaN fault injection, which lives in the slice path.
+    if (auto records = writer->recordSink(); records && !injectNan) options.records = std::move(*records);
     const ChunkConsumer sink = [&](const GridChunk& c) {
       writer->consume(c);
       const bool context = c.firstItem < layout.firstItem || c.firstItem >= layout.firstItem + layout.itemCount;

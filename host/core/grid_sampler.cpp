@@ -1,12 +1,15 @@
 #include <shapespline/core/grid_sampler.h>
 
 #include <shapespline/core/point_math.h>
+#include <shapespline/core/point_records.h>
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <condition_variable>
 #include <exception>
+#include <iterator>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -51,17 +54,15 @@ DirectionTable tabulate(const SpanBasis& basis, int samples) {
   return tab;
 }
 
-// Output planes of one chunk buffer: plane[f] holds 3 doubles per point, or is empty.
+// Output planes of one chunk buffer: plane[f] holds 3 doubles per point, or is empty. Not zeroed:
+// pages a job never writes (all of them when a RecordSink takes the points) are never touched.
 struct ChunkBuffer {
-  std::vector<double> planes[kFieldCount];
+  std::unique_ptr<double[]> planes[kFieldCount];
   void allocate(FieldMask fields, size_t points) {
     for (int f = 0; f < kFieldCount; ++f)
-      if (fields & (1u << f)) planes[f].resize(points * 3);
+      if (fields & (1u << f)) planes[f] = std::make_unique_for_overwrite<double[]>(points * 3);
   }
-  double* plane(Field f) {
-    auto& p = planes[static_cast<int>(f)];
-    return p.empty() ? nullptr : p.data();
-  }
+  double* plane(Field f) const { return planes[static_cast<int>(f)].get(); }
 };
 
 void put(double* plane, size_t point, const glm::dvec3& v) {
@@ -114,6 +115,49 @@ void interleaveRows(const double* x, const double* y, const double* z, int n, do
     dst[3 * b + 2] = z[b];
   }
 }
+
+// Where the samplers put computed points (point: index in the chunk). Rows come as structure of
+// arrays: rows[f][c] is axis c of field f for Sv consecutive points (nullptr for a field not
+// computed). PlaneOut fills a chunk buffer's planes; RecordOut encodes records into a block of a
+// RecordSink and remembers whether every value was in range.
+struct PlaneOut {
+  double* plane[kFieldCount];
+  explicit PlaneOut(const ChunkBuffer& buffer) {
+    for (int f = 0; f < kFieldCount; ++f) plane[f] = buffer.plane(static_cast<Field>(f));
+  }
+  void put(Field f, size_t point, const glm::dvec3& v) const { shapespline::put(plane[static_cast<int>(f)], point, v); }
+  void putRows(const double* const (*rows)[3], int n, size_t point) const {
+    for (int f = 0; f < kFieldCount; ++f)
+      if (plane[f] && rows[f][0]) interleaveRows(rows[f][0], rows[f][1], rows[f][2], n, plane[f] + point * 3);
+  }
+};
+
+struct RecordOut {
+  char* data;         // the block: records of points firstPoint, firstPoint + 1, ...
+  size_t firstPoint;  // chunk point of the block's first record
+  const RecordSink& sink;
+  size_t recordBytes, valueBytes;
+  int slot[kFieldCount];  // field -> position in the record, or -1
+  bool inRange = true;
+
+  RecordOut(char* block, size_t first, const RecordSink& s)
+      : data(block), firstPoint(first), sink(s), recordBytes(shapespline::recordBytes(s.fields.size(), s.float64)),
+        valueBytes(s.float64 ? 8 : 4) {
+    std::fill(std::begin(slot), std::end(slot), -1);
+    for (size_t k = 0; k < s.fields.size(); ++k) slot[static_cast<int>(s.fields[k])] = static_cast<int>(k);
+  }
+  char* record(size_t point) const { return data + (point - firstPoint) * recordBytes; }
+  void put(Field f, size_t point, const glm::dvec3& v) {
+    const int k = slot[static_cast<int>(f)];
+    if (k >= 0) encodeValue3(record(point) + static_cast<size_t>(k) * 3 * valueBytes, v, sink.float64, inRange);
+  }
+  void putRows(const double* const (*rows)[3], int n, size_t point) {
+    const double* ordered[3 * kFieldCount];
+    for (size_t k = 0; k < sink.fields.size(); ++k)
+      for (int c = 0; c < 3; ++c) ordered[3 * k + c] = rows[static_cast<int>(sink.fields[k])][c];
+    inRange &= encodeRowRecords(record(point), ordered, sink.fields.size(), sink.float64, static_cast<size_t>(n));
+  }
+};
 
 // The chunks of a job over the rows [firstItem * rowsPerItem, (firstItem + itemCount) * rowsPerItem)
 // of the model's items (a row: Sv points of a patch, or one sample of a span). Items that fit the
@@ -182,12 +226,27 @@ void forEachItemRows(size_t begin, size_t end, size_t rowsPerItem, size_t points
   }
 }
 
-// Chunk `chunk` of `plan` as delivered: its item/row range over the planes of `buffer`.
-GridChunk deliverable(const ChunkPlan& plan, ChunkBuffer& buffer, size_t chunk) {
+// Chunk `chunk` of `plan` as delivered: its item/row range over the planes of `buffer` (none
+// without a buffer: a RecordSink took the points).
+GridChunk deliverable(const ChunkPlan& plan, const ChunkBuffer* buffer, size_t chunk) {
   GridChunk out = plan.chunk(chunk);
   out.precision = Precision::Double;
-  for (int f = 0; f < kFieldCount; ++f) out.planes[f] = buffer.plane(static_cast<Field>(f));
+  if (buffer)
+    for (int f = 0; f < kFieldCount; ++f) out.planes[f] = buffer->plane(static_cast<Field>(f));
   return out;
+}
+
+// The sink the workers encode records into, or nullptr: without one, or when one row of points
+// does not fit a block (then the slices carry the records, cut to the blocks' size).
+const RecordSink* usableSink(const SamplerOptions& options, FieldMask fields, size_t pointsPerRow) {
+  const RecordSink& sink = options.records;
+  if (!sink.acquire) return nullptr;
+  FieldMask sinkFields = 0;
+  for (Field f : sink.fields) sinkFields |= fieldBit(f);
+  if (sinkFields != fields || sink.fields.size() > static_cast<size_t>(kFieldCount))
+    throw std::invalid_argument("a record sink's fields must be the sampled fields, each once");
+  if (!options.slice) throw std::invalid_argument("a record sink needs a slice consumer (to report values out of range)");
+  return pointsPerRow <= sink.maxPoints ? &sink : nullptr;
 }
 
 // Runs compute(buffer, rowBegin, rowEnd, firstPointInBuffer) over every chunk of `plan`, each chunk's
@@ -215,6 +274,28 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
   bool stop = false;
   std::exception_ptr failure;
 
+  // Rows [b, e) of `chunk` straight into records, a block at a time. A block that holds a value
+  // out of range is computed again into the planes and handed to the slice consumer, which finds
+  // and reports it (the same bits: every point is computed by the same code either way).
+  const RecordSink* sink = usableSink(options, fields, plan.pointsPerRow);
+  auto encodeRows = [&](size_t chunk, size_t b, size_t e) {
+    const size_t begin = plan.rows(chunk).first;
+    const size_t rowsPerBlock = sink->maxPoints / plan.pointsPerRow;
+    const GridChunk where = deliverable(plan, nullptr, chunk);
+    for (size_t pb = b; pb < e; pb += rowsPerBlock) {
+      const size_t pe = std::min(e, pb + rowsPerBlock);
+      const size_t first = (pb - begin) * plan.pointsPerRow, count = (pe - pb) * plan.pointsPerRow;
+      const RecordBlock block = sink->acquire();
+      RecordOut out(block.data, first, *sink);
+      compute(out, pb, pe, first);
+      sink->submit(block, where, first, count);
+      if (!out.inRange) {
+        compute(PlaneOut(buffers[chunk % 2]), pb, pe, first);
+        options.slice(deliverable(plan, &buffers[chunk % 2], chunk), first, count);
+      }
+    }
+  };
+
   auto work = [&](size_t w) {
     for (size_t chunk = 0; chunk < chunkCount; ++chunk) {
       {
@@ -227,10 +308,12 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
       const size_t n = end - begin;
       const size_t b = begin + n * w / workers, e = begin + n * (w + 1) / workers;
       try {
-        if (b < e) {
-          compute(buffers[chunk % 2], b, e, (b - begin) * plan.pointsPerRow);
+        if (b < e && sink) {
+          encodeRows(chunk, b, e);
+        } else if (b < e) {
+          compute(PlaneOut(buffers[chunk % 2]), b, e, (b - begin) * plan.pointsPerRow);
           if (options.slice) {
-            options.slice(deliverable(plan, buffers[chunk % 2], chunk), (b - begin) * plan.pointsPerRow,
+            options.slice(deliverable(plan, &buffers[chunk % 2], chunk), (b - begin) * plan.pointsPerRow,
                           (e - b) * plan.pointsPerRow);
           }
         }
@@ -267,7 +350,7 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
       changed.wait(lock, [&] { return failure || slicesDone[chunk] == workers; });
       if (failure) break;
     }
-    const GridChunk out = deliverable(plan, buffers[chunk % 2], chunk);
+    const GridChunk out = deliverable(plan, sink ? nullptr : &buffers[chunk % 2], chunk);
     try {
       consumer(out);
     } catch (...) {
@@ -338,8 +421,9 @@ struct SpanEnds {
 // and, for α-EB, the blend. A function of its own (not inside the sampler's lambda) so that GCC
 // keeps the table pointers and sums in registers: inlined into the lambda it spilled them to the
 // stack in the r loop (17 stack accesses per iteration), and the CPU α-EB curve rate fell ~10%.
+template <class Out>
 void sampleSpanRows(const DirectionTable& tab, const glm::dvec3* P, const SpanEnds& ends, double invH, int aBegin,
-                    int aEnd, size_t point, double* outP, double* outD1, double* outD2) {
+                    int aEnd, size_t point, Out& out) {
   const size_t S = static_cast<size_t>(tab.samples);
   const double* b0 = tab.b[0].data();
   const double* b1 = tab.b[1].data();
@@ -351,9 +435,9 @@ void sampleSpanRows(const DirectionTable& tab, const glm::dvec3* P, const SpanEn
       pm::accumulate3(c0, c1, c2, b0[k], b1[k], b2[k], P[r]);
     }
     if (ends.alphaEB) pm::alphaEBBlendCurve(tab.blend[a], ends.v0, ends.v1, ends.a0, ends.a1, c0, c1, c2);
-    put(outP, point, c0);
-    put(outD1, point, c1 * invH);
-    put(outD2, point, c2 * (invH * invH));
+    out.put(Field::Point, point, c0);
+    out.put(Field::D1, point, c1 * invH);
+    out.put(Field::D2, point, c2 * (invH * invH));
   }
 }
 
@@ -372,15 +456,12 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
   const int firstSpan = curve.spans().first;
   const int n = static_cast<int>(curve.model().points.size());
 
-  auto computeItem = [&](ChunkBuffer& buffer, size_t item, int aBegin, int aEnd, size_t point) {
-    double* outP = buffer.plane(Field::Point);
-    double* outD1 = buffer.plane(Field::D1);
-    double* outD2 = buffer.plane(Field::D2);
+  auto computeItem = [&](auto& out, size_t item, int aBegin, int aEnd, size_t point) {
     const int span = items[item];
     if (curve.usesKnotVector()) {
       for (int a = aBegin; a < aEnd; ++a, ++point) {
         const CurvePoint cp = curve.evaluate(span, gridParameter(a, S));
-        put(outP, point, cp.point), put(outD1, point, cp.d1), put(outD2, point, cp.d2);
+        out.put(Field::Point, point, cp.point), out.put(Field::D1, point, cp.d1), out.put(Field::D2, point, cp.d2);
       }
       return;
     }
@@ -391,11 +472,11 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
       const int j1 = (span + 1) % n;
       ends = {true, curve.alphaV()[span], curve.alphaV()[j1], curve.alphas()[span], curve.alphas()[j1]};
     }
-    sampleSpanRows(tab, P, ends, invH, aBegin, aEnd, point, outP, outD1, outD2);
+    sampleSpanRows(tab, P, ends, invH, aBegin, aEnd, point, out);
   };
-  auto compute = [&](ChunkBuffer& buffer, size_t begin, size_t end, size_t firstPoint) {
+  auto compute = [&](auto&& out, size_t begin, size_t end, size_t firstPoint) {
     forEachItemRows(begin, end, static_cast<size_t>(S), 1, firstPoint, [&](size_t item, int a0, int a1, size_t point) {
-      computeItem(buffer, item, a0, a1, point);
+      computeItem(out, item, a0, a1, point);
     });
   };
   runChunked(ChunkPlan(first, count, static_cast<size_t>(S), 1, options.maxChunkPoints), fields, options, consumer,
@@ -426,12 +507,14 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
                                           int(Field::Duu),   int(Field::Duv), int(Field::Dvv)};
   const bool need[6] = {true, needU, needV, needUU, needUV, needVV};
 
-  auto compute = [&](ChunkBuffer& buffer, size_t rowBegin, size_t rowEnd, size_t firstPoint) {
-    double* out[kFieldCount];
-    for (int f = 0; f < kFieldCount; ++f) out[f] = buffer.plane(static_cast<Field>(f));
+  auto compute = [&](auto&& out, size_t rowBegin, size_t rowEnd, size_t firstPoint) {
     // Row buffers (structure of arrays over v samples): C, Cu, Cv, Cuu, Cuv, Cvv per coordinate.
     std::vector<double> rows(static_cast<size_t>(6 * 3) * Sv);
     auto row = [&](int k, int c) { return rows.data() + static_cast<size_t>(k * 3 + c) * Sv; };
+    const double* fieldRows[kFieldCount][3] = {};  // the rows of each computed output field
+    for (int k = 0; k < 6; ++k)
+      if (need[k])
+        for (int c = 0; c < 3; ++c) fieldRows[kOutputField[k]][c] = row(k, c);
     forEachItemRows(rowBegin, rowEnd, static_cast<size_t>(Su), static_cast<size_t>(Sv), firstPoint,
                     [&](size_t item, int aBegin, int aEnd, size_t point) {
       const auto [i, j] = items[item];
@@ -439,9 +522,9 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
         for (int a = aBegin; a < aEnd; ++a)
           for (int b = 0; b < Sv; ++b, ++point) {
             const SurfacePoint sp = surface.evaluate(i, j, gridParameter(a, Su), gridParameter(b, Sv));
-            put(out[0], point, sp.point), put(out[int(Field::Du)], point, sp.du), put(out[int(Field::Dv)], point, sp.dv);
-            put(out[int(Field::Duu)], point, sp.duu), put(out[int(Field::Duv)], point, sp.duv);
-            put(out[int(Field::Dvv)], point, sp.dvv), put(out[int(Field::Normal)], point, sp.normal);
+            out.put(Field::Point, point, sp.point), out.put(Field::Du, point, sp.du), out.put(Field::Dv, point, sp.dv);
+            out.put(Field::Duu, point, sp.duu), out.put(Field::Duv, point, sp.duv);
+            out.put(Field::Dvv, point, sp.dvv), out.put(Field::Normal, point, sp.normal);
           }
         return;
       }
@@ -481,12 +564,8 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           }
         }
         if (!alphaEB && !normal) {
-          // Plain partials: copy the rows into the interleaved xyz planes.
-          for (int k = 0; k < 6; ++k) {
-            double* plane = out[kOutputField[k]];
-            if (!plane) continue;
-            interleaveRows(row(k, 0), row(k, 1), row(k, 2), Sv, plane + point * 3);
-          }
+          // Plain partials: the rows go out as they are (into interleaved planes, or records).
+          out.putRows(fieldRows, Sv, point);
           point += static_cast<size_t>(Sv);
           continue;
         }
@@ -509,20 +588,15 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
             if (need[3] || need[4] || need[5]) pm::alphaEBBlendSecond(w, q[0], q[1], q[2], q[3], q[4], q[5]);
             pm::alphaEBBlendFirst(w, q[0], q[1], q[2]);
           }
-          put(out[int(Field::Point)], point, q[0]);
-          put(out[int(Field::Du)], point, q[1]);
-          put(out[int(Field::Dv)], point, q[2]);
-          put(out[int(Field::Duu)], point, q[3]);
-          put(out[int(Field::Duv)], point, q[4]);
-          put(out[int(Field::Dvv)], point, q[5]);
+          for (int k = 0; k < 6; ++k) out.put(static_cast<Field>(kOutputField[k]), point, q[k]);
           if (normal) {
             const bool corner = (a == 0 || a == Su - 1) && (b == 0 || b == Sv - 1);
             glm::dvec3 n;
             // Corners of α-EB patches and degenerate crosses follow the full §5.3 convention.
             if ((alphaEB && corner) || !unitNormal(q[1], q[2], n))
-              put(out[int(Field::Normal)], point, surface.evaluate(i, j, uA, gridParameter(b, Sv)).normal);
+              out.put(Field::Normal, point, surface.evaluate(i, j, uA, gridParameter(b, Sv)).normal);
             else
-              put(out[int(Field::Normal)], point, n);
+              out.put(Field::Normal, point, n);
           }
         }
       }

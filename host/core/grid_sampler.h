@@ -23,6 +23,12 @@ struct SamplerOptions {
   // memory writes (24 vs 61 Mpts/s measured).
   size_t maxChunkPoints = size_t{1} << 15;
   SliceConsumer slice = {};             // optional (core/sample_grid.h)
+  // Optional (core/sample_grid.h): the workers encode records into it instead of filling planes
+  // and calling `slice`, whenever a row of points fits one of its blocks; the chunks then reach
+  // the consumer without planes. Its fields must be the sampled fields, and `slice` must be set:
+  // the points of a block that holds a value out of range are computed again into the planes and
+  // handed to `slice`, which finds and reports it.
+  RecordSink records = {};
 };
 
 // The sampled items: span indices of a curve (for knot-vector B-splines only non-empty intervals).

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace shapespline {
 
@@ -70,5 +71,23 @@ using ChunkConsumer = std::function<void(const GridChunk&)>;
 // that needs no order (checks, conversion into a file at a known offset): it runs on every core,
 // with the values still in the cache of the core that computed them.
 using SliceConsumer = std::function<void(const GridChunk& chunk, size_t first, size_t count)>;
+
+// A file whose records the CPU sampler writes itself (core/point_records.h encoding): its workers
+// encode each row of points as they compute it, straight from their registers and row buffers
+// into a block of the file, instead of filling planes that a slice consumer then reads again to
+// convert (the e2e .f32 job's largest stage besides the kernel's copy into the page cache).
+// acquire() and submit() are called by the workers, concurrently; each submit() gives a block
+// back with the records of points [first, first + count) of `chunk` at its start.
+struct RecordBlock {
+  char* data = nullptr;
+  size_t token = 0;  // the sink's own
+};
+struct RecordSink {
+  std::vector<Field> fields;  // a record: these fields in this order, x y z each
+  bool float64 = false;       // fp64 values, else fp32 (rounded once)
+  size_t maxPoints = 0;       // records one block holds
+  std::function<RecordBlock()> acquire;
+  std::function<void(RecordBlock block, const GridChunk& chunk, size_t first, size_t count)> submit;
+};
 
 }  // namespace shapespline

@@ -54,6 +54,7 @@ class NpyWriter final : public SampleWriter {
     return placed_.slice(chunk, first, count);
   }
   void consume(const GridChunk& chunk) override { placed_.consume(chunk); }
+  std::optional<RecordSink> recordSink() override { return placed_.sink(); }
 
   void finish() override {
     placed_.finish();

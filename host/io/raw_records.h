@@ -1,6 +1,7 @@
 #pragma once
 // The raw record path shared by the .f32/.f64 writer, the .npy writer and `merge`: one record per
 // point, every requested field in Field order, x y z each, little-endian fp32 or fp64.
+#include <shapespline/core/point_records.h>
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/block_writer.h>
@@ -15,26 +16,14 @@
 
 namespace shapespline::io {
 
-// Stores v at e as a little-endian fp64 or fp32 (rounded once) and returns the end: the one value
-// encoding of the binary sample files (raw, .npy, binary PLY).
-inline char* putBinaryValue(char* e, double v, bool float64) {
-  if (float64) {
-    std::memcpy(e, &v, 8);
-    return e + 8;
-  }
-  const float x = static_cast<float>(v);
-  std::memcpy(e, &x, 4);
-  return e + 4;
-}
-
-// The fields of `mask` in record order.
+// The fields of `mask` in record order (the record encoding itself: core/point_records.h).
 std::vector<Field> recordFields(FieldMask mask);
-// Appends the records of every point of `chunk` to `out`.
-void writeRecords(AtomicFile& out, const GridChunk& chunk, const std::vector<Field>& fields, bool float64);
+
 // The records of a raw or .npy file placed by point index (record k of the file at base + k x
-// record size), written by an io::BlockWriter thread: from the sampler's workers (slice(),
-// SampleWriter::writeSlice) or, when the caller delivers no slices, from consume(). Chunks must be
-// of the layout's items; finish() before the file is committed.
+// record size), written by an io::BlockWriter thread. They come from the CPU sampler's workers,
+// encoded as they compute (sink(), SampleWriter::recordSink), or from any sampler's chunk planes:
+// per slice (slice(), SampleWriter::writeSlice) or, when the caller delivers neither, from
+// consume(). Chunks must be of the layout's items; finish() before the file is committed.
 class PlacedRecords {
  public:
   PlacedRecords() = default;
@@ -43,16 +32,20 @@ class PlacedRecords {
   // True when every value lies in the finite range of the file's precision (SampleWriter::writeSlice).
   bool slice(const GridChunk& chunk, size_t first, size_t count);
   void consume(const GridChunk& chunk);
+  // Blocks of this file for the CPU sampler's records (core/sample_grid.h RecordSink); valid until
+  // finish().
+  RecordSink sink();
   void finish();
 
  private:
   uint64_t offsetOf(const GridChunk& chunk, size_t first) const;
+  bool writeAt(const GridChunk& chunk, size_t first, size_t count);
   const SampleLayout* layout_ = nullptr;
   std::vector<Field> fields_;
   bool float64_ = true;
   uint64_t base_ = 0;
   size_t recordBytes_ = 0;
-  std::atomic<bool> sliced_{false};
+  std::atomic<bool> written_{false};  // records came from slices or a sink: consume() adds none
   std::unique_ptr<BlockWriter> writer_;
 };
 

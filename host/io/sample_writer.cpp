@@ -139,6 +139,8 @@ class CheckedWriter final : public SampleWriter {
     return guard([&] { return inner_->writeSlice(chunk, first, count); });
   }
   void consume(const GridChunk& chunk) override { guard([&] { inner_->consume(chunk); }); }
+  // Only positioned, encoded writes go through a sink: there is no derived value to guard.
+  std::optional<RecordSink> recordSink() override { return inner_->recordSink(); }
   void finish() override { guard([&] { inner_->finish(); }); }
 
  private:

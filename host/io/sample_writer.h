@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -120,6 +121,11 @@ class SampleWriter {
     (void)count;
     return false;
   }
+  // Where a CPU sampler may write this file's records itself, encoding and checking them as it
+  // computes them (core/sample_grid.h RecordSink, after begin()): the raw and .npy writers, whose
+  // records sit at offsets known from the point index. With it the sampler hands neither slices
+  // nor planes for the points it encoded. None for the other formats.
+  virtual std::optional<RecordSink> recordSink() { return std::nullopt; }
   // Writes trailing data (PLY faces, SVG body, sidecar); the caller then commits the files.
   virtual void finish() = 0;
 };

@@ -66,6 +66,7 @@ SamplerOptions samplerOptions(const GridOptions& options) {
   s.threads = options.threads;
   s.maxChunkPoints = options.chunkPoints > 0 ? options.chunkPoints : kDefaultCpuChunkPoints;
   s.slice = options.slice;
+  s.records = options.records;
   return s;
 }
 

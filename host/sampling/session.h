@@ -38,6 +38,9 @@ struct GridOptions {
   // they finish their rows; on the GPU on the calling thread, the whole chunk as one slice, just
   // before the consumer.
   SliceConsumer slice = {};
+  // Optional, CPU only (core/grid_sampler.h SamplerOptions::records): a file whose records the
+  // CPU sampler's workers encode as they compute them; needs `slice`, which GPU chunks go through.
+  RecordSink records = {};
 };
 
 // One sample of a list: local (span, t) / (patch i, j, u, v) or, with `global`, the global

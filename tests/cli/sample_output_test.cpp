@@ -145,7 +145,9 @@ Ply parsePly(const std::string& all) {
     std::istringstream ls(line);
     std::string w;
     ls >> w;
-    if (w == "format") EXPECT_NE(line.find("binary_little_endian 1.0"), std::string::npos);
+    if (w == "format") {
+      EXPECT_NE(line.find("binary_little_endian 1.0"), std::string::npos);
+    }
     if (w == "element") {
       size_t n;
       ls >> element >> n;
