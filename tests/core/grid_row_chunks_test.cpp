@@ -7,10 +7,11 @@
 
 #include <cmath>
 #include <cstring>
-#include <random>
 #include <string>
 
 #include <shapespline/core/grid_sampler.h>
+
+#include "support/test_models.h"
 
 namespace shapespline {
 namespace {
@@ -57,21 +58,6 @@ void expectSame(const Collected& a, const Collected& b, const std::string& what)
   }
 }
 
-SurfaceModel net(FamilySpec family, int n, bool alpha) {
-  SurfaceModel m;
-  m.family = family;
-  m.orderV = family.order;
-  m.rows = m.cols = n;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> d(-0.3, 0.3), al(0.05, 1.0);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      m.points.push_back({i + d(rng), j + d(rng), std::sin(0.9 * i) * std::cos(0.7 * j)});
-      if (alpha) m.alpha.push_back(al(rng));
-    }
-  return m;
-}
-
 // Whole patches (a budget above the job) against row ranges under `budget` points, 1 and 3 threads.
 void checkSurface(const Surface& s, const GridSpec& grid, FieldMask fields, size_t budget, const std::string& what) {
   Collected whole, one, three;
@@ -89,7 +75,7 @@ void checkSurface(const Surface& s, const GridSpec& grid, FieldMask fields, size
 }
 
 TEST(GridRowChunks, PlainSurfaceRows) {
-  const Surface s = Surface::create(net({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 7, false));
+  const Surface s = Surface::create(test::wavyNet({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 7, false));
   // Plain partials take the interleaved row path; 333 is not a multiple of the row (24 points).
   checkSurface(s, {40, 24, 2, 3}, fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dvv), 333,
                "plain 40x24");
@@ -98,12 +84,12 @@ TEST(GridRowChunks, PlainSurfaceRows) {
 }
 
 TEST(GridRowChunks, AlphaEBSurfaceWithNormals) {
-  const Surface s = Surface::create(net({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, true));
+  const Surface s = Surface::create(test::wavyNet({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, true));
   checkSurface(s, {31, 17, 0, 2}, kAllSurface, 100, "alpha-EB 31x17");
 }
 
 TEST(GridRowChunks, KnotVectorSurface) {
-  SurfaceModel m = net({Construction::BSpline, 0, 4, 0.0, {}}, 5, false);
+  SurfaceModel m = test::wavyNet({Construction::BSpline, 0, 4, 0.0, {}}, 5, false);
   m.knotsU = m.knotsV = {0, 0, 0, 0, 0.4, 1, 1, 1, 1};
   const Surface s = Surface::create(std::move(m));
   checkSurface(s, {21, 13, 0, 0}, kAllSurface, 50, "knot-vector 21x13");
@@ -129,7 +115,7 @@ TEST(GridRowChunks, CurveSpansInSampleRanges) {
 
 // A consumer that throws in the middle of a patch stops the job cleanly (no worker outlives it).
 TEST(GridRowChunks, ConsumerExceptionInsideAPatch) {
-  const Surface s = Surface::create(net({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false));
+  const Surface s = Surface::create(test::wavyNet({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false));
   int calls = 0;
   auto failing = [&](const GridChunk& c) {
     EXPECT_TRUE(c.partial());

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include <shapespline/core/grid_sampler.h>
+
+#include "support/test_models.h"
 #include <shapespline/core/point_records.h>
 
 namespace shapespline {
@@ -125,21 +127,6 @@ void expectSameRecords(Sample sample, FieldMask fields, size_t firstItem, size_t
   }
 }
 
-SurfaceModel net(FamilySpec family, int n, bool alpha, double scale = 1.0) {
-  SurfaceModel m;
-  m.family = family;
-  m.orderV = family.order;
-  m.rows = m.cols = n;
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> d(-0.3, 0.3), al(0.05, 1.0);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      m.points.push_back(scale * glm::dvec3(i + d(rng), j + d(rng), std::sin(0.9 * i) * std::cos(0.7 * j)));
-      if (alpha) m.alpha.push_back(al(rng));
-    }
-  return m;
-}
-
 void checkSurface(const Surface& s, const GridSpec& grid, FieldMask fields, Options o, bool sinkUsed,
                   const std::string& what) {
   const size_t items = grid.itemCount ? grid.itemCount : surfaceGridItems(s).size() - grid.firstItem;
@@ -148,7 +135,7 @@ void checkSurface(const Surface& s, const GridSpec& grid, FieldMask fields, Opti
 }
 
 TEST(RecordSink, PlainSurfaceRowsEveryFieldCount) {
-  const Surface s = Surface::create(net({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 7, false));
+  const Surface s = Surface::create(test::wavyNet({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 7, false));
   const FieldMask masks[] = {fieldBit(Field::Point), fieldBit(Field::Point) | fieldBit(Field::Dv),
                              fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv),
                              fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) | fieldBit(Field::Duu) |
@@ -165,11 +152,11 @@ TEST(RecordSink, PlainSurfaceRowsEveryFieldCount) {
 }
 
 TEST(RecordSink, AlphaEBSurfaceWithNormalsAndKnotVectorSurface) {
-  const Surface a = Surface::create(net({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, true));
+  const Surface a = Surface::create(test::wavyNet({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, true));
   checkSurface(a, {11, 9, 0, 0}, kAllSurface, {2, 200, 40}, true, "alpha-EB all fields");
   checkSurface(a, {11, 9, 0, 0}, fieldBit(Field::Point) | fieldBit(Field::Normal), {2, 200, 40}, true,
                "alpha-EB point+normal");
-  SurfaceModel m = net({Construction::BSpline, 0, 4, 0.0, {}}, 5, false);
+  SurfaceModel m = test::wavyNet({Construction::BSpline, 0, 4, 0.0, {}}, 5, false);
   m.knotsU = m.knotsV = {0, 0, 0, 0, 0.4, 1, 1, 1, 1};
   const Surface k = Surface::create(std::move(m));
   checkSurface(k, {7, 6, 0, 0}, kAllSurface, {2, 100, 30}, true, "knot-vector");
@@ -200,13 +187,13 @@ TEST(RecordSink, Curves) {
 }
 
 TEST(RecordSink, ARowLargerThanABlockGoesThroughSlices) {
-  const Surface s = Surface::create(net({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false));
+  const Surface s = Surface::create(test::wavyNet({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false));
   checkSurface(s, {5, 40, 0, 0}, fieldBit(Field::Point) | fieldBit(Field::Du), {2, 100, 39}, false, "row of 40, block of 39");
 }
 
 TEST(RecordSink, ABlockWithAValueBeyondFp32GoesToTheSliceWithItsPlanes) {
   // A net of coordinates up to 4e39: beyond fp32, well within fp64.
-  const Surface s = Surface::create(net({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false, 1e39));
+  const Surface s = Surface::create(test::wavyNet({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false, 1e39));
   const FieldMask fields = fieldBit(Field::Point) | fieldBit(Field::Duu);
   const size_t items = surfaceGridItems(s).size();
   RecordFile file(fields, false, 0, items, 36);
@@ -235,7 +222,7 @@ TEST(RecordSink, ABlockWithAValueBeyondFp32GoesToTheSliceWithItsPlanes) {
 }
 
 TEST(RecordSink, RefusesFieldsOtherThanTheSampledOnesAndAMissingSlice) {
-  const Surface s = Surface::create(net({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false));
+  const Surface s = Surface::create(test::wavyNet({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, 5, false));
   RecordFile file(fieldBit(Field::Point), false, 0, 4, 9);
   SamplerOptions o;
   o.records = file.sink(10);

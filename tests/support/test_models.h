@@ -1,6 +1,6 @@
 #pragma once
-// Small well-conditioned models shared by the GPU tests that change parameters and compare with
-// the CPU (gpu_update_test, gpu_model_sync_test).
+// Small well-conditioned models shared by tests: the GPU tests that change parameters and compare
+// with the CPU (gpu_update_test, gpu_model_sync_test), and the CPU sampler's chunking and record tests.
 #include <shapespline/core/model.h>
 
 namespace shapespline::test {
@@ -8,5 +8,9 @@ namespace shapespline::test {
 // An α-EB tube: rows x cols points, rows along x (open in u), each row a unit circle in y-z
 // (closed in v) lifted by 0.1 per row; degree 5, λ = 0, α = 0.5 everywhere.
 SurfaceModel alphaEBTube(int rows, int cols);
+
+// An open n x n net of `family`: point (i, j) near (i, j, sin 0.9i cos 0.7j), each coordinate
+// moved by up to 0.3 (a fixed seed), all times `scale`; α drawn from [0.05, 1) when `alpha`.
+SurfaceModel wavyNet(FamilySpec family, int n, bool alpha, double scale = 1.0);
 
 }  // namespace shapespline::test
