@@ -193,7 +193,7 @@ void runSample(const SampleArgs& given) {
   }
   if (args.threads < 0 || args.threads > kMaxThreads) {
     throw InputError("--threads", std::to_string(args.threads),
-                     "must be in [0, " + std::to_string(kMaxThreads) + "] (0 = all hardware threads)");
+                     "must be in [0, " + std::to_string(kMaxThreads) + "] (0 = one per CPU this process may use)");
   }
   if (args.chunkPoints < 0 || args.chunkPoints > kMaxChunkPoints) {
     throw InputError("--chunk-points", std::to_string(args.chunkPoints),
@@ -463,7 +463,7 @@ void registerSample(CLI::App& app) {
   sub->add_option("--shard-count", args->shardCount,
                   "with --shard auto in a Kubernetes Indexed Job: N, the job's completions (else "
                   "SHAPESPLINE_SHARD_COUNT)");
-  sub->add_option("--threads", args->threads, "CPU sampler threads (0 = all hardware threads; output is identical)");
+  sub->add_option("--threads", args->threads, "CPU sampler threads (0 = one per CPU this process may use, less one beside a .f32/.f64/.npy writer; output is identical)");
   sub->add_option("--chunk-points", args->chunkPoints,
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 32768 "
                   "on the CPU, 4 MiB planes on the GPU; output is identical)");

@@ -16,7 +16,7 @@
 namespace shapespline {
 
 struct SamplerOptions {
-  int threads = 0;                      // 0 = all hardware threads
+  int threads = 0;                      // 0 = availableCores() (core/cores.h), less a RecordSink's own
   // Points per delivered chunk: whole items while they fit, else rows of one item (at least one
   // row of Sv points), so memory is 2 buffers x fields x 24 bytes x max(maxChunkPoints, Sv) for any
   // grid. Small enough that both chunk buffers stay in cache: at 2^20 the sampler becomes bound by

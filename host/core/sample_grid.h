@@ -86,6 +86,9 @@ struct RecordSink {
   std::vector<Field> fields;  // a record: these fields in this order, x y z each
   bool float64 = false;       // fp64 values, else fp32 (rounded once)
   size_t maxPoints = 0;       // records one block holds
+  // Threads the sink keeps busy itself (a thread that copies the blocks into the file): the
+  // sampler's default worker count leaves their cores to them.
+  int ownThreads = 0;
   std::function<RecordBlock()> acquire;
   std::function<void(RecordBlock block, const GridChunk& chunk, size_t first, size_t count)> submit;
 };

@@ -3,6 +3,7 @@
 // sidecar's "fields" order, 3 components each (2-D curves carry z = 0). Shards of one job
 // concatenate byte for byte into the unsharded file (their sidecars give each item range, and list
 // the spans of their own items only).
+#include <shapespline/core/cores.h>
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
@@ -36,7 +37,7 @@ void PlacedRecords::begin(AtomicFile& out, const SampleLayout& layout, const std
   float64_ = float64;
   base_ = base;
   recordBytes_ = recordBytes(fields.size(), float64);
-  const size_t blocks = 4 * std::max<size_t>(1, std::thread::hardware_concurrency());
+  const size_t blocks = 4 * static_cast<size_t>(availableCores());
   writer_ = std::make_unique<BlockWriter>(out, std::max(kBlockBytes, recordBytes_), blocks);
   written_ = false;
 }
@@ -74,6 +75,7 @@ RecordSink PlacedRecords::sink() {
   s.fields = fields_;
   s.float64 = float64_;
   s.maxPoints = writer_->blockBytes() / recordBytes_;
+  s.ownThreads = 1;  // the BlockWriter's
   s.acquire = [this] {
     written_.store(true, std::memory_order_relaxed);
     const BlockWriter::Block block = writer_->acquire();

@@ -1,5 +1,6 @@
 #include <shapespline/sampling/session.h>
 
+#include <shapespline/core/cores.h>
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/gpu/evaluator.h>
 #include <shapespline/gpu/gpu_model.h>
@@ -75,7 +76,7 @@ SamplerOptions samplerOptions(const GridOptions& options) {
 // conversion of a chunk take 1/T of the time the next dispatch has to run in.
 void sliceInParallel(const SliceConsumer& slice, const GridChunk& chunk) {
   const size_t n = chunk.pointCount();
-  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), (n + 4095) / 4096);
+  const size_t threads = std::min<size_t>(static_cast<size_t>(availableCores()), (n + 4095) / 4096);
   if (threads <= 1) {
     slice(chunk, 0, n);
     return;

@@ -32,7 +32,7 @@ namespace shapespline::sampling {
 inline constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 15;
 
 struct GridOptions {
-  int threads = 0;         // CPU sampler threads (0 = all)
+  int threads = 0;         // CPU sampler threads (0 = one per available core: SamplerOptions::threads)
   size_t chunkPoints = 0;  // points per chunk (0: kDefaultCpuChunkPoints on the CPU, 4 MiB planes on the GPU)
   // Optional per-slice work (core/grid_sampler.h SliceConsumer): on the CPU run by the workers as
   // they finish their rows; on the GPU on the calling thread, the whole chunk as one slice, just
