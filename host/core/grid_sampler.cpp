@@ -250,7 +250,8 @@ const RecordSink* usableSink(const SamplerOptions& options, FieldMask fields, si
   return pointsPerRow <= sink.maxPoints ? &sink : nullptr;
 }
 
-// Runs compute(buffer, rowBegin, rowEnd, firstPointInBuffer) over every chunk of `plan`, each chunk's
+// Runs compute(out, rowBegin, rowEnd, firstPointInChunk) over every chunk of `plan` (`out`: a
+// PlaneOut over a chunk buffer or, with a record sink, a RecordOut over one of its blocks), each chunk's
 // rows split into one slice per worker (threads share the rows of one patch just as they share
 // whole patches), and hands finished chunks to the consumer in order on the calling thread while
 // the workers fill the other buffer. The workers live for the whole job (no thread start per
