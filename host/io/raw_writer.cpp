@@ -9,10 +9,8 @@
 #include <shapespline/io/shard_info.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <optional>
-#include <thread>
 #include <vector>
 
 namespace shapespline::io {
