@@ -9,8 +9,10 @@
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/svg_writer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 
 namespace shapespline::cli {
@@ -20,6 +22,7 @@ struct BasisArgs {
   std::string family, mu, out, svg;
   int degree = 0, order = 0, samples = 101;
   double lambda = 0.0;
+  GivenOptions given;
 };
 
 struct Table {
@@ -31,6 +34,17 @@ struct Table {
 Table tabulate(const BasisArgs& a) {
   if (a.samples < 2 || a.samples > 1'000'000) {
     throw InputError("--samples", std::to_string(a.samples), "must be in [2, 1000000]");
+  }
+  // Each family's parameters; the others are refused, not ignored.
+  const std::map<std::string, std::vector<std::string>> takes = {
+      {"singular_blend", {}},           {"blend", {}},         {"xuwang", {"--degree", "--lambda"}},
+      {"extended_bspline", {"--degree", "--lambda"}}, {"gb", {"--lambda"}}, {"ubp", {"--order", "--lambda"}},
+      {"gubp", {"--order", "--mu"}},    {"bspline", {"--order"}}};
+  if (const auto it = takes.find(a.family); it != takes.end()) {
+    for (const char* o : {"--degree", "--order", "--lambda", "--mu"}) {
+      if (std::find(it->second.begin(), it->second.end(), o) == it->second.end())
+        refuseOption(a.given, o, "--family " + a.family);
+    }
   }
   Table tab;
   for (int i = 0; i < a.samples; ++i) tab.t.push_back(static_cast<double>(i) / (a.samples - 1));
@@ -194,7 +208,10 @@ void registerBasis(CLI::App& app) {
   sub->add_option("-o,--output", a->out, "CSV file (default: stdout)");
   sub->add_option("--svg", a->svg, "SVG plot of the functions and their derivatives");
   sub->footer(kExitCodeHelp);
-  sub->callback([a] { runBasis(*a); });
+  sub->callback([a, sub] {
+    a->given = givenOptions(*sub);
+    runBasis(*a);
+  });
 }
 
 }  // namespace shapespline::cli

@@ -3,6 +3,7 @@
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/output_set.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -42,10 +43,21 @@ struct DemoArgs {
   std::string dir = "shapespline-demo", device = "cpu";
 };
 
+void writeDemo(const DemoArgs& a);
+
 void runDemo(const DemoArgs& a) {
   std::error_code ec;
-  std::filesystem::create_directories(a.dir, ec);
+  const bool created = std::filesystem::create_directories(a.dir, ec);
   if (ec) throw io::OutputPathError("--dir", a.dir, "cannot create the folder: " + ec.message());
+  try {
+    writeDemo(a);
+  } catch (...) {
+    if (created) std::filesystem::remove(a.dir, ec);  // only when empty: a folder this run made
+    throw;
+  }
+}
+
+void writeDemo(const DemoArgs& a) {
   struct Item {
     std::string name, text;
     bool surface;
@@ -54,29 +66,32 @@ void runDemo(const DemoArgs& a) {
   for (const char* alpha : {"0.25", "0.5", "1"}) items.push_back({std::string("open_aeb_alpha_") + alpha, openCurve(alpha), false});
   for (const char* lambda : {"-2", "0", "1"}) items.push_back({std::string("surface_aeb_lambda_") + lambda, surface(lambda), true});
 
+  // Every model and every sample file is one output set: all of them appear, or none changes (a
+  // full disk halfway leaves the folder as it was). Each job reads its model from the model's
+  // temporary file, and records the model's final path.
+  io::OutputSet outputs;
   std::vector<std::string> written;
   for (const auto& it : items) {
     const std::string base = (std::filesystem::path(a.dir) / it.name).string();
-    {
-      io::AtomicFile f(base + ".json", "--dir");
-      f.write(it.text);
-      f.commit();
-      written.push_back(base + ".json");
-    }
+    io::AtomicFile& model = outputs.add(base + ".json", "--dir");
+    model.write(it.text);
+    model.flushToTemp();
+    written.push_back(base + ".json");
     SampleArgs s;
-    s.model = base + ".json";
+    s.model = model.tempPath().string();
+    s.modelName = base + ".json";
     s.device = a.device;
     s.quiet = true;
-    s.out = base + ".obj";
     if (it.surface) s.grid = "24x24"; else s.samples = "48";
-    runSample(s);
-    written.push_back(s.out);
-    if (!it.surface) {
-      s.out = base + ".svg";
-      runSample(s);
+    std::string summary;
+    for (const char* ext : {".obj", ".svg"}) {
+      if (it.surface && std::string(ext) == ".svg") continue;
+      s.out = base + ext;
+      sampleInto(s, outputs, summary);
       written.push_back(s.out);
     }
   }
+  outputs.commit();
   std::printf("shapespline demo wrote %zu files:\n", written.size());
   for (const auto& w : written) std::printf("  %s\n", w.c_str());
 }

@@ -44,11 +44,7 @@ glm::dvec3 unitScaled(const glm::dvec3& v) {
 void requireInRange(const glm::dvec3& v, const char* field, Precision p) {
   for (int k = 0; k < 3; ++k)
     if (std::isinf(v[k]))
-      throw RuntimeError(field, number17(v[k]),
-                         p == Precision::Float
-                             ? "exceeds the fp32 range of the output (use --precision double); nothing was written"
-                             : "exceeds the fp64 range of the output (derivatives scale with 1/h^r for knot "
-                               "intervals h); nothing was written");
+      throw RuntimeError(field, number17(v[k]), beyondRangeRule(p));
   requireFinite(v, field);
 }
 

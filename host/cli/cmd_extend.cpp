@@ -45,6 +45,8 @@ void runExtend(const ExtendArgs& a) {
   std::optional<std::vector<double>> givenU;
   if (!a.u.empty()) givenU = parseNumbers(a.u, "--u");
   io::OutputSet outputs;  // the model and the plot appear together or not at all
+  outputs.reads(a.model, "MODEL");
+  for (size_t i = 0; i < a.toCurve.size(); ++i) outputs.reads(a.toCurve[i], "--to-curve[" + std::to_string(i) + "]");
   io::AtomicFile& out = outputs.add(a.out, "-o");
   io::AtomicFile* svg = nullptr;
   if (std::holds_alternative<CurveModel>(m)) {
@@ -83,6 +85,7 @@ void runExtend(const ExtendArgs& a) {
     const SurfaceModel& sm = std::get<SurfaceModel>(m);
     if (a.toCurve.empty()) throw InputError("--to-curve", "", "at least one target curve file is required for a surface");
     if (!a.to.empty()) throw InputError("--to", "", "a surface is extended with --to-curve FILE");
+    if (!a.svg.empty()) throw InputError("--svg", a.svg, "does not apply to surfaces (it plots an extended curve)");
     if (sm.family.construction != Construction::BSpline || sm.knotsU.empty()) {
       throw InputError("MODEL", a.model, "extend needs a 'bspline' surface with knot vectors");
     }

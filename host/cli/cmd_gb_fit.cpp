@@ -30,6 +30,7 @@ void runGbFit(const GbFitArgs& a) {
   CurveModel curve = std::get<CurveModel>(m);
   if (curve.dimension != 2) throw InputError("MODEL", a.model, "gb-fit needs a 2-D curve");
   io::OutputSet outputs;  // the model and the plot appear together or not at all
+  outputs.reads(a.model, "MODEL");
   io::AtomicFile* out = a.out.empty() ? nullptr : &outputs.add(a.out, "-o");
   io::AtomicFile* svg = a.svg.empty() ? nullptr : &outputs.add(a.svg, "--svg");
   GbFitResult r;

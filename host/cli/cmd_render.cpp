@@ -7,8 +7,10 @@
 #include "tile_labels.h"
 
 #include <shapespline/cli/common.h>
+#include <shapespline/core/family.h>
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
+#include <shapespline/io/output_set.h>
 #include <shapespline/io/png_writer.h>
 #include <shapespline/render/painter.h>
 
@@ -28,6 +30,7 @@ struct RenderArgs {
   std::optional<double> lambda;
   bool wireframe = false, controlNet = false, quiet = false;
   int rate = 16;
+  GivenOptions given;
 };
 
 struct Sweep {
@@ -128,6 +131,16 @@ void runRender(const RenderArgs& a) {
   io::Model model = loadModel(a.model);
   if (a.lambda) std::visit([&](auto& m) { m.family.lambda = *a.lambda; }, model);
   const bool isSurface = std::holds_alternative<SurfaceModel>(model);
+  if (!isSurface) {
+    for (const char* o : {"--rate", "--wireframe", "--control-net"})
+      refuseOption(a.given, o, "curves (drawn as lines with their control polygon and data points)");
+  }
+  const Construction construction = std::visit([](const auto& m) { return m.family.construction; }, model);
+  if (!familyOf(construction).usesLambda) {
+    const std::string what = "a '" + std::string(constructionName(construction)) + "' model, which has no lambda";
+    refuseOption(a.given, "--lambda", what);
+    if (!sweep.values.empty() && !sweep.alpha) throw InputError("--sweep", a.sweep, "lambda sweeps do not apply to " + what);
+  }
   double az = isSurface ? 35.0 : -90.0, el = isSurface ? 30.0 : 90.0;
   if (!isSurface && std::get<CurveModel>(model).dimension == 3) az = 35.0, el = 30.0;
   if (!a.view.empty()) {
@@ -140,7 +153,9 @@ void runRender(const RenderArgs& a) {
   if (!io::pngSupported()) throw std::runtime_error("this build has no libpng; render cannot write PNG files");
   // Opened before any rendering: a bad -o is bad input (exit 2), and the old PNG is replaced only
   // by a complete new one.
-  io::AtomicFile png(a.output, "-o");
+  io::OutputSet outputs;
+  outputs.reads(a.model, "MODEL");
+  io::AtomicFile& png = outputs.add(a.output, "-o");
 
   render::Painter painter(w, h);
   const size_t tiles = std::max<size_t>(1, sweep.values.size());
@@ -223,7 +238,7 @@ void runRender(const RenderArgs& a) {
   }
   // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).
   io::writePng(png, sheet.cols * w, sheet.rows * h, sheet.rgba, false);
-  png.commit();
+  outputs.commit();
   if (!a.quiet) std::fprintf(stderr, "shapespline: wrote %s (%d x %d)\n", a.output.c_str(), sheet.cols * w, sheet.rows * h);
 }
 
@@ -244,7 +259,10 @@ void registerRender(CLI::App& app) {
   sub->add_option("--sweep", args->sweep, "contact sheet: lambda=v1,v2,... or alpha=v1,v2,... (one tile per value)");
   sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
   sub->footer(kExitCodeHelp);
-  sub->callback([args] { runRender(*args); });
+  sub->callback([args, sub] {
+    args->given = givenOptions(*sub);
+    runRender(*args);
+  });
 }
 
 }  // namespace shapespline::cli

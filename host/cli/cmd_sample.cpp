@@ -117,9 +117,8 @@ void requireFinite(const GridChunk& c, size_t firstPoint, size_t pointCount, boo
     // intervals near 1e-310 grow like 1/h^r); NaN is an internal error.
     throw RuntimeError(field, number17(v) + " at item " + item,
                        std::isfinite(v) || (std::isinf(v) && c.precision == Precision::Float)
-                           ? "exceeds the fp32 range of the output (use --precision double); nothing was written"
-                       : std::isinf(v) ? "exceeds the fp64 range of the output (derivatives scale with 1/h^r for "
-                                         "knot intervals h); nothing was written"
+                           ? beyondRangeRule(Precision::Float)
+                       : std::isinf(v) ? beyondRangeRule(Precision::Double)
                                        : "evaluation produced a non-finite value (internal error); nothing "
                                          "was written");
   }
@@ -174,7 +173,7 @@ GridChunk withInjectedNan(const GridChunk& c, size_t points, std::vector<double>
 
 }  // namespace
 
-void runSample(const SampleArgs& given) {
+bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary) {
   // --shard auto and a shard pattern in -o first (cli/shard_files.h): the rest sees K/N and a path.
   SampleArgs resolved = given;
   {
@@ -244,12 +243,18 @@ void runSample(const SampleArgs& given) {
   layout.samplesV = sv;
   layout.fields = fields;
   layout.precision = precision;
-  layout.source = args.model;
+  const std::string& modelName = args.modelName.empty() ? args.model : args.modelName;
+  layout.source = modelName;
   layout.shardIndex = shardK;
   layout.shardCount = shardN;
   const bool meshFormat = io::isMesh(format);
   if (args.meshLayout != "welded" && args.meshLayout != "per-item") {
     throw InputError("--mesh-layout", args.meshLayout, "expected welded or per-item");
+  }
+  if (args.meshLayoutGiven && !meshFormat) {
+    throw InputError("--mesh-layout", args.meshLayout,
+                     "does not apply to " + std::string(io::outputFormatName(format)) +
+                         " output (mesh outputs only: .obj, .ply, .glb, .gltf)");
   }
   if (args.meshLayout == "per-item" && (!meshFormat || io::isGltf(format))) {
     throw InputError("--mesh-layout", args.meshLayout, "per-item layouts are for .obj and .ply outputs");
@@ -328,7 +333,7 @@ void runSample(const SampleArgs& given) {
   }
 
   // One set: the data and its sidecar appear together or not at all (io/output_set.h).
-  io::OutputSet outputs;
+  outputs.reads(args.model, "MODEL");
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
   if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64 ||
@@ -356,6 +361,7 @@ void runSample(const SampleArgs& given) {
   } catch (const std::runtime_error& e) {
     throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());
   }
+  layout.metadata.modelFile = modelName;
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
@@ -367,8 +373,7 @@ void runSample(const SampleArgs& given) {
   // Resume: a shard whose record and files verify is left as it is.
   if (record && shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
                                  args.quiet)) {
-    outputs.discard();
-    return;
+    return false;
   }
   auto writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
   writer->begin(layout);
@@ -424,14 +429,23 @@ void runSample(const SampleArgs& given) {
     if (sidecar) sidecar->flushToTemp();
     writeShardRecordOf(*record, layout, format, out, sidecar, extraRole);
   }
-  outputs.commit();
-  if (!args.quiet) {
-    std::fprintf(stderr, "shapespline: wrote %s (%zu %s, %zu points%s)\n", args.out.c_str(), layout.itemCount,
-                 isSurface ? "patches" : "spans", layout.pointCount(),
-                 sidecar ? ((format == io::OutputFormat::Gltf ? ", buffer in " : ", layout in ") +
-                            sidecar->target().string()).c_str()
-                         : "");
+  summary = "wrote " + args.out + " (" + std::to_string(layout.itemCount) + (isSurface ? " patches, " : " spans, ") +
+            std::to_string(layout.pointCount()) + " points" +
+            (sidecar ? (format == io::OutputFormat::Gltf ? ", buffer in " : ", layout in ") + sidecar->target().string()
+                     : std::string()) +
+            ")";
+  return true;
+}
+
+void runSample(const SampleArgs& args) {
+  io::OutputSet outputs;
+  std::string summary;
+  if (!sampleInto(args, outputs, summary)) {
+    outputs.discard();
+    return;
   }
+  outputs.commit();
+  if (!args.quiet) std::fprintf(stderr, "shapespline: %s\n", summary.c_str());
 }
 
 void registerSample(CLI::App& app) {
@@ -471,7 +485,10 @@ void registerSample(CLI::App& app) {
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
   sub->footer(kExitCodeHelp);
-  sub->callback([args] { runSample(*args); });
+  sub->callback([args, sub] {
+    args->meshLayoutGiven = sub->count("--mesh-layout") > 0;
+    runSample(*args);
+  });
 }
 
 }  // namespace shapespline::cli

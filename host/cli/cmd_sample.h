@@ -2,10 +2,16 @@
 // The `sample` command's arguments and entry point, also used by `demo`.
 #include <string>
 
+namespace shapespline::io {
+class OutputSet;
+}
+
 namespace shapespline::cli {
 
 struct SampleArgs {
-  std::string model, out, grid, device = "auto", precision = "double", shard;
+  std::string model;
+  std::string modelName;  // the model's path as the outputs record it ("" = model); see demo
+  std::string out, grid, device = "auto", precision = "double", shard;
   std::string samples;  // --samples as given ("" = not given: the default)
   std::string shardCount;  // --shard-count as given ("" = not given; --shard auto only)
   std::string meshLayout = "welded";
@@ -13,8 +19,15 @@ struct SampleArgs {
   int threads = 0;
   long long chunkPoints = 0;  // 0 = default (CPU sampler and GPU evaluator defaults)
   bool derivatives = false, normals = false, quiet = false, requireDevice = false;
+  bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
 };
 
+// Samples one job and commits its files (data, sidecar, shard record) as one output set.
 void runSample(const SampleArgs& args);
+
+// The same job with its files added to `outputs`, which the caller commits (demo commits every job
+// of its folder as one set). Returns false when nothing was sampled because a shard's record
+// verified (resume: the caller discards the set); `summary` receives the "wrote ..." line.
+bool sampleInto(const SampleArgs& args, io::OutputSet& outputs, std::string& summary);
 
 }  // namespace shapespline::cli

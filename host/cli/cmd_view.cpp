@@ -2,11 +2,13 @@
 // only parses and maps errors; every window and Vulkan call is in the viewer library, which is
 // built when GLFW and Dear ImGui were found at configure time.
 #include <shapespline/cli/common.h>
+#include <shapespline/io/output_set.h>
 
 #ifdef SHAPESPLINE_HAS_VIEWER
 #include <shapespline/viewer/viewer.h>
 #endif
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
@@ -16,7 +18,7 @@ namespace {
 
 struct ViewArgs {
   std::string model, size = "1280x720", script, screenshotDir = ".";
-  bool validation = false, quiet = false;
+  bool validation = false, quiet = false, screenshotDirGiven = false;
 };
 
 #ifdef SHAPESPLINE_HAS_VIEWER
@@ -26,15 +28,32 @@ void runView(const ViewArgs& a) {
   o.validation = a.validation;
   o.quiet = a.quiet;
   o.screenshotDir = a.screenshotDir;
-  std::error_code ec;
-  std::filesystem::create_directories(o.screenshotDir, ec);
-  if (ec || !std::filesystem::is_directory(o.screenshotDir))
-    throw InputError("--screenshot-dir", a.screenshotDir, "must be a folder that exists or can be created");
   try {
     if (!a.script.empty()) o.script = viewer::loadScript(a.script);
   } catch (const viewer::ScriptError& e) {
     throw InputError("--script", a.script, e.what());
   }
+  const bool screenshots = o.script && std::any_of(o.script->begin(), o.script->end(), [](const auto& c) {
+    return c.kind == viewer::ScriptCommand::Kind::Screenshot;
+  });
+  if (a.screenshotDirGiven && !screenshots)
+    throw InputError("--screenshot-dir", a.screenshotDir, "does not apply without a --script that takes screenshots");
+  // A screenshot may not replace a file the viewer reads (the model or the script).
+  for (const auto& c : o.script.value_or(std::vector<viewer::ScriptCommand>{})) {
+    if (c.kind != viewer::ScriptCommand::Kind::Screenshot) continue;
+    const std::filesystem::path shot = o.screenshotDir / c.name;
+    for (const auto& [what, input] : {std::pair{"MODEL", a.model}, std::pair{"--script", a.script}}) {
+      if (io::sameFile(shot, input)) {
+        throw InputError("--script", a.script,
+                         "line " + std::to_string(c.line) + ": screenshot '" + shot.string() + "' is the same file as " +
+                             what + " ('" + input + "'), which this command reads; give the screenshot another name");
+      }
+    }
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(o.screenshotDir, ec);
+  if (ec || !std::filesystem::is_directory(o.screenshotDir))
+    throw InputError("--screenshot-dir", a.screenshotDir, "must be a folder that exists or can be created");
   const io::Model model = loadModel(a.model);
   if (!std::holds_alternative<SurfaceModel>(model))
     throw InputError("MODEL", a.model, "view draws surfaces; draw curves with `shapespline render`");
@@ -71,7 +90,10 @@ void registerView(CLI::App& app) {
                 "enable VK_LAYER_KHRONOS_validation and fail (exit 3) on any message (also SHAPESPLINE_VALIDATION=1)");
   sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
   sub->footer(kExitCodeHelp);
-  sub->callback([args] { runView(*args); });
+  sub->callback([args, sub] {
+    args->screenshotDirGiven = sub->count("--screenshot-dir") > 0;
+    runView(*args);
+  });
 }
 
 }  // namespace shapespline::cli

@@ -96,7 +96,34 @@ Precision parsePrecision(const std::string& text) {
 }
 
 sampling::DeviceRequest parseDeviceRequest(const std::string& device, const std::string& precision, bool require) {
-  return {parseDevice(device), parsePrecision(precision), require};
+  const sampling::DeviceKind kind = parseDevice(device);
+  if (require && kind == sampling::DeviceKind::Cpu) {
+    throw InputError("--require-device", "", "applies to --device auto or vulkan (--device cpu never uses the GPU)");
+  }
+  return {kind, parsePrecision(precision), require};
+}
+
+std::string beyondRangeRule(Precision precision) {
+  return precision == Precision::Float
+             ? "exceeds the fp32 range of the output (use --precision double); nothing was written"
+             : "exceeds the fp64 range of the output (derivatives grow with the net's size and like 1/h^r for "
+               "knot intervals h); nothing was written";
+}
+
+GivenOptions givenOptions(const CLI::App& sub) {
+  GivenOptions given;
+  for (const CLI::Option* o : sub.get_options()) {
+    if (o->count() == 0 || o->get_lnames().empty()) continue;
+    std::string value;
+    for (const std::string& r : o->results()) value += (value.empty() ? "" : ",") + r;
+    given["--" + o->get_lnames()[0]] = value;
+  }
+  return given;
+}
+
+void refuseOption(const GivenOptions& given, const std::string& option, const std::string& what) {
+  const auto it = given.find(option);
+  if (it != given.end()) throw InputError(option, it->second, "does not apply to " + what);
 }
 
 void printNotices(const sampling::Report& report, bool quiet) {

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <utility>
 #include <string>
 #include <vector>
@@ -29,6 +30,14 @@ void registerDemo(CLI::App& app);
 void registerMerge(CLI::App& app);
 void registerRender(CLI::App& app);  // cmd_render.cpp
 void registerView(CLI::App& app);    // cmd_view.cpp (the viewer, host/viewer)
+
+// The options given on the command line (CLI11's counts), by long name ("--rate") with their values
+// joined by commas, so that a command refuses an option its input does not take instead of
+// ignoring it.
+using GivenOptions = std::map<std::string, std::string>;
+GivenOptions givenOptions(const CLI::App& sub);
+// InputError (exit 2) naming `option` and its value when it was given: "does not apply to <what>".
+void refuseOption(const GivenOptions& given, const std::string& option, const std::string& what);
 
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...).
@@ -52,6 +61,10 @@ sampling::DeviceRequest parseDeviceRequest(const std::string& device, const std:
 // lines on stderr, and a notice when the CPU path was asked for fp32 output (it computes fp64);
 // nothing when quiet.
 void printNotices(const sampling::Report& report, bool quiet);
+
+// The rule of a finite evaluation whose value the output precision cannot hold (exit 3): the same
+// text on every device, since both paths evaluate large and tiny nets scaled by a power of two.
+std::string beyondRangeRule(Precision precision);
 
 // Throws RuntimeError (exit 3) when a vector is not finite: an evaluation bug or a value beyond
 // the output precision's range, never written.

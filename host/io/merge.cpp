@@ -6,6 +6,7 @@
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/shard_record.h>
 #include <shapespline/io/welded_formats.h>
 #include <shapespline/io/welded_mesh.h>
 
@@ -1094,6 +1095,11 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
   }
   // Data and sidecar are one output set: both appear, or neither changes (io/output_set.h).
   OutputSet files;
+  for (size_t k = 1; k <= shards.size(); ++k) {
+    files.reads(shards[k - 1], shardField(k));
+    files.reads(shards[k - 1] + ".json", shardField(k) + " sidecar");
+    files.reads(shardRecordPath(shards[k - 1]), shardField(k) + " record");
+  }
   AtomicFile& out = files.add(output, "-o");
   MergeResult result;
   switch (format) {

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <system_error>
+#include <sys/stat.h>
 #include <vector>
 
 namespace shapespline::io {
@@ -22,9 +23,32 @@ fs::path entryKey(const fs::path& path) {
   return resolved / path.filename();
 }
 
+OutputPathError overwritesInput(const fs::path& output, const std::string& option, const fs::path& input,
+                                const std::string& what) {
+  return OutputPathError(option, output.string(),
+                         "is the same file as " + what + " ('" + input.string() +
+                             "'), which this command reads; give the output another path");
+}
+
 }  // namespace
 
+bool sameFile(const fs::path& a, const fs::path& b) {
+  struct stat sa {}, sb {};
+  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+void OutputSet::reads(const fs::path& path, const std::string& what) {
+  for (const AtomicFile& f : files_) {
+    if (sameFile(f.target(), path)) throw overwritesInput(f.target(), f.option(), path, what);
+  }
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) inputs_.push_back({path, what});
+}
+
 AtomicFile& OutputSet::add(const fs::path& path, const std::string& option) {
+  for (const Input& in : inputs_) {
+    if (sameFile(path, in.path)) throw overwritesInput(path, option, in.path, in.what);
+  }
   const fs::path key = entryKey(path);
   for (size_t i = 0; i < keys_.size(); ++i) {
     if (keys_[i] == key) {

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace shapespline::io {
 
@@ -28,6 +29,12 @@ class OutputSet {
   // collide) is an OutputPathError naming both options. The reference stays valid for the set's
   // life.
   AtomicFile& add(const std::filesystem::path& path, const std::string& option);
+  // Declares a file the job reads (`what` names it in errors: "MODEL", "--to-curve[0]", "SHARD[2]").
+  // An output that is the same file as an input (io::sameFile: another spelling, a symlink or a hard
+  // link) is an OutputPathError naming both, thrown by whichever of add() and reads() comes second,
+  // so that the command is refused before it does any work. An input that does not exist is not
+  // recorded (reading it fails on its own).
+  void reads(const std::filesystem::path& path, const std::string& what);
 
   // Commits every file as one set (see above). Throws OutputWriteError naming the file whose write
   // or rename failed; every target is then as it was and every temporary file is removed.
@@ -40,7 +47,16 @@ class OutputSet {
  private:
   std::deque<AtomicFile> files_;
   std::deque<std::filesystem::path> keys_;  // folder resolved + file name, for the duplicate check
+  struct Input {
+    std::filesystem::path path;
+    std::string what;
+  };
+  std::vector<Input> inputs_;
 };
+
+// Whether both paths name one existing file: the same device and inode after following symlinks, so
+// another spelling, a symlink and a hard link all count. False when either does not exist.
+bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b);
 
 // Writes to stdout and flushes it; a failure (a full disk, a closed pipe) throws
 // OutputWriteError("stdout", "", reason), exit 3 like any failed output.

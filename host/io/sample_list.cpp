@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <shapespline/io/input_file.h>
+#include <shapespline/io/number_text.h>
 
 namespace shapespline::io {
 
@@ -15,6 +16,11 @@ constexpr double kMaxIndex = 1e9;
 
 [[noreturn]] void fail(std::string field, std::string value, std::string rule) {
   throw ModelError(std::move(field), std::move(value), std::move(rule));
+}
+
+std::string shortest(double v) {
+  char buf[kMaxNumberChars];
+  return std::string(buf, writeNumber(buf, v));
 }
 
 std::string range(const SpanRange& r) { return "[" + std::to_string(r.first) + ", " + std::to_string(r.last) + "]"; }
@@ -50,16 +56,20 @@ int integerAt(const json& v, const std::string& path) {
 std::vector<CurveSample> parseCurveSamples(const json& doc, const Curve& curve, const std::string& documentField) {
   const json& samples = sampleArray(doc, documentField);
   const SpanRange r = curve.spans();
+  const auto [lo, hi] = curve.parameterRange();
   std::vector<CurveSample> out;
   out.reserve(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    const std::string path = "samples[" + std::to_string(i) + "]";
+    const std::string path = documentField + ".samples[" + std::to_string(i) + "]";
     const json& s = samples[i];
     if (!s.is_object()) fail(path, shortValue(s), "must be an object");
     CurveSample q;
     if (s.contains("u") && !s.contains("span")) {
       q.global = true;
       q.u = numberAt(s, "u", path);
+      if (!(q.u >= lo && q.u <= hi))
+        fail(path + ".u", shortValue(s.at("u")), "must be in the model's parameter range [" + shortest(lo) + ", " +
+                                                     shortest(hi) + "]");
     } else {
       if (curve.usesKnotVector()) fail(path, shortValue(s), "a knot-vector B-spline takes {\"u\": value}");
       if (!s.contains("span")) fail(path + ".span", "", "missing");
@@ -80,7 +90,7 @@ std::vector<SurfaceSample> parseSurfaceSamples(const json& doc, const Surface& s
   std::vector<SurfaceSample> out;
   out.reserve(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    const std::string path = "samples[" + std::to_string(i) + "]";
+    const std::string path = documentField + ".samples[" + std::to_string(i) + "]";
     const json& s = samples[i];
     if (!s.is_object()) fail(path, shortValue(s), "must be an object");
     if (!s.contains("patch") || !s.at("patch").is_array() || s.at("patch").size() != 2)
@@ -94,6 +104,14 @@ std::vector<SurfaceSample> parseSurfaceSamples(const json& doc, const Surface& s
       fail(path + ".patch[0]", std::to_string(q.patchU), "must be in " + range(patches.u));
     if (q.patchV < patches.v.first || q.patchV > patches.v.last)
       fail(path + ".patch[1]", std::to_string(q.patchV), "must be in " + range(patches.v));
+    if (surface.usesKnotVector()) {
+      const SurfaceModel& m = surface.model();
+      const auto empty = [](const std::vector<double>& knots, int k) { return !(knots[k + 1] > knots[k]); };
+      if (empty(m.knotsU, q.patchU))
+        fail(path + ".patch[0]", std::to_string(q.patchU), "is an empty knot interval (knotsU[i] = knotsU[i+1])");
+      if (empty(m.knotsV, q.patchV))
+        fail(path + ".patch[1]", std::to_string(q.patchV), "is an empty knot interval (knotsV[j] = knotsV[j+1])");
+    }
     double uv[2];
     for (std::size_t k = 0; k < 2; ++k) {
       const json& v = s.at("uv")[k];

@@ -1,10 +1,11 @@
 #pragma once
 // `eval --at` sample lists: the JSON document {"samples": [...]} (the shape of a golden case's
 // `inputs`) read into samples checked against the curve or surface they are for. Curves take
-// {"span": j, "t": t} (j in spans(), t in [0, 1]) or {"u": u} (a global parameter; the only form a
-// knot-vector B-spline takes); surfaces take {"patch": [i, j], "uv": [u, v]} (i, j in patches(),
-// u, v in [0, 1]). Every failure is a ModelError naming the field ("samples[3].t"), the value
-// (io::shortValue) and the rule; the document itself is `documentField`.
+// {"span": j, "t": t} (j in spans(), t in [0, 1]) or {"u": u} (a global parameter in
+// parameterRange(); the only form a knot-vector B-spline takes); surfaces take {"patch": [i, j],
+// "uv": [u, v]} (i, j in patches(), u, v in [0, 1]). Every failure is a ModelError naming the field
+// under the document's (`documentField`: "--at.samples[3].t"), the value (io::shortValue) and the
+// rule: a query the model cannot answer is the user's input, never an evaluation error.
 #include <nlohmann/json.hpp>
 
 #include <cstddef>

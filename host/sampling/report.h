@@ -25,7 +25,7 @@ struct Report {
   Precision computedPrecision = Precision::Double;  // the CPU path computes in fp64 whatever is asked
   Precision outputPrecision = Precision::Double;
   std::vector<std::string> fallbacks;              // why the GPU was not used, in the order found
-  int netScaleExponent = 0;                        // the GPU evaluated 2^k * net (net_scale.h)
+  int netScaleExponent = 0;                        // the job evaluates 2^k * net (net_scale.h), on either path
 };
 
 // A Vulkan failure (with a hint what to change), or a fallback refused because the request

@@ -129,11 +129,30 @@ struct Gpu<Surface> {
   }
 };
 
-void sampleOnCpu(const Curve& c, const GridSpec& g, FieldMask f, const ChunkConsumer& k, const GridOptions& o) {
-  sampleCurveGrid(c, g, f, k, samplerOptions(o));
+void sampleCpuGrid(const Curve& c, const GridSpec& g, FieldMask f, const ChunkConsumer& k, const SamplerOptions& o) {
+  sampleCurveGrid(c, g, f, k, o);
 }
-void sampleOnCpu(const Surface& s, const GridSpec& g, FieldMask f, const ChunkConsumer& k, const GridOptions& o) {
-  sampleSurfaceGrid(s, g, f, k, samplerOptions(o));
+void sampleCpuGrid(const Surface& s, const GridSpec& g, FieldMask f, const ChunkConsumer& k, const SamplerOptions& o) {
+  sampleSurfaceGrid(s, g, f, k, o);
+}
+
+// A net beyond 2^200 is evaluated as 2^k * net (k < 0), as on the GPU, so that both paths overflow
+// only where a value itself leaves fp64. The sampler's workers then see scaled values: the slices
+// and the records run after the unscaling instead, on the planes.
+template <class Model>
+void sampleOnCpuFor(const Model& model, const Report& r, const GridSpec& g, FieldMask f, const ChunkConsumer& consumer,
+                    const GridOptions& o) {
+  if (r.netScaleExponent == 0) return sampleCpuGrid(model, g, f, consumer, samplerOptions(o));
+  SamplerOptions plain = samplerOptions(o);
+  plain.slice = nullptr;
+  plain.records = {};
+  ChunkUnscaler unscale(r.netScaleExponent);
+  const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
+    sliceInParallel(o.slice, chunk);
+    consumer(chunk);
+  };
+  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, o.slice ? sliceThenConsume : consumer); };
+  sampleCpuGrid(*scaledOrNot(model, r.netScaleExponent), g, f, deliver, plain);
 }
 
 }  // namespace
@@ -164,6 +183,10 @@ template <class Model>
 Report Session::planFor(const Model& model, const DeviceRequest& request) {
   Report r;
   r.outputPrecision = request.precision;
+  // The CPU path scales only nets beyond 2^200 down (where sums and products would overflow): fp64
+  // holds tiny nets as they are, and scaling them up would make the derivatives of tiny knot
+  // intervals (net / h^r) overflow. The GPU's exponent is set below.
+  r.netScaleExponent = std::min(0, netScale(model.model().points, Precision::Double));
   if (request.device == DeviceKind::Cpu) return r;
   auto fallBack = [&](const std::string& why) {
     if (request.require) throw DeviceError(why + "; the CPU fallback is disabled", true);
@@ -232,19 +255,38 @@ std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::
 }
 
 template <class Model>
-std::vector<typename Gpu<Model>::Point> evaluateOnCpu(const Model& model, std::span<const typename Gpu<Model>::Query> queries) {
+std::vector<typename Gpu<Model>::Point> evaluateOnCpuFor(const Model& model, const Report& r,
+                                                         std::span<const typename Gpu<Model>::Query> queries) {
+  const auto scaled = scaledOrNot(model, r.netScaleExponent);
   std::vector<typename Gpu<Model>::Point> out(queries.size());
   for (size_t i = 0; i < queries.size(); ++i) {
     try {
-      out[i] = Gpu<Model>::cpu(model, queries[i]);
+      out[i] = Gpu<Model>::cpu(pick(scaled, model), queries[i]);
     } catch (const std::out_of_range& e) {
       throw QueryRangeError(i, e.what());
     }
   }
+  unscale(out, r.netScaleExponent);
   return out;
 }
 
 }  // namespace
+
+void sampleOnCpu(const Curve& curve, const Report& report, const GridSpec& grid, FieldMask fields,
+                 const ChunkConsumer& consumer, const GridOptions& options) {
+  sampleOnCpuFor(curve, report, grid, fields, consumer, options);
+}
+void sampleOnCpu(const Surface& surface, const Report& report, const GridSpec& grid, FieldMask fields,
+                 const ChunkConsumer& consumer, const GridOptions& options) {
+  sampleOnCpuFor(surface, report, grid, fields, consumer, options);
+}
+std::vector<CurvePoint> evaluateOnCpu(const Curve& curve, const Report& report, std::span<const CurveQuery> queries) {
+  return evaluateOnCpuFor(curve, report, queries);
+}
+std::vector<SurfacePoint> evaluateOnCpu(const Surface& surface, const Report& report,
+                                        std::span<const SurfaceQuery> queries) {
+  return evaluateOnCpuFor(surface, report, queries);
+}
 
 template <class Model>
 Report Session::sampleGridFor(const Model& model, const DeviceRequest& request, const GridSpec& grid,
@@ -253,7 +295,7 @@ Report Session::sampleGridFor(const Model& model, const DeviceRequest& request, 
   if (r.gpu) {
     sampleOnGpu(ctx_, model, r, grid, fields, consumer, options);
   } else {
-    sampleOnCpu(model, grid, fields, consumer, options);
+    sampleOnCpu(model, r, grid, fields, consumer, options);
   }
   return r;
 }
@@ -262,7 +304,7 @@ template <class Model, class Query>
 auto Session::evaluateFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries) {
   ListResult<typename Gpu<Model>::Point> result{{}, planFor(model, request)};
   if (queries.empty()) return result;
-  result.points = result.report.gpu ? evaluateOnGpu(ctx_, model, result.report, queries) : evaluateOnCpu(model, queries);
+  result.points = result.report.gpu ? evaluateOnGpu(ctx_, model, result.report, queries) : evaluateOnCpu(model, result.report, queries);
   return result;
 }
 

@@ -6,7 +6,9 @@
 //    of a device without shaderFloat64, or gpuLimitation (gpu_limits.h) names a reason; then the
 //    CPU path with the reason in Report::fallbacks, or DeviceError when the request requires the
 //    device. Knot-vector B-splines run on the GPU like every other construction.
-//  * Scaling: on the GPU the net is scaled by 2^k (net_scale.h) and the results scaled back.
+//  * Scaling: a net outside the precision's band (net_scale.h) is evaluated as 2^k * net and the
+//    results scaled back: on the GPU both ways, on the CPU nets beyond 2^200 (fp64 holds tiny ones
+//    as they are), so both paths overflow only where a value itself leaves the output's range.
 //  * Memory: grids stream chunk by chunk in bounded memory on either path (GridOptions).
 //  * Errors: every Vulkan failure becomes DeviceError with a hint what to change.
 // The Vulkan context is created on first GPU use and lives as long as the session.
@@ -71,6 +73,17 @@ struct ListResult {
   std::vector<Point> points;  // one per query, in order, as computed (Report::computedPrecision)
   Report report;
 };
+
+// The CPU path of a planned job (the report's netScaleExponent honoured; QueryRangeError for a
+// query outside the model): what Session runs when its plan says CPU, and what a front end that
+// plans with the session but keeps its own models (the Python module) runs on the CPU.
+void sampleOnCpu(const Curve& curve, const Report& report, const GridSpec& grid, FieldMask fields,
+                 const ChunkConsumer& consumer, const GridOptions& options = {});
+void sampleOnCpu(const Surface& surface, const Report& report, const GridSpec& grid, FieldMask fields,
+                 const ChunkConsumer& consumer, const GridOptions& options = {});
+std::vector<CurvePoint> evaluateOnCpu(const Curve& curve, const Report& report, std::span<const CurveQuery> queries);
+std::vector<SurfacePoint> evaluateOnCpu(const Surface& surface, const Report& report,
+                                        std::span<const SurfaceQuery> queries);
 
 class Session {
  public:

@@ -103,14 +103,6 @@ void Handle<Surface>::checkQueries(std::span<const sampling::SurfaceQuery> queri
   }
 }
 
-template <>
-CurvePoint Handle<Curve>::cpuPoint(const sampling::CurveQuery& q) const {
-  return q.global ? model_.evaluateAt(q.u) : model_.evaluate(q.span, q.t);
-}
-template <>
-SurfacePoint Handle<Surface>::cpuPoint(const sampling::SurfaceQuery& q) const {
-  return q.global ? model_.evaluateAt(q.u, q.v) : model_.evaluate(q.i, q.j, q.u, q.v);
-}
 
 // Local and global queries go to evaluateList / evaluateListAt and are put back in order.
 template <>

@@ -90,13 +90,9 @@ class Handle {
       std::shared_lock lock(mutex_);
       sampling::Report r = python::plan(model_, request);
       if (!r.gpu) {
-        SamplerOptions o;
-        o.maxChunkPoints = chunkPoints ? chunkPoints : sampling::kDefaultCpuChunkPoints;
-        if constexpr (std::is_same_v<Model, Curve>) {
-          sampleCurveGrid(model_, grid, fields, consumer, o);
-        } else {
-          sampleSurfaceGrid(model_, grid, fields, consumer, o);
-        }
+        sampling::GridOptions o;
+        o.chunkPoints = chunkPoints;
+        sampling::sampleOnCpu(model_, r, grid, fields, consumer, o);
         return r;
       }
     }
@@ -125,14 +121,7 @@ class Handle {
       out.report = python::plan(model_, request);
       checkQueries(queries);
       if (!out.report.gpu) {
-        out.points.resize(queries.size());
-        for (size_t i = 0; i < queries.size(); ++i) {
-          try {
-            out.points[i] = cpuPoint(queries[i]);
-          } catch (const std::out_of_range& e) {
-            throw sampling::QueryRangeError(i, e.what());
-          }
-        }
+        out.points = sampling::evaluateOnCpu(model_, out.report, queries);
         return out;
       }
     }
@@ -262,7 +251,6 @@ class Handle {
 
   // Queries outside the model are refused before any device work (QueryRangeError names the index).
   void checkQueries(std::span<const typename K::Query> queries) const;
-  typename K::Point cpuPoint(const typename K::Query& q) const;
   std::vector<typename K::Point> gpuPoints(Resident& res, std::span<const typename K::Query> queries);
 
   mutable std::shared_mutex mutex_;
@@ -275,10 +263,6 @@ template <>
 void Handle<Curve>::checkQueries(std::span<const sampling::CurveQuery> queries) const;
 template <>
 void Handle<Surface>::checkQueries(std::span<const sampling::SurfaceQuery> queries) const;
-template <>
-CurvePoint Handle<Curve>::cpuPoint(const sampling::CurveQuery& q) const;
-template <>
-SurfacePoint Handle<Surface>::cpuPoint(const sampling::SurfaceQuery& q) const;
 template <>
 std::vector<CurvePoint> Handle<Curve>::gpuPoints(Resident& res, std::span<const sampling::CurveQuery> queries);
 template <>

@@ -660,7 +660,7 @@ PYBIND11_MODULE(shapespline, m) {
       .def_property_readonly("output_precision",
                              [](const sampling::Report& r) { return r.outputPrecision == Precision::Double ? "double" : "float"; })
       .def_readonly("fallbacks", &sampling::Report::fallbacks, "Why the GPU was not used, in the order found.")
-      .def_readonly("net_scale_exponent", &sampling::Report::netScaleExponent, "The GPU evaluated 2^k * net.")
+      .def_readonly("net_scale_exponent", &sampling::Report::netScaleExponent, "The job evaluated 2^k * net (either path) and scaled the results back.")
       .def("__repr__", [](const sampling::Report& r) {
         std::string s = "Report(device='" + r.device + "', gpu=" + (r.gpu ? "True" : "False") + ", computed_precision='" +
                         (r.computedPrecision == Precision::Double ? "double" : "float") + "'";

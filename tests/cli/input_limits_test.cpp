@@ -80,7 +80,7 @@ TEST(InputLimits, NestedValuesInErrorsAreShortened) {
   ScratchDir dir("limits_nested_value");
   writeText(dir / "at.json", "{\"samples\": [" + nested(60) + "]}");
   expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path()),
-                   "samples[0]", "must be an object (got [[[[");
+                   "--at.samples[0]", "must be an object (got [[[[");
   writeText(dir / "c.json", "[" + nested(60) + "]");
   expectShortError(
       runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path()),
@@ -96,10 +96,10 @@ TEST(InputLimits, HugeValuesAreNotEchoed) {
   big += "]";
   writeText(dir / "at.json", "{\"samples\": [" + big + "]}");
   expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path()),
-                   "samples[0]", "must be an object (got [1,1,1");
+                   "--at.samples[0]", "must be an object (got [1,1,1");
   writeText(dir / "at2.json", "{\"samples\": [{\"span\": 0, \"t\": " + big + "}]}");
   expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at at2.json --device cpu", dir.path()),
-                   "samples[0].t", "must be a number");
+                   "--at.samples[0].t", "must be a number");
   writeText(dir / "c.json", "[[1, 2, \"" + std::string(300'000, 'x') + "\"]]");
   expectShortError(
       runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path()),

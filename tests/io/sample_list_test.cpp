@@ -53,15 +53,15 @@ TEST(SampleList, CurveSamples) {
   EXPECT_TRUE(s[1].global);
   EXPECT_EQ(s[1].u, 1.5);
   EXPECT_EQ(curveError("[]", c), "--at|expected an object {\"samples\": [...]}");
-  EXPECT_EQ(curveError(R"({"samples": [1]})", c), "samples[0]|must be an object");
-  EXPECT_EQ(curveError(R"({"samples": [{"t": 0}]})", c), "samples[0].span|missing");
-  EXPECT_EQ(curveError(R"({"samples": [{"span": 0.5, "t": 0}]})", c), "samples[0].span|must be an integer");
-  EXPECT_EQ(curveError(R"({"samples": [{"span": 1e300, "t": 0}]})", c), "samples[0].span|must be an integer");
+  EXPECT_EQ(curveError(R"({"samples": [1]})", c), "--at.samples[0]|must be an object");
+  EXPECT_EQ(curveError(R"({"samples": [{"t": 0}]})", c), "--at.samples[0].span|missing");
+  EXPECT_EQ(curveError(R"({"samples": [{"span": 0.5, "t": 0}]})", c), "--at.samples[0].span|must be an integer");
+  EXPECT_EQ(curveError(R"({"samples": [{"span": 1e300, "t": 0}]})", c), "--at.samples[0].span|must be an integer");
   EXPECT_EQ(curveError(R"({"samples": [{"span": 99, "t": 0}]})", c),
-            "samples[0].span|must be in [" + std::to_string(r.first) + ", " + std::to_string(r.last) + "]");
-  EXPECT_EQ(curveError(R"({"samples": [{"span": 0, "t": 1.5}]})", c), "samples[0].t|must be in [0, 1]");
-  EXPECT_EQ(curveError(R"({"samples": [{"span": 0, "t": "0"}]})", c), "samples[0].t|must be a number");
-  EXPECT_EQ(curveError(R"({"samples": [{"span": 0}]})", c), "samples[0].t|missing");
+            "--at.samples[0].span|must be in [" + std::to_string(r.first) + ", " + std::to_string(r.last) + "]");
+  EXPECT_EQ(curveError(R"({"samples": [{"span": 0, "t": 1.5}]})", c), "--at.samples[0].t|must be in [0, 1]");
+  EXPECT_EQ(curveError(R"({"samples": [{"span": 0, "t": "0"}]})", c), "--at.samples[0].t|must be a number");
+  EXPECT_EQ(curveError(R"({"samples": [{"span": 0}]})", c), "--at.samples[0].t|missing");
 }
 
 TEST(SampleList, KnotVectorCurvesTakeGlobalParameters) {
@@ -69,7 +69,7 @@ TEST(SampleList, KnotVectorCurvesTakeGlobalParameters) {
   ASSERT_TRUE(c.usesKnotVector());
   EXPECT_EQ(curveError(R"({"samples": [{"u": 0.5}]})", c), "accepted");
   EXPECT_EQ(curveError(R"({"samples": [{"span": 0, "t": 0}]})", c),
-            "samples[0]|a knot-vector B-spline takes {\"u\": value}");
+            "--at.samples[0]|a knot-vector B-spline takes {\"u\": value}");
 }
 
 TEST(SampleList, SurfaceSamples) {
@@ -78,12 +78,12 @@ TEST(SampleList, SurfaceSamples) {
   ASSERT_EQ(q.size(), 1u);
   EXPECT_EQ(q[0].patchU, 0);
   EXPECT_EQ(q[0].v, 1.0);
-  EXPECT_EQ(surfaceError(R"({"samples": [{"uv": [0, 0]}]})", s), "samples[0].patch|must be [i, j]");
-  EXPECT_EQ(surfaceError(R"({"samples": [{"patch": [0, 0], "uv": [0]}]})", s), "samples[0].uv|must be [u, v]");
-  EXPECT_EQ(surfaceError(R"({"samples": [{"patch": [0, 99], "uv": [0, 0]}]})", s).substr(0, 26),
-            "samples[0].patch[1]|must b");
+  EXPECT_EQ(surfaceError(R"({"samples": [{"uv": [0, 0]}]})", s), "--at.samples[0].patch|must be [i, j]");
+  EXPECT_EQ(surfaceError(R"({"samples": [{"patch": [0, 0], "uv": [0]}]})", s), "--at.samples[0].uv|must be [u, v]");
+  EXPECT_EQ(surfaceError(R"({"samples": [{"patch": [0, 99], "uv": [0, 0]}]})", s).substr(0, 31),
+            "--at.samples[0].patch[1]|must b");
   EXPECT_EQ(surfaceError(R"({"samples": [{"patch": [0, 0], "uv": [0, -0.5]}]})", s),
-            "samples[0].uv[1]|must be a number in [0, 1]");
+            "--at.samples[0].uv[1]|must be a number in [0, 1]");
 }
 
 TEST(SampleList, ValuesInErrorsAreShort) {
