@@ -29,7 +29,9 @@
 #endif
 
 #include <algorithm>
+#include <array>
 #include <map>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +53,27 @@ SurfaceModel bsplineWorkloadModel() {
   return gridSurfaceModel({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, kNetSize, 17);
 }
 
+SurfaceModel knotWorkloadModel(bool randomKnots) {
+  SurfaceModel m = bsplineWorkloadModel();
+  m.family = {Construction::BSpline, 0, 4, 0.0, {}};
+  m.orderV = 4;
+  // Uniform: knots 0, 1, ..., 67 (unclamped), the same surface as the uniform workload (the cubic
+  // B-spline on integer knots is Xu-Wang degree 4 at λ = 0), derivatives included. Random: clamped,
+  // interior intervals of lengths in [0.25, 1.75].
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> length(0.25, 1.75);
+  for (std::vector<double>* knots : {&m.knotsU, &m.knotsV}) {
+    for (int k = 0; k < kNetSize + 4; ++k) knots->push_back(k);
+    if (!randomKnots) continue;
+    double t = 0.0;
+    for (int k = 0; k < kNetSize + 4; ++k) {
+      if (k > 3 && k <= kNetSize) t += length(rng);
+      (*knots)[size_t(k)] = t;
+    }
+  }
+  return m;
+}
+
 namespace {
 
 struct BSplineWorkload {
@@ -59,15 +82,25 @@ struct BSplineWorkload {
   size_t patches = 0;
 };
 
-const BSplineWorkload& workload() {
-  static const BSplineWorkload w = [] {
-    BSplineWorkload b{Surface::create(bsplineWorkloadModel()), 0.0, 0};
-    b.scale = boxDiagonal(b.surface.model().points);
-    b.patches = surfaceGridItems(b.surface).size();
-    if (b.patches != 3721) throw std::logic_error("B-spline workload: expected 3721 patches");
-    return b;
+// The nets of the surface benchmarks: the uniform bicubic workload and the same net as a
+// knot-vector B-spline (the general path) with uniform and with random knots.
+enum class Net { Uniform, KnotUniform, KnotRandom };
+constexpr Net kNets[] = {Net::Uniform, Net::KnotUniform, Net::KnotRandom};
+const char* netName(Net n) { return n == Net::Uniform ? "bspline3" : n == Net::KnotUniform ? "knot3_uniform" : "knot3_random"; }
+
+const BSplineWorkload& workload(Net net = Net::Uniform) {
+  static const std::array<BSplineWorkload, 3> w = [] {
+    auto make = [](SurfaceModel m) {
+      BSplineWorkload b{Surface::create(std::move(m)), 0.0, 0};
+      b.scale = boxDiagonal(b.surface.model().points);
+      b.patches = surfaceGridItems(b.surface).size();
+      if (b.patches != 3721) throw std::logic_error("B-spline workload: expected 3721 patches");
+      return b;
+    };
+    return std::array<BSplineWorkload, 3>{make(bsplineWorkloadModel()), make(knotWorkloadModel(false)),
+                                          make(knotWorkloadModel(true))};
   }();
-  return w;
+  return w[size_t(net)];
 }
 
 // ---- OpenSubdiv -------------------------------------------------------------------------------
@@ -185,9 +218,9 @@ struct GpuSurfaceSet {
   std::string skip;  // why this precision cannot run
 };
 
-GpuSurfaceSet& gpuSurface(Precision p) {
-  static std::map<Precision, GpuSurfaceSet> sets;
-  auto [it, fresh] = sets.try_emplace(p);
+GpuSurfaceSet& gpuSurface(Net net, Precision p) {
+  static std::map<std::pair<Net, Precision>, GpuSurfaceSet> sets;
+  auto [it, fresh] = sets.try_emplace({net, p});
   if (fresh) {
     const auto ctx = gpuContext();
     if (!ctx)
@@ -196,7 +229,7 @@ GpuSurfaceSet& gpuSurface(Precision p) {
       it->second.skip = ctx->deviceName() + " has no shaderFloat64";
     else {
       it->second.evaluator = std::make_unique<gpu::SurfaceEvaluator>(ctx, p);
-      it->second.model = std::make_unique<gpu::GpuSurface>(ctx, workload().surface, p);
+      it->second.model = std::make_unique<gpu::GpuSurface>(ctx, workload(net).surface, p);
     }
   }
   return it->second;
@@ -205,12 +238,16 @@ GpuSurfaceSet& gpuSurface(Precision p) {
 enum class Impl { OsdCpu, OsdOmp, Cpu1, Cpu2, VkFp32, VkFp64 };
 
 // Runs one whole grid with `impl`; returns false (with the reason) when it cannot run here.
-bool runGrid(Impl impl, int S, const ChunkConsumer& consumer, std::string& skip) {
+bool runGrid(Impl impl, int S, const ChunkConsumer& consumer, std::string& skip, Net net = Net::Uniform) {
   const GridSpec grid{S, S, 0, 0};
   switch (impl) {
     case Impl::OsdCpu:
     case Impl::OsdOmp:
 #ifdef SHAPESPLINE_HAVE_OPENSUBDIV
+      if (net != Net::Uniform) {
+        skip = "OpenSubdiv evaluates uniform B-spline patches only";
+        return false;
+      }
       if (impl == Impl::OsdCpu)
         osdGrid<Osd::CpuEvaluator>(S, consumer);
       else
@@ -222,11 +259,11 @@ bool runGrid(Impl impl, int S, const ChunkConsumer& consumer, std::string& skip)
 #endif
     case Impl::Cpu1:
     case Impl::Cpu2:
-      sampleSurfaceGrid(workload().surface, grid, kPointDuDv, consumer, {impl == Impl::Cpu1 ? 1 : 2, kChunkPoints});
+      sampleSurfaceGrid(workload(net).surface, grid, kPointDuDv, consumer, {impl == Impl::Cpu1 ? 1 : 2, kChunkPoints});
       return true;
     case Impl::VkFp32:
     case Impl::VkFp64: {
-      GpuSurfaceSet& g = gpuSurface(impl == Impl::VkFp32 ? Precision::Float : Precision::Double);
+      GpuSurfaceSet& g = gpuSurface(net, impl == Impl::VkFp32 ? Precision::Float : Precision::Double);
       if (!g.skip.empty()) {
         skip = g.skip;
         return false;
@@ -274,31 +311,44 @@ void crossCheckSurfaces() {
     const double rel = impl == Impl::VkFp64 ? kDoubleRel : kFloatRel;
     reportCheck(what, maxDiff(got, reference, kPointDuDv), rel * w.scale);
   }
+  // The uniform-knot net is the same surface through the knot-vector path, on every implementation.
+  for (Impl impl : {Impl::Cpu1, Impl::Cpu2, Impl::VkFp32, Impl::VkFp64}) {
+    Collected got;
+    const std::string what = std::string("knot3_uniform ") + implName(impl) + " vs bspline3 cpu_fp64, P/du/dv";
+    if (!runGrid(impl, kCheckSamples, got.consumer(), skip, Net::KnotUniform)) {
+      reportSkip(what, skip);
+      continue;
+    }
+    const double rel = impl == Impl::VkFp32 ? kFloatRel : kDoubleRel;
+    reportCheck(what, maxDiff(got, reference, kPointDuDv), rel * w.scale);
+  }
 }
 
 void registerSurfaceBenchmarks() {
-  for (int S : kSampleCounts)
-    for (Impl impl : kImpls) {
-      const std::string name = "bspline3_S" + std::to_string(S) + "/" + implName(impl);
-      benchmark::RegisterBenchmark(name.c_str(), [impl, S](benchmark::State& state) {
-        double sink = 0.0;
-        const ChunkConsumer consumer = touchConsumer(sink);
-        std::string skip;
-        if (!runGrid(impl, S, consumer, skip)) {  // untimed warm-up; also tells whether it can run
-          state.SkipWithError(skip.c_str());
-          return;
-        }
-        for (auto _ : state) {
-          runGrid(impl, S, consumer, skip);
-          benchmark::DoNotOptimize(sink);
-        }
-        const double points = double(workload().patches) * S * S;
-        state.counters["Mpts/s"] = benchmark::Counter(points / 1e6, benchmark::Counter::kIsIterationInvariantRate);
-        state.SetLabel("point+du+dv, " + std::to_string(workload().patches) + " patches");
-      })
-          ->UseRealTime()
-          ->Unit(benchmark::kMillisecond);
-    }
+  for (Net net : kNets)
+    for (int S : kSampleCounts)
+      for (Impl impl : kImpls) {
+        if (net != Net::Uniform && (impl == Impl::OsdCpu || impl == Impl::OsdOmp)) continue;
+        const std::string name = std::string(netName(net)) + "_S" + std::to_string(S) + "/" + implName(impl);
+        benchmark::RegisterBenchmark(name.c_str(), [impl, S, net](benchmark::State& state) {
+          double sink = 0.0;
+          const ChunkConsumer consumer = touchConsumer(sink);
+          std::string skip;
+          if (!runGrid(impl, S, consumer, skip, net)) {  // untimed warm-up; also tells whether it can run
+            state.SkipWithError(skip.c_str());
+            return;
+          }
+          for (auto _ : state) {
+            runGrid(impl, S, consumer, skip, net);
+            benchmark::DoNotOptimize(sink);
+          }
+          const double points = double(workload(net).patches) * S * S;
+          state.counters["Mpts/s"] = benchmark::Counter(points / 1e6, benchmark::Counter::kIsIterationInvariantRate);
+          state.SetLabel("point+du+dv, " + std::to_string(workload(net).patches) + " patches");
+        })
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
+      }
 }
 
 }  // namespace shapespline::bench

@@ -43,6 +43,9 @@ double boxDiagonal(const std::vector<glm::dvec3>& points);
 // on the kNetSize x kNetSize net, 3721 patches; `shapespline_bench --write-model=PATH` writes it
 // for bench/e2e.
 SurfaceModel bsplineWorkloadModel();
+// The same net as an order-4 knot-vector B-spline: knots 0..67 (the same surface), or clamped
+// random knots (intervals of 0.25 to 1.75).
+SurfaceModel knotWorkloadModel(bool randomKnots);
 
 // The real-time workload (tessellation_bench.cpp, bench/realtime): an α-EB surface of degree 5,
 // 25 x 40 patches (open/open) over a gentle height field, α = 0.6 with every 7th vertex at 1.

@@ -33,16 +33,15 @@ static_assert(pm::kMaxBasis == kMaxBasisCount);
 
 namespace {
 
-// Below this width of the knots a span's basis reads, they are scaled (see basisDerivsScaled).
+// Below this width of the knots a span's basis reads, they are scaled (bsplineBasisDerivsScaled).
 constexpr int kMinKnotWidthExponent = -500;
 
-// bsplineBasisAllDerivs on knot differences scaled by 2^e, returning e: out[k] are the derivatives
-// with respect to 2^e t, so d^k/dt^k = 2^(k e) out[k]. The basis values are ratios of knot
-// differences and do not change; the scaling keeps the recurrence's quotients N / (t_i - t_j) finite
-// for knot intervals near 1e-310, where 1 / (t_i - t_j) overflows fp64 (e = 0 for wider knots, so
-// ordinary knot vectors are evaluated exactly as before).
-int basisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
-                      double out[kMaxBasisCount][kMaxBasisCount]) {
+glm::dvec3 ldexp3(const glm::dvec3& v, int e) { return {std::ldexp(v.x, e), std::ldexp(v.y, e), std::ldexp(v.z, e)}; }
+
+}  // namespace
+
+int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
+                             double out[kMaxBasisCount][kMaxBasisCount]) {
   // The NURBS Book A2.3 with p = order-1. Every divisor is a difference of knots that brackets the
   // non-empty span [t_span, t_{span+1}], so it is positive.
   const int p = order - 1;
@@ -62,13 +61,9 @@ int basisDerivsScaled(int order, std::span<const double> knots, int span, double
   return e;
 }
 
-glm::dvec3 ldexp3(const glm::dvec3& v, int e) { return {std::ldexp(v.x, e), std::ldexp(v.y, e), std::ldexp(v.z, e)}; }
-
-}  // namespace
-
 void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
                            double out[kMaxBasisCount][kMaxBasisCount]) {
-  const int e = basisDerivsScaled(order, knots, span, t, derivs, out);
+  const int e = bsplineBasisDerivsScaled(order, knots, span, t, derivs, out);
   if (e == 0) return;
   for (int k = 1; k <= derivs; ++k)
     for (int j = 0; j < order; ++j) out[k][j] = std::ldexp(out[k][j], k * e);
@@ -86,7 +81,7 @@ void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, i
   double basis[kMaxBasisCount][kMaxBasisCount];
   // Sums of scaled basis derivatives, scaled back once: a derivative that fits fp64 stays finite
   // even where single basis derivatives do not.
-  const int e = basisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
+  const int e = bsplineBasisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
   const int first = span - curve.order + 1;
   for (int d = 0; d <= derivs; ++d) {
     glm::dvec3 sum(0.0);
@@ -102,7 +97,7 @@ BSplineCurvePoint evalBSplineCurve(const BSplineCurveData& curve, double t) {
   t = std::clamp(t, a, b);
   const int derivs = std::min(2, curve.order - 1);
   double basis[kMaxBasisCount][kMaxBasisCount] = {};
-  const int e = basisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
+  const int e = bsplineBasisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
   BSplineCurvePoint result;
   const int first = span - curve.order + 1;
   for (int r = 0; r < curve.order; ++r) {
@@ -122,8 +117,8 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
   u = std::clamp(u, surface.knotsU[ku - 1], surface.knotsU[surface.rows]);
   v = std::clamp(v, surface.knotsV[kv - 1], surface.knotsV[surface.cols]);
   double bu[kMaxBasisCount][kMaxBasisCount] = {}, bv[kMaxBasisCount][kMaxBasisCount] = {};
-  const int eu = basisDerivsScaled(ku, surface.knotsU, spanU, u, std::min(2, ku - 1), bu);
-  const int ev = basisDerivsScaled(kv, surface.knotsV, spanV, v, std::min(2, kv - 1), bv);
+  const int eu = bsplineBasisDerivsScaled(ku, surface.knotsU, spanU, u, std::min(2, ku - 1), bu);
+  const int ev = bsplineBasisDerivsScaled(kv, surface.knotsV, spanV, v, std::min(2, kv - 1), bv);
   const int firstU = spanU - ku + 1, firstV = spanV - kv + 1;
   BSplineSurfacePoint result;
   for (int r = 0; r < ku; ++r) {

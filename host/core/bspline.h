@@ -46,6 +46,11 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
 
 // Additions (extension module and its tests).
 
+// bsplineBasisAllDerivs on knot differences scaled by 2^e, returning e (0 unless the knots the span
+// reads are narrower than 2^-500, as near 1e-310): out[k] are derivatives with respect to 2^e t, so
+// d^k/dt^k = 2^(k e) out[k]. The quotients N / (t_i - t_j) of the recurrence then stay finite.
+int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
+                             double out[kMaxBasisCount][kMaxBasisCount]);
 // General form of bsplineBasisDerivs: derivatives 0..derivs (<= order-1) of the non-zero basis
 // functions at t on the given span, out[d][r] (Piegl & Tiller, The NURBS Book, A2.3). The span's
 // polynomial is used even when t lies outside [t_span, t_{span+1}] (one-sided limits at knots).

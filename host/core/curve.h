@@ -64,6 +64,8 @@ class Curve {
   // Decided once here from the family table (core/family.h); every layer dispatches on it.
   Parameterization parameterization() const { return parameterization_; }
   bool usesKnotVector() const { return knotVector(); }
+  // The knot-vector B-spline itself (order, knots, points; usesKnotVector() only).
+  const BSplineCurveData& knotData() const { return bspline_; }
 
   // Valid spans. Local families: docs/math.md §1 (open j = c..N-m+c, closed 0..N-1); α-EB: §4.1 (open
   // 0..N-2, closed 0..N-1). Knot-vector B-splines: the knot interval indices k-1..n of §10.1

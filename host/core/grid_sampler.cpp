@@ -1,6 +1,7 @@
 #include <shapespline/core/grid_sampler.h>
 
 #include <shapespline/core/cores.h>
+#include <shapespline/core/knot_table.h>
 #include <shapespline/core/point_math.h>
 #include <shapespline/core/point_records.h>
 
@@ -12,6 +13,7 @@
 #include <iterator>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -25,6 +27,10 @@ constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du
                                      fieldBit(Field::Normal);
 
 bool wants(FieldMask mask, Field f) { return (mask & fieldBit(f)) != 0; }
+
+// Row k of a surface sampler's row buffers is the partial of u-order kPartialOrders[k][0] and
+// v-order kPartialOrders[k][1]: point, du, dv, duu, duv, dvv.
+constexpr int kPartialOrders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
 
 double gridParameter(int a, int samples) { return samples > 1 ? static_cast<double>(a) / (samples - 1) : 0.0; }
 
@@ -446,6 +452,57 @@ void sampleSpanRows(const DirectionTable& tab, const glm::dvec3* P, const SpanEn
   }
 }
 
+// Rows [aBegin, aEnd) of one knot interval of a knot-vector curve: each sample's tabulated basis
+// against the control points of its span (the same sums, in the same order, as evalBSplineCurve).
+template <class Out>
+void sampleKnotSpanRows(const KnotTable& tab, const glm::dvec3* points, int aBegin, int aEnd, size_t point, Out& out) {
+  for (int a = aBegin; a < aEnd; ++a, ++point) {
+    const glm::dvec3* P = points + (tab.span[static_cast<size_t>(a)] - tab.order + 1);
+    glm::dvec3 c0(0.0), c1(0.0), c2(0.0);
+    for (int r = 0; r < tab.order; ++r) pm::accumulate3(c0, c1, c2, tab.row(0, r)[a], tab.row(1, r)[a], tab.row(2, r)[a], P[r]);
+    out.put(Field::Point, point, c0);
+    out.put(Field::D1, point, c1);
+    out.put(Field::D2, point, c2);
+  }
+}
+
+// Row a of knot interval pair (i, j) of a knot-vector surface: the partials need[k] (kPartialOrders)
+// at every v sample into the structure-of-arrays rows row(k, c). As in the uniform path, the net is
+// contracted in u with row a's tabulated basis, then each needed row is one contraction over the
+// v basis rows; once per run of v samples that share a span (the last sample may lie on the next).
+template <class RowFn>
+void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const glm::dvec3* net, int cols, int a,
+                     const bool need[6], RowFn row) {
+  const int mu = tu.order, mv = tv.order;
+  const glm::dvec3* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
+  const bool needD[3] = {true, need[1] || need[4], need[3]};
+  for (int b0 = 0; b0 < tv.samples;) {
+    const int b1 = tv.runEnd(b0);
+    const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
+    glm::dvec3 T[3][kMaxBasisCount];
+    for (int s = 0; s < mv; ++s) {
+      T[0][s] = T[1][s] = T[2][s] = glm::dvec3(0.0);
+      for (int r = 0; r < mu; ++r) {
+        const glm::dvec3& p = P[static_cast<size_t>(r) * cols + firstV + s];
+        for (int d = 0; d < 3; ++d)
+          if (needD[d]) T[d][s] += tu.row(d, r)[a] * p;
+      }
+    }
+    for (int k = 0; k < 6; ++k) {
+      if (!need[k]) continue;
+      const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
+      const double* basisRows[kMaxBasisCount];
+      for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s) + b0;
+      for (int c = 0; c < 3; ++c) {
+        double t[kMaxBasisCount];
+        for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
+        contractRows(basisRows, t, mv, b1 - b0, row(k, c) + b0);
+      }
+    }
+    b0 = b1;
+  }
+}
+
 }  // namespace
 
 void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
@@ -461,9 +518,20 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
   const int firstSpan = curve.spans().first;
   const int n = static_cast<int>(curve.model().points.size());
 
-  auto computeItem = [&](auto& out, size_t item, int aBegin, int aEnd, size_t point) {
+  std::optional<KnotTables> knotTables;
+  if (curve.usesKnotVector()) {
+    const BSplineCurveData& d = curve.knotData();
+    knotTables.emplace(d.order, d.knots, static_cast<int>(d.points.size()), S);
+  }
+
+  auto computeItem = [&](auto& out, KnotTable& scratch, size_t item, int aBegin, int aEnd, size_t point) {
     const int span = items[item];
     if (curve.usesKnotVector()) {
+      const KnotTable& tab = knotTables->of(span, scratch);
+      if (!tab.scaled) {
+        sampleKnotSpanRows(tab, curve.knotData().points.data(), aBegin, aEnd, point, out);
+        return;
+      }
       for (int a = aBegin; a < aEnd; ++a, ++point) {
         const CurvePoint cp = curve.evaluate(span, gridParameter(a, S));
         out.put(Field::Point, point, cp.point), out.put(Field::D1, point, cp.d1), out.put(Field::D2, point, cp.d2);
@@ -480,8 +548,9 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
     sampleSpanRows(tab, P, ends, invH, aBegin, aEnd, point, out);
   };
   auto compute = [&](auto&& out, size_t begin, size_t end, size_t firstPoint) {
+    KnotTable scratch;  // a knot interval's table when the job's tables are over their budget
     forEachItemRows(begin, end, static_cast<size_t>(S), 1, firstPoint, [&](size_t item, int a0, int a1, size_t point) {
-      computeItem(out, item, a0, a1, point);
+      computeItem(out, scratch, item, a0, a1, point);
     });
   };
   runChunked(ChunkPlan(first, count, static_cast<size_t>(S), 1, options.maxChunkPoints), fields, options, consumer,
@@ -506,11 +575,15 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
   const bool needU = wants(fields, Field::Du) || normal || ((needUU || needUV) && alphaEB);
   const bool needV = wants(fields, Field::Dv) || normal || ((needVV || needUV) && alphaEB);
   const int mu = tu.count, mv = tv.count;
-  // Row k of the v-expansion is the partial of u-order kOrders[k][0] and v-order kOrders[k][1].
-  static constexpr int kOrders[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
   static constexpr int kOutputField[6] = {int(Field::Point), int(Field::Du),  int(Field::Dv),
                                           int(Field::Duu),   int(Field::Duv), int(Field::Dvv)};
   const bool need[6] = {true, needU, needV, needUU, needUV, needVV};
+  std::optional<KnotTables> knotsU, knotsV;
+  if (surface.usesKnotVector()) {
+    const BSplineSurfaceData& d = surface.knotData();
+    knotsU.emplace(d.orderU, d.knotsU, d.rows, Su);
+    knotsV.emplace(d.orderV, d.knotsV, d.cols, Sv);
+  }
 
   auto compute = [&](auto&& out, size_t rowBegin, size_t rowEnd, size_t firstPoint) {
     // Row buffers (structure of arrays over v samples): C, Cu, Cv, Cuu, Cuv, Cvv per coordinate.
@@ -520,10 +593,18 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
     for (int k = 0; k < 6; ++k)
       if (need[k])
         for (int c = 0; c < 3; ++c) fieldRows[kOutputField[k]][c] = row(k, c);
+    KnotTable scratchU, scratchV;  // knot interval tables when the job's are over their budget
     forEachItemRows(rowBegin, rowEnd, static_cast<size_t>(Su), static_cast<size_t>(Sv), firstPoint,
                     [&](size_t item, int aBegin, int aEnd, size_t point) {
       const auto [i, j] = items[item];
+      const KnotTable* knotU = nullptr;
+      const KnotTable* knotV = nullptr;
       if (surface.usesKnotVector()) {
+        knotU = &knotsU->of(i, scratchU);
+        knotV = &knotsV->of(j, scratchV);
+      }
+      if (knotU && (knotU->scaled || knotV->scaled)) {
+        // Knot intervals near 1e-310: per point, through the scaled partials of evalBSplineSurface.
         for (int a = aBegin; a < aEnd; ++a)
           for (int b = 0; b < Sv; ++b, ++point) {
             const SurfacePoint sp = surface.evaluate(i, j, gridParameter(a, Su), gridParameter(b, Sv));
@@ -533,9 +614,10 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           }
         return;
       }
-      const int stride = surface.netCols();
-      const glm::dvec3* P = surface.patchNet().data() + static_cast<size_t>(i + surface.netOffsetU()) * stride +
-                            (j + surface.netOffsetV());
+      const int stride = knotU ? surface.knotData().cols : surface.netCols();
+      const glm::dvec3* P = knotU ? surface.knotData().points.data()
+                                  : surface.patchNet().data() + static_cast<size_t>(i + surface.netOffsetU()) * stride +
+                                        (j + surface.netOffsetV());
       double alpha[4] = {0, 0, 0, 0};
       glm::dvec3 V[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
       if (alphaEB) {  // corners (i,j), (i,j+1), (i+1,j), (i+1,j+1), wrapped in closed directions
@@ -544,28 +626,32 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
         for (int k = 0; k < 4; ++k) alpha[k] = surface.alphas()[idx[k]], V[k] = surface.alphaV()[idx[k]];
       }
       for (int a = aBegin; a < aEnd; ++a) {
-        // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
-        glm::dvec3 T[3][kMaxBasisCount];
-        for (int s = 0; s < mv; ++s) {
-          T[0][s] = T[1][s] = T[2][s] = glm::dvec3(0.0);
-          for (int r = 0; r < mu; ++r) {
-            const glm::dvec3& p = P[static_cast<size_t>(r) * stride + s];
-            T[0][s] += tu.row(0, r)[a] * p;
-            if (needU || needUV) T[1][s] += tu.row(1, r)[a] * p;
-            if (needUU) T[2][s] += tu.row(2, r)[a] * p;
+        if (knotU) {
+          knotRowPartials(*knotU, *knotV, P, stride, a, need, row);
+        } else {
+          // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
+          glm::dvec3 T[3][kMaxBasisCount];
+          for (int s = 0; s < mv; ++s) {
+            T[0][s] = T[1][s] = T[2][s] = glm::dvec3(0.0);
+            for (int r = 0; r < mu; ++r) {
+              const glm::dvec3& p = P[static_cast<size_t>(r) * stride + s];
+              T[0][s] += tu.row(0, r)[a] * p;
+              if (needU || needUV) T[1][s] += tu.row(1, r)[a] * p;
+              if (needUU) T[2][s] += tu.row(2, r)[a] * p;
+            }
           }
-        }
-        // v-expansion over the whole row of samples: each needed (field, coordinate) row is one
-        // register-accumulated contraction over the basis rows (contiguous, vectorisable).
-        for (int k = 0; k < 6; ++k) {
-          if (!need[k]) continue;
-          const int du = kOrders[k][0], dv = kOrders[k][1];
-          const double* basisRows[kMaxBasisCount];
-          for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s);
-          for (int c = 0; c < 3; ++c) {
-            double t[kMaxBasisCount];
-            for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
-            contractRows(basisRows, t, mv, Sv, row(k, c));
+          // v-expansion over the whole row of samples: each needed (field, coordinate) row is one
+          // register-accumulated contraction over the basis rows (contiguous, vectorisable).
+          for (int k = 0; k < 6; ++k) {
+            if (!need[k]) continue;
+            const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
+            const double* basisRows[kMaxBasisCount];
+            for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s);
+            for (int c = 0; c < 3; ++c) {
+              double t[kMaxBasisCount];
+              for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
+              contractRows(basisRows, t, mv, Sv, row(k, c));
+            }
           }
         }
         if (!alphaEB && !normal) {

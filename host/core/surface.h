@@ -93,6 +93,8 @@ class Surface {
   // Decided once here from the family table (core/family.h); every layer dispatches on it.
   Parameterization parameterization() const { return parameterization_; }
   bool usesKnotVector() const { return knotVector(); }
+  // The knot-vector B-spline itself (orders, knots, net; usesKnotVector() only).
+  const BSplineSurfaceData& knotData() const { return bspline_; }
 
   // Valid patches per direction: §5.1 for α-EB, §1 per direction for plain families; knot-vector
   // B-splines: knot interval indices k-1..n per direction (empty intervals rejected by evaluate()).

@@ -7,6 +7,7 @@
 #include <random>
 
 #include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/knot_table.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -204,6 +205,95 @@ TEST(GridSampler, ByteIdenticalAcrossThreadsChunksAndShards) {
     for (int f = 0; f < kFieldCount; ++f) shards.data[f].insert(shards.data[f].end(), part.data[f].begin(), part.data[f].end());
   }
   expectSameBytes(one, shards);
+}
+
+// A knot-vector B-spline surface (docs/math.md §10.1) on a rows x cols net.
+SurfaceModel knotSurface(int orderU, int orderV, std::vector<double> knotsU, std::vector<double> knotsV, unsigned seed) {
+  SurfaceModel m = gridSurface({Construction::BSpline, 0, orderU, 0.0, {}}, int(knotsU.size()) - orderU,
+                               int(knotsV.size()) - orderV, false, false, seed);
+  m.orderV = orderV;
+  m.knotsU = std::move(knotsU);
+  m.knotsV = std::move(knotsV);
+  return m;
+}
+
+// The tabulated knot-vector path (core/knot_table.h) against Surface::evaluate at every grid
+// point: uniform and non-uniform knots, clamped or not, interior knots of every multiplicity (C2
+// down to a break, where the last sample of an interval lies on the next span), mixed orders.
+TEST(GridSampler, KnotSurfacesMatchReferenceEvaluator) {
+  struct Case {
+    const char* name;
+    SurfaceModel model;
+  };
+  std::vector<double> uniform;
+  for (int k = 0; k < 12; ++k) uniform.push_back(k);
+  const std::vector<Case> cases = {
+      {"uniform bicubic", knotSurface(4, 4, uniform, uniform, 1)},
+      {"clamped non-uniform", knotSurface(4, 3, {0, 0, 0, 0, 0.1, 0.35, 0.4, 0.9, 1, 1, 1, 1}, {0, 0, 0, 0.2, 0.25, 0.7, 1, 1, 1}, 2)},
+      {"multiplicities", knotSurface(4, 4, {0, 0, 0, 0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4}, {0, 0, 0, 0, 1, 2, 2, 2, 3, 3, 3, 3}, 3)},
+      {"orders 2 and 6", knotSurface(2, 6, {0, 0, 0.5, 1, 1.5, 1.5, 2, 2}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13}, 4)},
+  };
+  for (const Case& c : cases) {
+    const Surface surface = Surface::create(c.model);
+    const double scale = boxDiagonal(c.model.points);
+    for (auto [Su, Sv] : {std::pair{5, 6}, std::pair{2, 2}, std::pair{9, 3}}) {
+      Collected got;
+      sampleSurfaceGrid(surface, {Su, Sv, 0, 0}, kAllSurface, got.consumer(), {2, 64});
+      const auto items = surfaceGridItems(surface);
+      ASSERT_EQ(got.data[0].size(), items.size() * Su * Sv * 3) << c.name;
+      double maxErr = 0.0;
+      size_t pt = 0;
+      for (auto [i, j] : items)
+        for (int a = 0; a < Su; ++a)
+          for (int b = 0; b < Sv; ++b, ++pt) {
+            const SurfacePoint ref = surface.evaluate(i, j, double(a) / (Su - 1), double(b) / (Sv - 1));
+            const dvec3 vals[7] = {ref.point, ref.du, ref.dv, ref.duu, ref.duv, ref.dvv, ref.normal};
+            const Field fs[7] = {Field::Point, Field::Du, Field::Dv, Field::Duu, Field::Duv, Field::Dvv, Field::Normal};
+            for (int k = 0; k < 7; ++k)
+              for (int ax = 0; ax < 3; ++ax) {
+                const double v = got.data[int(fs[k])][pt * 3 + ax];
+                // Same bases, the net contracted u first instead of v first: a few ulps of the
+                // field's magnitude; unit normals relative to 1 (times 1/sin of the angle).
+                const double mag = k == 6 ? 1.0 : scale + glm::length(vals[k]);
+                const double err = std::abs(v - vals[k][ax]);
+                maxErr = std::max(maxErr, err / mag);
+                ASSERT_LE(err, (k == 6 ? 100 : 4) * test::kFp64Rel * mag)
+                    << c.name << " S " << Su << "x" << Sv << " patch " << i << "," << j << " a " << a << " b " << b
+                    << " field " << k;
+              }
+          }
+      std::printf("knot surface %-20s %dx%d max relative |fast - reference| %.3e\n", c.name, Su, Sv, maxErr);
+    }
+  }
+}
+
+TEST(GridSampler, KnotSurfacesByteIdenticalAcrossThreadsAndChunks) {
+  const Surface surface = Surface::create(
+      knotSurface(4, 3, {0, 0, 0, 0, 0.1, 0.35, 0.35, 0.9, 1, 1, 1, 1}, {0, 0, 0, 0.2, 0.25, 0.7, 1, 1, 1}, 5));
+  Collected one, two, tiny;
+  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, one.consumer(), {1, size_t{1} << 20});
+  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, two.consumer(), {2, 200});
+  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, tiny.consumer(), {2, 1});
+  expectSameBytes(one, two);
+  expectSameBytes(one, tiny);
+}
+
+// Over its budget a job tabulates each interval into the worker's scratch table: the same table.
+TEST(KnotTables, ScratchTablesEqualTheJobsTables) {
+  const std::vector<double> knots = {0, 0, 0, 0.5, 0.5, 1, 2, 2, 2};
+  const KnotTables whole(3, knots, 6, 7), perItem(3, knots, 6, 7, 0);
+  KnotTable scratchA, scratchB;
+  for (int i : {2, 4, 5, 4}) {
+    const KnotTable& a = whole.of(i, scratchA);
+    const KnotTable& b = perItem.of(i, scratchB);
+    EXPECT_EQ(&a == &scratchA, false) << "within the budget the job's own tables are used";
+    EXPECT_EQ(&b, &scratchB);
+    EXPECT_EQ(a.span, b.span) << i;
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(a.b[d], b.b[d]) << i << " derivative " << d;
+  }
+  // The last sample of interval 2 ([0, 0.5)) lies on the next non-empty interval, 4: the quadratic
+  // is only C0 at the double knot 0.5, so its first derivative jumps there.
+  EXPECT_EQ(whole.of(2, scratchA).span, (std::vector<int>{2, 2, 2, 2, 2, 2, 4}));
 }
 
 TEST(GridSampler, RejectsBadRequests) {
