@@ -14,7 +14,7 @@ PACKAGES=(
   python3-numpy libtinygltf-dev assimp-utils
   slurm-wlm munge
   libglfw3-dev xvfb xauth
-  pybind11-dev python3-dev python3-pytest python3-matplotlib
+  pybind11-dev python3-dev python3-pytest python3-matplotlib python3-scipy
 )
 
 missing=()
