@@ -28,28 +28,7 @@ const bool kWantDuv = (OUTPUT_MASK & (1u << kFieldDuv)) != 0u;
 const bool kWantDvv = (OUTPUT_MASK & (1u << kFieldDvv)) != 0u;
 const bool kWantNormal = (OUTPUT_MASK & (1u << kFieldNormal)) != 0u;
 
-struct Sample {
-  REAL3 p, u, v, uu, uv, vv, n;
-};
-
-// core/bspline.cpp evalBSplineSurface: contract in v first, then u.
-Sample evalKnotPatch(int spanU, REAL x, int spanV, REAL y) {
-  REAL bu[kMaxBasis], du[kMaxBasis], ddu[kMaxBasis];
-  REAL bv[kMaxBasis], dv[kMaxBasis], ddv[kMaxBasis];
-  bsplineBasisDerivs(pc.knotOffsetU, BASIS_COUNT_U, spanU, x, bu, du, ddu);
-  bsplineBasisDerivs(pc.knotOffsetV, BASIS_COUNT_V, spanV, y, bv, dv, ddv);
-  uint firstU = uint(spanU) + 1u - BASIS_COUNT_U, firstV = uint(spanV) + 1u - BASIS_COUNT_V;
-  Sample o;
-  o.p = REAL3(0); o.u = REAL3(0); o.v = REAL3(0); o.uu = REAL3(0); o.uv = REAL3(0); o.vv = REAL3(0);
-  o.n = fixedAxisNormal();
-  for (uint r = 0; r < BASIS_COUNT_U; ++r) {
-    REAL3 s0 = REAL3(0), s1 = REAL3(0), s2 = REAL3(0);
-    uint row = (firstU + r) * pc.netCols + firstV;
-    for (uint s = 0; s < BASIS_COUNT_V; ++s) accumulate3(s0, s1, s2, bv[s], dv[s], ddv[s], net[row + s].xyz);
-    accumulateTensorRow(o.p, o.u, o.v, o.uu, o.uv, o.vv, bu[r], du[r], ddu[r], s0, s1, s2);
-  }
-  return o;
-}
+#include "knot_patch.glsl"
 
 Sample evalSample(uint k) {
   int spanU, spanV, iu, iv;
@@ -77,20 +56,14 @@ Sample evalSample(uint k) {
     iu = int(params[recU]);
     iv = int(params[recV]);
   }
-  // Normal of core/surface.cpp evalWithNormal for a plain surface: du x dv; if degenerate, again
-  // at the point moved 2^-12 towards the centre of interval pair (iu, iv) (the base-surface step
-  // repeats the regular one here); then +z. One evalKnotPatch in a rolled loop keeps code small.
+  // knot_patch.glsl knotNormal's rule with one evalKnotPatch in a rolled loop, which keeps the
+  // code small (a second inlined de Boor–Cox doubles llvmpipe's compile time).
   Sample o;
   [[dont_unroll]] for (uint pass = 0u; pass < 2u; ++pass) {
     if (pass == 1u) {
-      REAL u0 = knotAt(pc.knotOffsetU, iu), u1 = knotAt(pc.knotOffsetU, iu + 1);
-      REAL v0 = knotAt(pc.knotOffsetV, iv), v1 = knotAt(pc.knotOffsetV, iv + 1);
-      precise REAL xs = u0 + towardCentre(lu) * (u1 - u0);
-      precise REAL ys = v0 + towardCentre(lv) * (v1 - v0);
+      knotsTowardCentre(iu, iv, lu, lv, x, y);
       spanU = iu;
       spanV = iv;
-      x = xs;
-      y = ys;
     }
     Sample s = evalKnotPatch(spanU, x, spanV, y);
     if (pass == 0u) o = s;

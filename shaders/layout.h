@@ -121,8 +121,9 @@ struct EvalPush {
   SS_UINT pad0, pad1, pad2;
 };
 
-// Push constants of bspline_curve_eval / bspline_surface_eval (knot-vector B-splines, docs/math.md
-// §10.1). The first five fields sit where EvalPush has them.
+// Push constants of bspline_curve_eval / bspline_surface_eval and their grid paths
+// bspline_curve_grid / bspline_surface_grid (knot-vector B-splines, docs/math.md §10.1). The first
+// five fields sit where EvalPush has them.
 struct KnotEvalPush {
   SS_UINT firstItem;        // grid: first item (non-empty interval / interval pair); list: first sample
   SS_UINT itemCount;        // grid: items in this chunk; list: samples in this chunk
@@ -137,7 +138,8 @@ struct KnotEvalPush {
   SS_UINT listMode;         // 1: SAMPLES list (a push constant here, so grid and list share a pipeline)
   SS_UINT firstRow;         // grid: row range of the chunk, as EvalPush
   SS_UINT rowCount;
-  SS_UINT pad2, pad3, pad4;
+  SS_UINT tableOffsetV;     // bspline_surface_grid: TABLE index of the v direction's entries
+  SS_UINT pad3, pad4;
 };
 
 // Push constants of alpha_eb_vertices.

@@ -36,9 +36,9 @@ void CurveEvaluator::evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMa
                                   const ChunkConsumer& consumer) {
   checkPrecision(*kernels_, curve);
   if (curve.knotVector()) {
-    GridJob<layout::KnotEvalPush> job{Kernel::BSplineCurveEval, false, true, kCurveFields, knotPush(curve, 1, 1),
-                                      curve.gridItemCount()};
-    runGrid(*kernels_, *planes_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
+    std::optional<KnotGridTable> table;
+    runGrid(*kernels_, *planes_, curve, knotGridJob(*kernels_, curve, grid, table), grid, fields, consumer,
+            options_.maxPlaneBytes);
     return;
   }
   // curve_grid.comp when the samples come in whole groups of 4 (the packed stores of 4 points).

@@ -129,6 +129,43 @@ layout::EvalPush surfacePush(const GpuSurface& s) {
   return p;
 }
 
+namespace {
+
+// Samples per invocation of bspline_surface_grid.comp: runs that divide a row share the net's u
+// contraction; 8 at most (the contracted rows stay in registers).
+uint32_t knotRunLength(uint32_t samplesV) {
+  for (uint32_t run : {8u, 4u, 2u})
+    if (samplesV % run == 0) return run;
+  return 1u;
+}
+
+size_t knotTableLimit(const KernelSet& k) {
+  constexpr size_t kMaxTableBytes = size_t{64} << 20;
+  return std::min<size_t>(kMaxTableBytes, k.context().limits().maxStorageBufferRange) / realSize(k.precision());
+}
+
+}  // namespace
+
+GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuCurve& c, const GridSpec& grid,
+                                          std::optional<KnotGridTable>& table) {
+  table = knotGridTable(c.curve(), grid.samplesU, knotTableLimit(k));
+  GridJob<layout::KnotEvalPush> job{table ? Kernel::BSplineCurveGrid : Kernel::BSplineCurveEval, false, true,
+                                    kCurveFields, knotPush(c, 1, 1), c.gridItemCount()};
+  job.knotTable = table ? &*table : nullptr;
+  return job;
+}
+
+GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuSurface& s, const GridSpec& grid,
+                                          std::optional<KnotGridTable>& table) {
+  table = knotGridTable(s.surface(), grid.samplesU, grid.samplesV, knotTableLimit(k));
+  GridJob<layout::KnotEvalPush> job{table ? Kernel::BSplineSurfaceGrid : Kernel::BSplineSurfaceEval, true, true,
+                                    kSurfaceFields, knotPush(s, uint32_t(s.gridItemsV()), s.netCols()),
+                                    s.gridItemCount()};
+  job.knotTable = table ? &*table : nullptr;
+  if (table) job.push.tableOffsetV = table->offsetV;
+  return job;
+}
+
 template <class Push>
 void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& job, const GridSpec& grid,
              FieldMask fields, const ChunkConsumer& consumer, size_t maxPlaneBytes) {
@@ -145,16 +182,23 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
   const uint32_t su = uint32_t(grid.samplesU), sv = uint32_t(grid.samplesV);
   const uint32_t tableV = su * 3u * uint32_t(bu.count);
   vk::Buffer table;
-  if (!job.knotVector)
+  const bool knotGrid = job.knotTable != nullptr;
+  if (!job.knotVector) {
     table = realBuffer(k, tableV + (job.surface ? sv * 3u * uint32_t(bv.count) : 0u), vk::MemoryUse::DeviceLocal,
                        "gpu.table");
+  } else if (knotGrid) {
+    table = realBuffer(k, job.knotTable->values.size(), vk::MemoryUse::DeviceLocal, "gpu.knot_table");
+    table.upload(toReal(job.knotTable->values, k.precision()));
+  }
   std::vector<int> active;
   for (int f = 0; f < kFieldCount; ++f)
     if (fields & fieldBit(Field(f))) active.push_back(f);
   const bool gridKernel = job.kernel == Kernel::SurfaceGrid || job.kernel == Kernel::CurveGrid;
-  const uint32_t run = gridKernel ? gridRunLength(grid, fields, job.surface) : 0u;
+  const uint32_t run = gridKernel ? gridRunLength(grid, fields, job.surface)
+                       : knotGrid   ? (job.surface ? knotRunLength(sv) : 1u)
+                                    : 0u;
   SpecValues spec = evalSpec(m, fields, job.knotVector ? kNoListMode : 0u);
-  if (gridKernel) spec[layout::kSpecRunLength] = run;
+  if (gridKernel || (knotGrid && job.surface)) spec[layout::kSpecRunLength] = run;
   const auto& pipe = k.pipeline(job.kernel, spec);
 
   // Row ranges hold whole invocations of the grid kernel (rows of a patch, a run of a span).
@@ -175,7 +219,7 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     sets[s].bind(layout::kBindingNet, m.netBuffer())
         .bind(layout::kBindingParams, m.paramBuffer())
         .bind(layout::kBindingVerts, m.vertexBuffer());
-    if (!job.knotVector) sets[s].bind(layout::kBindingTable, table);
+    if (!job.knotVector || knotGrid) sets[s].bind(layout::kBindingTable, table);
     for (int f : active) sets[s].bind(layout::kBindingOutput + f, *planes[s][f]);
   }
   vk::SubmitRing ring(k.context(), slots);  // declared last: its destructor waits before anything it uses goes
@@ -206,7 +250,7 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     pipe.push(cmd, pc);
     // Grid kernels: `run` samples per invocation (whole rows or spans, or runs dividing a row; the
     // last invocation of a curve chunk may hold fewer spans).
-    const uint64_t perInvocation = gridKernel ? run : layout::kPointsPerInvocation;
+    const uint64_t perInvocation = gridKernel || knotGrid ? run : layout::kPointsPerInvocation;
     k.dispatch(cmd, (uint64_t(c.pointCount()) + perInvocation - 1) / perInvocation);
     ring.submit(slot);
   };

@@ -5,6 +5,7 @@
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/gpu/gpu_model.h>
 #include <shapespline/gpu/kernels.h>
+#include <shapespline/gpu/knot_grid_table.h>
 #include <shapespline/shaders/layout.h>
 #include <shapespline/vk/buffer.h>
 #include <shapespline/vk/pipeline.h>
@@ -12,6 +13,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace shapespline::gpu {
@@ -53,11 +55,22 @@ template <class Push>
 struct GridJob {
   Kernel kernel;
   bool surface;
-  bool knotVector;  // no basis table: bspline_*_eval.comp evaluates de Boor-Cox per point
+  bool knotVector;  // no device-built basis table: see knotTable
   FieldMask allowed;
   Push push;  // model part filled in; chunk part set per chunk
   size_t itemTotal;
+  // Knot vectors: the host-built TABLE of bspline_*_grid.comp, or null for bspline_*_eval.comp
+  // (de Boor-Cox per point).
+  const KnotGridTable* knotTable = nullptr;
 };
+
+// The knot grid job of `m` on `grid`: bspline_*_grid.comp with its table where
+// knotGridTable builds one within the device's buffer range and 64 MiB, else bspline_*_eval.comp.
+// `table` keeps the table for the job's life.
+GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuCurve& c, const GridSpec& grid,
+                                          std::optional<KnotGridTable>& table);
+GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuSurface& s, const GridSpec& grid,
+                                          std::optional<KnotGridTable>& table);
 
 // A grid job chunk by chunk (gpu/chunk_plan.h), two chunks in flight: the consumer reads chunk k
 // while the GPU computes k+1. Instantiated for layout::EvalPush and layout::KnotEvalPush.

@@ -7,8 +7,12 @@
 #include "shaders/basis_table_comp_f64.h"
 #include "shaders/bspline_curve_eval_comp.h"
 #include "shaders/bspline_curve_eval_comp_f64.h"
+#include "shaders/bspline_curve_grid_comp.h"
+#include "shaders/bspline_curve_grid_comp_f64.h"
 #include "shaders/bspline_surface_eval_comp.h"
 #include "shaders/bspline_surface_eval_comp_f64.h"
+#include "shaders/bspline_surface_grid_comp.h"
+#include "shaders/bspline_surface_grid_comp_f64.h"
 #include "shaders/curve_eval_comp.h"
 #include "shaders/curve_grid_comp.h"
 #include "shaders/curve_grid_comp_f64.h"
@@ -112,6 +116,16 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const SpecValues& 
       code = {bspline_surface_eval_comp, bspline_surface_eval_comp_f64, {}, {}};
       push = sizeof(layout::KnotEvalPush);
       label = "bspline_surface_eval";
+      break;
+    case Kernel::BSplineCurveGrid:
+      code = {bspline_curve_grid_comp, bspline_curve_grid_comp_f64, {}, {}};
+      push = sizeof(layout::KnotEvalPush);
+      label = "bspline_curve_grid";
+      break;
+    case Kernel::BSplineSurfaceGrid:
+      code = {bspline_surface_grid_comp, bspline_surface_grid_comp_f64, {}, {}};
+      push = sizeof(layout::KnotEvalPush);
+      label = "bspline_surface_grid";
       break;
     case Kernel::SurfaceGrid:
       code = {surface_grid_comp, surface_grid_comp_f64, surface_grid_comp_pk, surface_grid_comp_f64_pk};

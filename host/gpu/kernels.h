@@ -21,7 +21,7 @@
 namespace shapespline::gpu {
 
 enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
-                    SurfaceGrid, CurveGrid, TessellateGrid, AdaptiveRates, AdaptiveLayout, AdaptiveMesh };
+                    BSplineCurveGrid, BSplineSurfaceGrid, SurfaceGrid, CurveGrid, TessellateGrid, AdaptiveRates, AdaptiveLayout, AdaptiveMesh };
 
 // Bytes of one REAL.
 inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }

@@ -18,10 +18,9 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
                                     const ChunkConsumer& consumer) {
   checkPrecision(*kernels_, surface);
   if (surface.knotVector()) {
-    GridJob<layout::KnotEvalPush> job{Kernel::BSplineSurfaceEval, true, true, kSurfaceFields,
-                                      knotPush(surface, uint32_t(surface.gridItemsV()), surface.netCols()),
-                                      surface.gridItemCount()};
-    runGrid(*kernels_, *planes_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
+    std::optional<KnotGridTable> table;
+    runGrid(*kernels_, *planes_, surface, knotGridJob(*kernels_, surface, grid, table), grid, fields, consumer,
+            options_.maxPlaneBytes);
     return;
   }
   // surface_grid.comp: tensor and α-EB surfaces, with or without normals, RUN_LENGTH samples (whole

@@ -257,29 +257,33 @@ TEST_P(GpuBSpline, SurfacesMatchCpu) {
       if (e.normalRule == NormalRule::Regular && sinA > 0.05)
         err.check("normal", e.normal, g.normal, 2.0 * (tol1 / lu + tol1 / lv) / sinA, where);
     };
-    GridSpec grid;
-    grid.samplesU = 5;
-    grid.samplesV = 3;
-    size_t seen = 0;
-    ev.evaluateGrid(state, grid, mask, [&](const GridChunk& ch) {
-      for (size_t it = 0; it < ch.itemCount; ++it) {
-        const auto [i, j] = items[ch.firstItem + it];
-        for (int a = 0; a < grid.samplesU; ++a)
-          for (int b = 0; b < grid.samplesV; ++b) {
-            const double u = a / 4.0, v = b / 2.0;
-            const size_t p = it * 15 + a * 3 + b;
-            auto got = [&](Field f) { return glm::dvec3(ch.coord(f, p, 0), ch.coord(f, p, 1), ch.coord(f, p, 2)); };
-            SurfacePoint g;
-            g.point = got(Field::Point), g.du = got(Field::Du), g.dv = got(Field::Dv);
-            g.duu = got(Field::Duu), g.duv = got(Field::Duv), g.dvv = got(Field::Dvv), g.normal = got(Field::Normal);
-            checkPoint(cpu.evaluate(i, j, u, v), g,
-                       "interval " + std::to_string(i) + "," + std::to_string(j) + " uv " + std::to_string(u) + "," +
-                           std::to_string(v));
-          }
-      }
-      seen += ch.itemCount;
-    });
-    EXPECT_EQ(seen, items.size());
+    // 5 x 3: one sample per invocation of the knot grid kernel; 4 x 8: runs of 8 samples, whose
+    // last one may change span (a knot where a derivative jumps).
+    for (auto [su, sv] : {std::pair{5, 3}, std::pair{4, 8}}) {
+      GridSpec grid;
+      grid.samplesU = su;
+      grid.samplesV = sv;
+      size_t seen = 0;
+      ev.evaluateGrid(state, grid, mask, [&](const GridChunk& ch) {
+        for (size_t it = 0; it < ch.itemCount; ++it) {
+          const auto [i, j] = items[ch.firstItem + it];
+          for (int a = 0; a < grid.samplesU; ++a)
+            for (int b = 0; b < grid.samplesV; ++b) {
+              const double u = a / double(su - 1), v = b / double(sv - 1);
+              const size_t p = it * size_t(su * sv) + a * sv + b;
+              auto got = [&](Field f) { return glm::dvec3(ch.coord(f, p, 0), ch.coord(f, p, 1), ch.coord(f, p, 2)); };
+              SurfacePoint g;
+              g.point = got(Field::Point), g.du = got(Field::Du), g.dv = got(Field::Dv);
+              g.duu = got(Field::Duu), g.duv = got(Field::Duv), g.dvv = got(Field::Dvv), g.normal = got(Field::Normal);
+              checkPoint(cpu.evaluate(i, j, u, v), g,
+                         "interval " + std::to_string(i) + "," + std::to_string(j) + " uv " + std::to_string(u) + "," +
+                             std::to_string(v));
+            }
+        }
+        seen += ch.itemCount;
+      });
+      EXPECT_EQ(seen, items.size());
+    }
     std::mt19937 rng(c.ku * 7 + c.kv);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<gpu::SurfaceSample> list;
