@@ -128,10 +128,12 @@ class Curve(_Model):
         alpha: Union[float, ArrayLike, None] = None,
         closed: Optional[bool] = None,
         knots: Optional[ArrayLike] = None,
+        weights: Optional[ArrayLike] = None,
     ) -> None:
         """points: (n, 2) or (n, 3); alpha: a scalar or one value per point; knots: span boundaries
-        (extended_bspline, gb) or the knot vector (bspline). Validated like a model file
-        (ModelError naming the field)."""
+        (extended_bspline, gb) or the knot vector (bspline); weights: one positive value per point of
+        a bspline with a knot vector (a rational B-spline). Validated like a model file (ModelError
+        naming the field)."""
     @staticmethod
     def from_dict(model: dict[str, Any]) -> Curve:
         """A curve from a dict with the keys of a model file (NumPy arrays allowed as values)."""
@@ -148,6 +150,9 @@ class Curve(_Model):
     def order(self) -> int: ...
     @property
     def knots(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def weights(self) -> npt.NDArray[np.float64]:
+        """Weights of a rational bspline (empty: not rational)."""
     @property
     def spans(self) -> Tuple[int, int]:
         """Valid span indices (first, last), inclusive."""
@@ -217,9 +222,11 @@ class Surface(_Model):
         alpha: Union[float, ArrayLike, None] = None,
         closed: Union[bool, Sequence[bool], None] = None,
         knots: Optional[Sequence[ArrayLike]] = None,
+        weights: Optional[ArrayLike] = None,
     ) -> None:
         """points: (rows, cols, 3); closed: a bool or (closed_u, closed_v); alpha: a scalar or
-        (rows, cols); order [k, l] and knots [U, V] for bspline."""
+        (rows, cols); order [k, l] and knots [U, V] for bspline; weights (rows, cols) for a rational
+        bspline."""
     @staticmethod
     def from_dict(model: dict[str, Any]) -> Surface: ...
     @property

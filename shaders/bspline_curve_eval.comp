@@ -44,7 +44,13 @@ CurvePoint evalSample(uint k) {
   o.point = REAL3(0);
   o.d1 = REAL3(0);
   o.d2 = REAL3(0);
-  for (uint r = 0; r < BASIS_COUNT_U; ++r) accumulate3(o.point, o.d1, o.d2, b[r], d1[r], d2[r], net[first + r].xyz);
+  REAL w0 = REAL(0), w1 = REAL(0), w2 = REAL(0);  // W, W', W'' of a rational curve
+  for (uint r = 0; r < BASIS_COUNT_U; ++r) {
+    REAL4 P = net[first + r];
+    accumulate3(o.point, o.d1, o.d2, b[r], d1[r], d2[r], P.xyz);
+    w0 += b[r] * P.w, w1 += d1[r] * P.w, w2 += d2[r] * P.w;
+  }
+  if (RATIONAL != 0u) rationalCurve(o.point, o.d1, o.d2, w0, w1, w2);
   return o;
 }
 

@@ -2,8 +2,8 @@
 // Grid path of bspline_curve_eval.comp (knot-vector B-spline curves, docs/math.md §10.1): each
 // grid sample's span and basis come tabulated in TABLE (gpu/knot_grid_table.h, from
 // core/knot_table.h), [span, N, N', N''] per sample, so that a point costs the sum over the span's
-// control points alone (the sums and order of core/bspline.cpp evalBSplineCurve). One point per
-// invocation.
+// control points alone (the sums and order of core/bspline.cpp evalBSplineCurve; rational curves
+// through the quotient rule of point_math.h). One point per invocation.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
@@ -29,8 +29,14 @@ void main() {
   uint e = ((pc.firstItem + item) * pc.samplesU + a) * STRIDE;
   uint first = uint(int(table[e]) + 1 - int(M));
   REAL3 p = REAL3(0), d1 = REAL3(0), d2 = REAL3(0);
-  [[unroll]] for (uint r = 0; r < M; ++r)
-    accumulate3(p, d1, d2, table[e + 1u + r], table[e + 1u + M + r], table[e + 1u + 2u * M + r], net[first + r].xyz);
+  REAL w0 = REAL(0), w1 = REAL(0), w2 = REAL(0);  // W, W', W'' of a rational curve
+  [[unroll]] for (uint r = 0; r < M; ++r) {
+    REAL b0 = table[e + 1u + r], b1 = table[e + 1u + M + r], b2 = table[e + 1u + 2u * M + r];
+    REAL4 P = net[first + r];
+    accumulate3(p, d1, d2, b0, b1, b2, P.xyz);
+    w0 += b0 * P.w, w1 += b1 * P.w, w2 += b2 * P.w;
+  }
+  if (RATIONAL != 0u) rationalCurve(p, d1, d2, w0, w1, w2);
   if (kWantPoint) STORE_XYZ_SCALAR(outPoint, k, p)
   if (kWantD1) STORE_XYZ_SCALAR(outD1, k, d1)
   if (kWantD2) STORE_XYZ_SCALAR(outD2, k, d2)

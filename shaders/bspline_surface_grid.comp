@@ -59,6 +59,7 @@ void main() {
   uint netRow = uint(spanU + 1 - int(MU)) * pc.netCols;
 
   REAL3 t0[MV], t1[MV], t2[MV];
+  REAL tw0[MV], tw1[MV], tw2[MV];  // the same sums of the weights (rational surfaces)
   int span = -1;
   for (uint e = 0; e < RUN_LENGTH; ++e) {
     uint b = b0 + e;
@@ -71,16 +72,25 @@ void main() {
         t0[s] = REAL3(0);
         t1[s] = REAL3(0);
         t2[s] = REAL3(0);
-        [[unroll]] for (uint r = 0; r < MU; ++r)
-          accumulate3(t0[s], t1[s], t2[s], bu[0][r], bu[1][r], bu[2][r], net[first + r * pc.netCols + s].xyz);
+        tw0[s] = REAL(0), tw1[s] = REAL(0), tw2[s] = REAL(0);
+        [[unroll]] for (uint r = 0; r < MU; ++r) {
+          REAL4 P = net[first + r * pc.netCols + s];
+          accumulate3(t0[s], t1[s], t2[s], bu[0][r], bu[1][r], bu[2][r], P.xyz);
+          tw0[s] += bu[0][r] * P.w, tw1[s] += bu[1][r] * P.w, tw2[s] += bu[2][r] * P.w;
+        }
       }
     }
     Sample o;
     o.p = REAL3(0); o.u = REAL3(0); o.v = REAL3(0); o.uu = REAL3(0); o.uv = REAL3(0); o.vv = REAL3(0);
     // v contraction of the u-contracted rows: accumulateTensorRow with the directions' roles swapped.
-    [[unroll]] for (uint s = 0; s < MV; ++s)
-      accumulateTensorRow(o.p, o.v, o.u, o.vv, o.uv, o.uu, table[ev + 1u + s], table[ev + 1u + MV + s],
-                          table[ev + 1u + 2u * MV + s], t0[s], t1[s], t2[s]);
+    REAL w = REAL(0), wu = REAL(0), wv = REAL(0), wuu = REAL(0), wuv = REAL(0), wvv = REAL(0);
+    [[unroll]] for (uint s = 0; s < MV; ++s) {
+      REAL b0v = table[ev + 1u + s], b1v = table[ev + 1u + MV + s], b2v = table[ev + 1u + 2u * MV + s];
+      accumulateTensorRow(o.p, o.v, o.u, o.vv, o.uv, o.uu, b0v, b1v, b2v, t0[s], t1[s], t2[s]);
+      w += b0v * tw0[s], wv += b1v * tw0[s], wvv += b2v * tw0[s], wu += b0v * tw1[s], wuv += b1v * tw1[s],
+          wuu += b0v * tw2[s];
+    }
+    if (RATIONAL != 0u) rationalSurface(o.p, o.u, o.v, o.uu, o.uv, o.vv, w, wu, wv, wuu, wuv, wvv);
     uint k = row * pc.samplesV + b;
     if (kWantPoint) STORE_XYZ_SCALAR(outPoint, k, o.p)
     if (kWantDu) STORE_XYZ_SCALAR(outDu, k, o.u)

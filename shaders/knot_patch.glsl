@@ -8,7 +8,8 @@ struct Sample {
   REAL3 p, u, v, uu, uv, vv, n;
 };
 
-// core/bspline.cpp evalBSplineSurface: contract in v first, then u.
+// core/bspline.cpp evalBSplineSurface: contract in v first, then u (rational surfaces: the
+// homogeneous sums of NET's (w P, w) records, then point_math.h's quotient rule).
 Sample evalKnotPatch(int spanU, REAL x, int spanV, REAL y) {
   REAL bu[kMaxBasis], du[kMaxBasis], ddu[kMaxBasis];
   REAL bv[kMaxBasis], dv[kMaxBasis], ddv[kMaxBasis];
@@ -18,12 +19,20 @@ Sample evalKnotPatch(int spanU, REAL x, int spanV, REAL y) {
   Sample o;
   o.p = REAL3(0); o.u = REAL3(0); o.v = REAL3(0); o.uu = REAL3(0); o.uv = REAL3(0); o.vv = REAL3(0);
   o.n = fixedAxisNormal();
+  REAL w = REAL(0), wu = REAL(0), wv = REAL(0), wuu = REAL(0), wuv = REAL(0), wvv = REAL(0);  // rational: W
   for (uint r = 0; r < BASIS_COUNT_U; ++r) {
     REAL3 s0 = REAL3(0), s1 = REAL3(0), s2 = REAL3(0);
+    REAL w0 = REAL(0), w1 = REAL(0), w2 = REAL(0);
     uint row = (firstU + r) * pc.netCols + firstV;
-    for (uint s = 0; s < BASIS_COUNT_V; ++s) accumulate3(s0, s1, s2, bv[s], dv[s], ddv[s], net[row + s].xyz);
+    for (uint s = 0; s < BASIS_COUNT_V; ++s) {
+      REAL4 P = net[row + s];
+      accumulate3(s0, s1, s2, bv[s], dv[s], ddv[s], P.xyz);
+      w0 += bv[s] * P.w, w1 += dv[s] * P.w, w2 += ddv[s] * P.w;
+    }
     accumulateTensorRow(o.p, o.u, o.v, o.uu, o.uv, o.vv, bu[r], du[r], ddu[r], s0, s1, s2);
+    w += bu[r] * w0, wu += du[r] * w0, wuu += ddu[r] * w0, wv += bu[r] * w1, wuv += du[r] * w1, wvv += bu[r] * w2;
   }
+  if (RATIONAL != 0u) rationalSurface(o.p, o.u, o.v, o.uu, o.uv, o.vv, w, wu, wv, wuu, wuv, wvv);
   return o;
 }
 

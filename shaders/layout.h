@@ -64,6 +64,7 @@ SS_CONST(uint32_t, kSpecListMode, 7u);      // 1: SAMPLES list, 0: per-item grid
 SS_CONST(uint32_t, kSpecSurface, 8u);       // alpha_eb_vertices: 1 surface net, 0 curve polygon
 SS_CONST(uint32_t, kSpecRunLength, 9u);     // surface_grid / curve_grid: samples per invocation
 SS_CONST(uint32_t, kSpecUniformRates, 10u); // tessellate_grid: 1 when every patch has the same rates
+SS_CONST(uint32_t, kSpecRational, 12u);     // bspline_*: 1 when NET holds homogeneous (w P, w) records
 // tess_layout.h kTessSpecListSources is 11: ids are unique across both headers (kernels.cpp checks).
 
 // Field indices (must equal core/sample_grid.h Field).

@@ -100,12 +100,18 @@ BSplineCurvePoint evalBSplineCurve(const BSplineCurveData& curve, double t) {
   const int e = bsplineBasisDerivsScaled(curve.order, curve.knots, span, t, derivs, basis);
   BSplineCurvePoint result;
   const int first = span - curve.order + 1;
+  const bool rational = !curve.weights.empty();
+  double w[3] = {0.0, 0.0, 0.0};  // W, W', W'' of a rational curve
   for (int r = 0; r < curve.order; ++r) {
-    const glm::dvec3& p = curve.points[first + r];
+    const double wr = rational ? curve.weights[static_cast<size_t>(first + r)] : 1.0;
+    const glm::dvec3 p = rational ? wr * curve.points[first + r] : curve.points[first + r];
     result.point += basis[0][r] * p;
     result.d1 += basis[1][r] * p;
     result.d2 += basis[2][r] * p;
+    for (int d = 0; d < 3; ++d) w[d] += basis[d][r] * wr;
   }
+  // On the scaled derivatives: every term of the quotient rule scales alike.
+  if (rational) pm::rationalCurve(result.point, result.d1, result.d2, w[0], w[1], w[2]);
   if (e != 0) result.d1 = ldexp3(result.d1, e), result.d2 = ldexp3(result.d2, 2 * e);
   return result;
 }
@@ -120,15 +126,22 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
   const int eu = bsplineBasisDerivsScaled(ku, surface.knotsU, spanU, u, std::min(2, ku - 1), bu);
   const int ev = bsplineBasisDerivsScaled(kv, surface.knotsV, spanV, v, std::min(2, kv - 1), bv);
   const int firstU = spanU - ku + 1, firstV = spanV - kv + 1;
+  const bool rational = !surface.weights.empty();
   BSplineSurfacePoint result;
+  double w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // W, W_u, W_v, W_uu, W_uv, W_vv of a rational surface
   for (int r = 0; r < ku; ++r) {
     // Contract in v first: one row of the local net gives the row curve and its v-derivatives.
     glm::dvec3 row0(0.0), row1(0.0), row2(0.0);
-    const glm::dvec3* rowPoints = &surface.points[static_cast<size_t>(firstU + r) * surface.cols + firstV];
+    double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+    const size_t rowStart = static_cast<size_t>(firstU + r) * surface.cols + firstV;
+    const glm::dvec3* rowPoints = &surface.points[rowStart];
     for (int s = 0; s < kv; ++s) {
-      row0 += bv[0][s] * rowPoints[s];
-      row1 += bv[1][s] * rowPoints[s];
-      row2 += bv[2][s] * rowPoints[s];
+      const double ws = rational ? surface.weights[rowStart + s] : 1.0;
+      const glm::dvec3 p = rational ? ws * rowPoints[s] : rowPoints[s];
+      row0 += bv[0][s] * p;
+      row1 += bv[1][s] * p;
+      row2 += bv[2][s] * p;
+      w0 += bv[0][s] * ws, w1 += bv[1][s] * ws, w2 += bv[2][s] * ws;
     }
     result.point += bu[0][r] * row0;
     result.du += bu[1][r] * row0;
@@ -136,7 +149,13 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
     result.dv += bu[0][r] * row1;
     result.duv += bu[1][r] * row1;
     result.dvv += bu[0][r] * row2;
+    w[0] += bu[0][r] * w0, w[1] += bu[1][r] * w0, w[3] += bu[2][r] * w0;
+    w[2] += bu[0][r] * w1, w[4] += bu[1][r] * w1, w[5] += bu[0][r] * w2;
   }
+  // On the scaled derivatives: every term of the quotient rule scales alike.
+  if (rational)
+    pm::rationalSurface(result.point, result.du, result.dv, result.duu, result.duv, result.dvv, w[0], w[1], w[2], w[3],
+                        w[4], w[5]);
   result.duDir = result.du, result.dvDir = result.dv;
   if (eu != 0 || ev != 0) {
     result.du = ldexp3(result.du, eu), result.dv = ldexp3(result.dv, ev);
@@ -178,7 +197,7 @@ BSplineCurveData bsplineCurveFromModel(const CurveModel& model) {
   const int count = static_cast<int>(model.points.size());
   if (count < order) throw ModelError("points", std::to_string(count), "an order-k B-spline needs N >= k points");
   checkKnotVector("knots", model.knots, order, count);
-  return BSplineCurveData{order, model.knots, model.points};
+  return BSplineCurveData{order, model.knots, model.points, model.weights};
 }
 
 BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model) {
@@ -201,6 +220,7 @@ BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model) {
   s.knotsU = model.knotsU;
   s.knotsV = model.knotsV;
   s.points = model.points;
+  s.weights = model.weights;
   return s;
 }
 

@@ -14,6 +14,7 @@ struct BSplineCurveData {
   int order = 0;
   std::vector<double> knots;          // n + 1 + order values
   std::vector<glm::dvec3> points;     // n + 1 points
+  std::vector<double> weights;        // rational: one per point (docs/math.md §10.8); empty: all 1
 };
 
 // Index j of the non-empty knot span [t_j, t_{j+1}) containing t, k-1 <= j <= n; at the right end
@@ -35,6 +36,7 @@ struct BSplineSurfaceData {
   std::vector<double> knotsU, knotsV;
   int rows = 0, cols = 0;              // rows along u (i), columns along v (j)
   std::vector<glm::dvec3> points;      // row-major points[i * cols + j]
+  std::vector<double> weights;         // rational: one per point, row-major (§10.8); empty: all 1
 };
 struct BSplineSurfacePoint {
   glm::dvec3 point{0.0}, du{0.0}, dv{0.0}, duu{0.0}, duv{0.0}, dvv{0.0};

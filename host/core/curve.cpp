@@ -124,6 +124,7 @@ Curve Curve::create(CurveModel model) {
     c.bspline_.order = m.family.order;
     c.bspline_.knots = m.knots;
     c.bspline_.points = m.points;
+    c.bspline_.weights = m.weights;
     c.spans_ = {m.family.order - 1, n - 1};
     return c;
   }

@@ -177,8 +177,14 @@ glm::dvec3 inverseDeBoor(int order, std::span<const double> t, std::span<const g
   return level[0][k - 1];
 }
 
+// Unclamping and inverse de Boor in homogeneous space are not written yet: refused, never
+// computed on the Euclidean net as if the weights were 1.
+constexpr const char* kRationalExtension =
+    "the extension of a rational B-spline (weights) is not supported yet; extend the non-rational model";
+
 ExtensionResult extendCurve(const BSplineCurveData& curve, std::span<const glm::dvec3> targets,
                             std::optional<std::vector<double>> givenU) {
+  if (!curve.weights.empty()) throw ModelError("weights", "present", kRationalExtension);
   const int count = static_cast<int>(curve.points.size());
   const double b = checkRightClamped(curve.order, curve.knots, count, "knots");
   if (targets.empty()) throw ModelError("targets", "[]", "at least one target point is required");
@@ -206,6 +212,7 @@ ExtensionResult extendCurve(const BSplineCurveData& curve, std::span<const glm::
 SurfaceExtensionResult extendSurfaceU(const BSplineSurfaceData& surface,
                                       std::span<const std::vector<glm::dvec3>> targetCurves,
                                       std::optional<std::vector<double>> givenU) {
+  if (!surface.weights.empty()) throw ModelError("weights", "present", kRationalExtension);
   const int rows = surface.rows, cols = surface.cols;
   if (static_cast<int>(surface.points.size()) != rows * cols)
     throw ModelError("points", std::to_string(surface.points.size()), "the net must have rows * cols points");

@@ -6,6 +6,7 @@
 #include <shapespline/core/point_records.h>
 
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <condition_variable>
@@ -453,13 +454,26 @@ void sampleSpanRows(const DirectionTable& tab, const glm::dvec3* P, const SpanEn
 }
 
 // Rows [aBegin, aEnd) of one knot interval of a knot-vector curve: each sample's tabulated basis
-// against the control points of its span (the same sums, in the same order, as evalBSplineCurve).
+// against the control points of its span (the same sums, in the same order, as evalBSplineCurve;
+// with `weights`, a rational curve: homogeneous sums and the quotient rule).
 template <class Out>
-void sampleKnotSpanRows(const KnotTable& tab, const glm::dvec3* points, int aBegin, int aEnd, size_t point, Out& out) {
+void sampleKnotSpanRows(const KnotTable& tab, const glm::dvec3* points, const double* weights, int aBegin, int aEnd,
+                        size_t point, Out& out) {
   for (int a = aBegin; a < aEnd; ++a, ++point) {
-    const glm::dvec3* P = points + (tab.span[static_cast<size_t>(a)] - tab.order + 1);
+    const size_t first = static_cast<size_t>(tab.span[static_cast<size_t>(a)] - tab.order + 1);
     glm::dvec3 c0(0.0), c1(0.0), c2(0.0);
-    for (int r = 0; r < tab.order; ++r) pm::accumulate3(c0, c1, c2, tab.row(0, r)[a], tab.row(1, r)[a], tab.row(2, r)[a], P[r]);
+    double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+    for (int r = 0; r < tab.order; ++r) {
+      const double b0 = tab.row(0, r)[a], b1 = tab.row(1, r)[a], b2 = tab.row(2, r)[a];
+      if (!weights) {
+        pm::accumulate3(c0, c1, c2, b0, b1, b2, points[first + r]);
+        continue;
+      }
+      const double w = weights[first + r];
+      pm::accumulate3(c0, c1, c2, b0, b1, b2, w * points[first + r]);
+      w0 += b0 * w, w1 += b1 * w, w2 += b2 * w;
+    }
+    if (weights) pm::rationalCurve(c0, c1, c2, w0, w1, w2);
     out.put(Field::Point, point, c0);
     out.put(Field::D1, point, c1);
     out.put(Field::D2, point, c2);
@@ -467,23 +481,25 @@ void sampleKnotSpanRows(const KnotTable& tab, const glm::dvec3* points, int aBeg
 }
 
 // Row a of knot interval pair (i, j) of a knot-vector surface: the partials need[k] (kPartialOrders)
-// at every v sample into the structure-of-arrays rows row(k, c). As in the uniform path, the net is
-// contracted in u with row a's tabulated basis, then each needed row is one contraction over the
-// v basis rows; once per run of v samples that share a span (the last sample may lie on the next).
-template <class RowFn>
-void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const glm::dvec3* net, int cols, int a,
-                     const bool need[6], RowFn row) {
+// at every v sample into the structure-of-arrays rows row(k, c), c < 3 (a dvec3 net) or c < 4 (the
+// homogeneous net (w P, w) of a rational surface). As in the uniform path, the net is contracted in
+// u with row a's tabulated basis, then each needed row is one contraction over the v basis rows;
+// once per run of v samples that share a span (the last sample may lie on the next).
+template <class Vec, class RowFn>
+void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, int cols, int a, const bool need[6],
+                     RowFn row) {
+  constexpr int kCoords = Vec::length();
   const int mu = tu.order, mv = tv.order;
-  const glm::dvec3* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
+  const Vec* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
   const bool needD[3] = {true, need[1] || need[4], need[3]};
   for (int b0 = 0; b0 < tv.samples;) {
     const int b1 = tv.runEnd(b0);
     const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
-    glm::dvec3 T[3][kMaxBasisCount];
+    Vec T[3][kMaxBasisCount];
     for (int s = 0; s < mv; ++s) {
-      T[0][s] = T[1][s] = T[2][s] = glm::dvec3(0.0);
+      T[0][s] = T[1][s] = T[2][s] = Vec(0.0);
       for (int r = 0; r < mu; ++r) {
-        const glm::dvec3& p = P[static_cast<size_t>(r) * cols + firstV + s];
+        const Vec& p = P[static_cast<size_t>(r) * cols + firstV + s];
         for (int d = 0; d < 3; ++d)
           if (needD[d]) T[d][s] += tu.row(d, r)[a] * p;
       }
@@ -493,7 +509,7 @@ void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const glm::dvec3*
       const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
       const double* basisRows[kMaxBasisCount];
       for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s) + b0;
-      for (int c = 0; c < 3; ++c) {
+      for (int c = 0; c < kCoords; ++c) {
         double t[kMaxBasisCount];
         for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
         contractRows(basisRows, t, mv, b1 - b0, row(k, c) + b0);
@@ -529,7 +545,9 @@ void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields,
     if (curve.usesKnotVector()) {
       const KnotTable& tab = knotTables->of(span, scratch);
       if (!tab.scaled) {
-        sampleKnotSpanRows(tab, curve.knotData().points.data(), aBegin, aEnd, point, out);
+        const BSplineCurveData& d = curve.knotData();
+        sampleKnotSpanRows(tab, d.points.data(), d.weights.empty() ? nullptr : d.weights.data(), aBegin, aEnd, point,
+                           out);
         return;
       }
       for (int a = aBegin; a < aEnd; ++a, ++point) {
@@ -572,23 +590,28 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
   // Which partials of the base surface the requested fields need (α-EB second partials need the
   // first ones too, docs/math.md §5.3).
   const bool needUU = wants(fields, Field::Duu), needVV = wants(fields, Field::Dvv), needUV = wants(fields, Field::Duv);
-  const bool needU = wants(fields, Field::Du) || normal || ((needUU || needUV) && alphaEB);
-  const bool needV = wants(fields, Field::Dv) || normal || ((needVV || needUV) && alphaEB);
+  // A rational surface (weights) is sampled from its homogeneous net (w P, w): four coordinates,
+  // then the quotient rule per sample, whose second partials use the first ones too.
+  const bool rational = surface.usesKnotVector() && !surface.knotData().weights.empty();
+  const bool needU = wants(fields, Field::Du) || normal || ((needUU || needUV) && (alphaEB || rational));
+  const bool needV = wants(fields, Field::Dv) || normal || ((needVV || needUV) && (alphaEB || rational));
   const int mu = tu.count, mv = tv.count;
   static constexpr int kOutputField[6] = {int(Field::Point), int(Field::Du),  int(Field::Dv),
                                           int(Field::Duu),   int(Field::Duv), int(Field::Dvv)};
   const bool need[6] = {true, needU, needV, needUU, needUV, needVV};
   std::optional<KnotTables> knotsU, knotsV;
+  std::vector<glm::dvec4> homogeneous;
   if (surface.usesKnotVector()) {
     const BSplineSurfaceData& d = surface.knotData();
     knotsU.emplace(d.orderU, d.knotsU, d.rows, Su);
     knotsV.emplace(d.orderV, d.knotsV, d.cols, Sv);
+    for (size_t k = 0; rational && k < d.points.size(); ++k) homogeneous.emplace_back(d.weights[k] * d.points[k], d.weights[k]);
   }
 
   auto compute = [&](auto&& out, size_t rowBegin, size_t rowEnd, size_t firstPoint) {
     // Row buffers (structure of arrays over v samples): C, Cu, Cv, Cuu, Cuv, Cvv per coordinate.
-    std::vector<double> rows(static_cast<size_t>(6 * 3) * Sv);
-    auto row = [&](int k, int c) { return rows.data() + static_cast<size_t>(k * 3 + c) * Sv; };
+    std::vector<double> rows(static_cast<size_t>(6 * 4) * Sv);  // coordinate 3: W of a rational surface
+    auto row = [&](int k, int c) { return rows.data() + static_cast<size_t>(k * 4 + c) * Sv; };
     const double* fieldRows[kFieldCount][3] = {};  // the rows of each computed output field
     for (int k = 0; k < 6; ++k)
       if (need[k])
@@ -627,7 +650,10 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
       }
       for (int a = aBegin; a < aEnd; ++a) {
         if (knotU) {
-          knotRowPartials(*knotU, *knotV, P, stride, a, need, row);
+          if (rational)
+            knotRowPartials(*knotU, *knotV, homogeneous.data(), stride, a, need, row);
+          else
+            knotRowPartials(*knotU, *knotV, P, stride, a, need, row);
         } else {
           // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
           glm::dvec3 T[3][kMaxBasisCount];
@@ -654,7 +680,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
             }
           }
         }
-        if (!alphaEB && !normal) {
+        if (!alphaEB && !normal && !rational) {
           // Plain partials: the rows go out as they are (into interleaved planes, or records).
           out.putRows(fieldRows, Sv, point);
           point += static_cast<size_t>(Sv);
@@ -665,6 +691,11 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
         for (int b = 0; b < Sv; ++b, ++point) {
           glm::dvec3 q[6];
           for (int k = 0; k < 6; ++k) q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
+          if (rational) {
+            double w[6];
+            for (int k = 0; k < 6; ++k) w[k] = need[k] ? row(k, 3)[b] : 0.0;
+            pm::rationalSurface(q[0], q[1], q[2], q[3], q[4], q[5], w[0], w[1], w[2], w[3], w[4], w[5]);
+          }
           if (alphaEB) {
             // docs/math.md §5.3, only the orders the requested fields need (need[] already includes
             // the first partials that α-EB second partials use); the skipped ones feed no output.

@@ -28,6 +28,8 @@ struct CurveModel {
   std::vector<glm::dvec3> points;
   std::vector<double> alpha;         // AlphaEB only: one value per point (a scalar is expanded)
   std::vector<double> knots;         // ExtendedBSpline/GB: span boundaries; BSpline: full knot vector
+  std::vector<double> weights;       // BSpline with a knot vector: one positive weight per point
+                                     // (a rational B-spline, docs/math.md §10.8); empty: all 1
 };
 
 struct SurfaceModel {
@@ -41,6 +43,8 @@ struct SurfaceModel {
   std::vector<double> alpha;         // AlphaEB only: rows * cols values, row-major
   std::vector<double> knotsU;        // BSpline with knot vectors only
   std::vector<double> knotsV;
+  std::vector<double> weights;       // BSpline with knot vectors: rows * cols positive weights,
+                                     // row-major (rational, docs/math.md §10.8); empty: all 1
 
   const glm::dvec3& at(int i, int j) const { return points[static_cast<size_t>(i) * cols + j]; }
 };

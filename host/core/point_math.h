@@ -122,6 +122,30 @@ PM_FN void accumulateTensorRow(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(RE
   vv += bu * s2;
 }
 
+// ---- Rational B-splines (NURBS), docs/math.md §10.8 (The NURBS Book §4.3, §4.5) ----------------
+
+// A curve's homogeneous sums A = Σ N w P, A', A'' (in c0, c1, c2) and W = Σ N w, W', W'' become the
+// point and its derivatives: C = A / W, C' = (A' - W' C) / W, C'' = (A'' - 2 W' C' - W'' C) / W.
+PM_FN void rationalCurve(PM_INOUT(REAL3) c0, PM_INOUT(REAL3) c1, PM_INOUT(REAL3) c2, REAL w0, REAL w1, REAL w2) {
+  c0 = c0 / w0;
+  c1 = (c1 - w1 * c0) / w0;
+  c2 = (c2 - REAL(2) * w1 * c1 - w2 * c0) / w0;
+}
+
+// The same for a surface's six homogeneous partials and those of W: S = A / W,
+// S_u = (A_u - W_u S) / W (v likewise), S_uu = (A_uu - 2 W_u S_u - W_uu S) / W (vv likewise),
+// S_uv = (A_uv - W_u S_v - W_v S_u - W_uv S) / W.
+PM_FN void rationalSurface(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(REAL3) v, PM_INOUT(REAL3) uu,
+                           PM_INOUT(REAL3) uv, PM_INOUT(REAL3) vv, REAL w, REAL wu, REAL wv, REAL wuu, REAL wuv,
+                           REAL wvv) {
+  p = p / w;
+  u = (u - wu * p) / w;
+  v = (v - wv * p) / w;
+  uu = (uu - REAL(2) * wu * u - wuu * p) / w;
+  uv = (uv - wu * v - wv * u - wuv * p) / w;
+  vv = (vv - REAL(2) * wv * v - wvv * p) / w;
+}
+
 // ---- α-EB, docs/math.md §4.2, §5.2, §5.3 --------------------------------------------------------
 
 // V = P + ((1-α)/α)(P - node). Where the factor overflows (α below 1/REAL_MAX), d/α - d is the same

@@ -128,6 +128,7 @@ Surface Surface::create(SurfaceModel model) {
     s.bspline_.rows = m.rows;
     s.bspline_.cols = m.cols;
     s.bspline_.points = m.points;
+    s.bspline_.weights = m.weights;
     s.patches_ = {knotIntervals(s.bspline_.orderU, m.rows), knotIntervals(s.bspline_.orderV, m.cols)};
     return s;
   }

@@ -201,6 +201,30 @@ void validateFamily(const FamilySpec& f, int orderV, bool isSurface) {
   }
 }
 
+namespace {
+
+// docs/math.md §10.8: a positive finite weight, and w P finite (the homogeneous point the
+// evaluation sums).
+void checkWeight(double w, const glm::dvec3& p, const std::string& field) {
+  if (!std::isfinite(w) || !(w > 0.0)) fail(field, num(w), "a weight must be a positive finite number");
+  const glm::dvec3 h = w * p;
+  if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
+    fail(field, num(w), "weight times point overflows fp64 (the homogeneous point w P must be finite)");
+}
+
+// Weights belong to knot-vector B-splines only, one per point.
+void checkWeightsAllowed(const std::vector<double>& weights, size_t points, Construction c, bool knotVector,
+                         const std::string& shape) {
+  if (weights.empty()) return;
+  if (c != Construction::BSpline || !knotVector)
+    fail("weights", std::to_string(weights.size()) + " values",
+         "weights are only allowed for bspline models with a knot vector (a rational B-spline)");
+  if (weights.size() != points)
+    fail("weights", std::to_string(weights.size()) + " values", "weights must have one value per point (" + shape + ")");
+}
+
+}  // namespace
+
 void validateCurve(const CurveModel& m) {
   const FamilySpec& f = m.family;
   const Construction c = f.construction;
@@ -228,6 +252,9 @@ void validateCurve(const CurveModel& m) {
   } else if (!m.alpha.empty()) {
     fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
+
+  checkWeightsAllowed(m.weights, n, c, !m.knots.empty(), std::to_string(n));
+  for (size_t i = 0; i < m.weights.size(); ++i) checkWeight(m.weights[i], m.points[i], idx("weights", i));
 
   if (m.knots.empty()) return;
   if (c == Construction::ExtendedBSpline || c == Construction::GB) {
@@ -287,6 +314,11 @@ void validateSurface(const SurfaceModel& m) {
   }
 
   const bool hasKnots = !m.knotsU.empty() || !m.knotsV.empty();
+  checkWeightsAllowed(m.weights, m.points.size(), c, hasKnots, std::to_string(m.rows) + " x " + std::to_string(m.cols));
+  for (int i = 0; i < m.rows && !m.weights.empty(); ++i)
+    for (int j = 0; j < m.cols; ++j)
+      checkWeight(m.weights[static_cast<size_t>(i) * m.cols + j], m.at(i, j),
+                  idx(idx("weights", static_cast<size_t>(i)), static_cast<size_t>(j)));
   if (!hasKnots) return;
   if (c != Construction::BSpline)
     fail("knots", "present", "surfaces take knots only for bspline (span knots are for curves only)");

@@ -20,13 +20,20 @@ SpanBasis knotBasis(int order) {
   return b;
 }
 
-// What NET holds: the control points of a knot-vector B-spline, else core's span point list /
-// patch net.
-std::span<const glm::dvec3> netPoints(const Curve& c) {
-  return c.usesKnotVector() ? std::span<const glm::dvec3>(c.model().points) : c.spanPoints();
+// What NET holds, one REAL4 record per point: the control points of a knot-vector B-spline (for a
+// rational one the homogeneous (w P, w)), else core's span point list / patch net; w = 0 where
+// unused.
+std::vector<glm::dvec4> netRecords(std::span<const glm::dvec3> points, const std::vector<double>& weights) {
+  std::vector<glm::dvec4> out(points.size());
+  for (size_t i = 0; i < points.size(); ++i)
+    out[i] = weights.empty() ? glm::dvec4(points[i], 0.0) : glm::dvec4(weights[i] * points[i], weights[i]);
+  return out;
 }
-std::span<const glm::dvec3> netPoints(const Surface& s) {
-  return s.usesKnotVector() ? std::span<const glm::dvec3>(s.model().points) : s.patchNet();
+std::vector<glm::dvec4> netPoints(const Curve& c) {
+  return c.usesKnotVector() ? netRecords(c.model().points, c.model().weights) : netRecords(c.spanPoints(), {});
+}
+std::vector<glm::dvec4> netPoints(const Surface& s) {
+  return s.usesKnotVector() ? netRecords(s.model().points, s.model().weights) : netRecords(s.patchNet(), {});
 }
 
 std::vector<double> inverseSpanLengths(const Curve& c) {
@@ -81,7 +88,7 @@ uint32_t GpuModel::invHOffset() const {
   return invHCount_ == 0 ? layout::kNoOffset : static_cast<uint32_t>(layout::kParamHeader + alphaCount_);
 }
 
-void GpuModel::createBuffers(std::span<const glm::dvec3> net, std::span<const double> params) {
+void GpuModel::createBuffers(std::span<const glm::dvec4> net, std::span<const double> params) {
   const size_t rs = realSize(precision_);
   net_ = vk::Buffer::create(*ctx_, net.size() * 4 * rs, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.net");
   const auto bytes = toReal4(net, precision_);
@@ -115,10 +122,10 @@ void GpuModel::writeParams(std::span<const double> params) {
   if (alphaEB()) vertsDirty_ = true;
 }
 
-void GpuModel::writeChangedNetEntries(std::span<const glm::dvec3> current, std::span<const glm::dvec3> next) {
+void GpuModel::writeChangedNetEntries(std::span<const glm::dvec4> current, std::span<const glm::dvec4> next) {
   for (size_t e = 0; e < next.size(); ++e) {
     // Bitwise, so that a change of the sign of a zero reaches the GPU too.
-    if (std::memcmp(&current[e], &next[e], sizeof(glm::dvec3)) == 0) continue;
+    if (std::memcmp(&current[e], &next[e], sizeof(glm::dvec4)) == 0) continue;
     const auto bytes = toReal4(next.subspan(e, 1), precision_);
     net_.upload(bytes, e * bytes.size());
     stats_.netBytes += bytes.size();
@@ -162,6 +169,7 @@ GpuCurve::GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precisi
     alphaCount_ = m.alpha.size();
     invHCount_ = inverseSpanLengths(curve_).size();
   }
+  rational_ = !curve_.model().weights.empty();
   createBuffers(netPoints(curve_), paramsOf(curve_));
 }
 
@@ -239,6 +247,7 @@ GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface,
     netCols_ = static_cast<uint32_t>(surface_.netCols());
     alphaCount_ = m.alpha.size();
   }
+  rational_ = !surface_.model().weights.empty();
   createBuffers(netPoints(surface_), paramsOf(surface_));
 }
 

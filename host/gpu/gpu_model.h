@@ -10,6 +10,8 @@
 #include <shapespline/vk/buffer.h>
 #include <shapespline/vk/context.h>
 
+#include <glm/vec4.hpp>
+
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -36,6 +38,8 @@ class GpuModel {
   // Knot-vector B-spline (docs/math.md §10.1): NET is the plain control net, PARAMS holds the knots and
   // the interval records of layout.h; basisU()/basisV() carry only count = order, degree = order-1.
   bool knotVector() const { return parameterization_ == Parameterization::KnotVector; }
+  // A rational knot-vector B-spline (weights): NET holds the homogeneous points (w P, w).
+  bool rational() const { return rational_; }
   const UploadStats& uploadStats() const { return stats_; }
   const vk::Buffer& netBuffer() const { return net_; }
   const vk::Buffer& paramBuffer() const { return params_; }
@@ -67,13 +71,13 @@ class GpuModel {
 
  protected:
   GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision, Parameterization parameterization);
-  void createBuffers(std::span<const glm::dvec3> net, std::span<const double> params);
+  void createBuffers(std::span<const glm::dvec4> net, std::span<const double> params);
   // The PARAMS block (a few hundred bytes) of bases u, v, α and 1/h, with the knot tail.
   std::vector<double> paramBlock(const SpanBasis& u, const SpanBasis& v, std::span<const double> alpha,
                                  std::span<const double> invH) const;
   void writeParams(std::span<const double> params);
   // Writes the entries of `next` that differ bitwise from `current` (same size: the net layout).
-  void writeChangedNetEntries(std::span<const glm::dvec3> current, std::span<const glm::dvec3> next);
+  void writeChangedNetEntries(std::span<const glm::dvec4> current, std::span<const glm::dvec4> next);
   // Throws std::invalid_argument when a new basis would change the net layout (basis size m).
   void requireSameBasisSize(const SpanBasis& u, const SpanBasis& v) const;
   // Appends the knots and interval records of one direction to the PARAMS tail (before
@@ -91,6 +95,7 @@ class GpuModel {
   std::vector<double> knotData_;  // PARAMS tail of knot-vector B-splines
   uint32_t rows_ = 1, cols_ = 1, netCols_ = 1;
   bool vertsDirty_ = false;
+  bool rational_ = false;
   uint32_t knotOffsetU_ = 0, knotOffsetV_ = 0, intervalOffsetU_ = 0, intervalOffsetV_ = 0;
   UploadStats stats_;
 };

@@ -22,6 +22,7 @@ SpecValues evalSpec(const GpuModel& m, FieldMask fields, uint32_t listMode) {
   SpecValues spec = basisSpec(m.basisU(), m.basisV());
   spec[layout::kSpecOutputMask] = fields;
   spec[layout::kSpecAlphaEB] = m.alphaEB() ? 1u : 0u;
+  if (m.knotVector()) spec[layout::kSpecRational] = m.rational() ? 1u : 0u;
   if (listMode != kNoListMode) spec[layout::kSpecListMode] = listMode;
   return spec;
 }

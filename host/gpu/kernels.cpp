@@ -63,6 +63,13 @@ std::vector<std::byte> toReal4(std::span<const glm::dvec3> points, Precision p) 
   return toReal(v, p);
 }
 
+std::vector<std::byte> toReal4(std::span<const glm::dvec4> records, Precision p) {
+  std::vector<double> v(records.size() * 4);
+  for (size_t i = 0; i < records.size(); ++i)
+    for (int k = 0; k < 4; ++k) v[4 * i + k] = records[i][k];
+  return toReal(v, p);
+}
+
 void requirePrecision(const vk::Context& ctx, Precision p) {
   if (p == Precision::Double && !ctx.supportsFloat64())
     throw std::runtime_error("precision double needs shaderFloat64, which device '" + ctx.deviceName() +

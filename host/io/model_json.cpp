@@ -56,7 +56,9 @@ std::string unusedKeyRule(const std::string& key, Construction c, bool surface) 
   else if (key == "mu") used = f.usesMu;
   else if (key == "alpha") used = f.usesAlpha;
   else if (key == "knots") used = hasKnots(f, surface);
+  else if (key == "weights") used = f.knotVectors;
   if (used) return {};
+  if (key == "weights") return "weights are only allowed for bspline (a rational B-spline), not " + name;
   if (key == "alpha") return "alpha is only allowed for alpha_eb, not " + name;
   if (key == "knots" && surface && f.spanKnots)
     return "span knots are only allowed for extended_bspline/gb curves, not surfaces";
@@ -165,6 +167,13 @@ CurveModel readCurve(const json& doc, Construction c) {
     }
   }
   if (doc.contains("knots")) m.knots = getNumberArray(doc.at("knots"), "knots", "numbers");
+  if (doc.contains("weights")) {
+    const json& w = doc.at("weights");
+    if (!w.is_array() || w.size() != m.points.size())
+      fail("weights", w.is_array() ? std::to_string(w.size()) + " values" : shortDump(w),
+           "weights must be an array of one number per point (" + std::to_string(m.points.size()) + ")");
+    m.weights = getNumberArray(w, "weights", "numbers");
+  }
   return m;
 }
 
@@ -236,6 +245,20 @@ SurfaceModel readSurface(const json& doc, Construction c) {
     m.knotsU = getNumberArray(k[0], "knots[0]", "numbers");
     m.knotsV = getNumberArray(k[1], "knots[1]", "numbers");
   }
+  if (doc.contains("weights")) {
+    const json& w = doc.at("weights");
+    const std::string shape = std::to_string(m.rows) + " x " + std::to_string(m.cols);
+    if (!w.is_array() || w.size() != static_cast<size_t>(m.rows))
+      fail("weights", w.is_array() ? std::to_string(w.size()) + " rows" : shortDump(w),
+           "weights must be an array of rows shaped like points (" + shape + ")");
+    for (size_t i = 0; i < w.size(); ++i) {
+      if (!w[i].is_array() || w[i].size() != static_cast<size_t>(m.cols))
+        fail(idx("weights", i), w[i].is_array() ? std::to_string(w[i].size()) + " values" : shortDump(w[i]),
+             "each weights row must have one number per column (" + std::to_string(m.cols) + ")");
+      const auto row = getNumberArray(w[i], idx("weights", i), "numbers");
+      m.weights.insert(m.weights.end(), row.begin(), row.end());
+    }
+  }
   return m;
 }
 
@@ -244,9 +267,10 @@ SurfaceModel readSurface(const json& doc, Construction c) {
 Model parseModel(const json& doc) {
   if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
 
-  static const std::array<const char*, 12> kKnownKeys = {"kind",  "construction", "degree", "order",
+  static const std::array<const char*, 13> kKnownKeys = {"kind",  "construction", "degree", "order",
                                                          "lambda", "mu",          "closed", "points",
-                                                         "alpha", "knots",        "name",   "comment"};
+                                                         "alpha", "knots",        "weights", "name",
+                                                         "comment"};
   for (const auto& [key, value] : doc.items()) {
     bool known = false;
     for (const char* k : kKnownKeys) known = known || key == k;
@@ -314,6 +338,7 @@ json toJson(const CurveModel& m) {
   j["points"] = std::move(pts);
   if (traits.usesAlpha) j["alpha"] = m.alpha;
   if (!m.knots.empty()) j["knots"] = m.knots;
+  if (!m.weights.empty()) j["weights"] = m.weights;
   return j;
 }
 
@@ -351,6 +376,15 @@ json toJson(const SurfaceModel& m) {
     j["alpha"] = std::move(a);
   }
   if (!m.knotsU.empty() || !m.knotsV.empty()) j["knots"] = json::array({m.knotsU, m.knotsV});
+  if (m.weights.size() == m.points.size() && !m.weights.empty()) {
+    json w = json::array();
+    for (int i = 0; i < m.rows; ++i)
+      w.push_back(std::vector<double>(m.weights.begin() + static_cast<std::ptrdiff_t>(i) * m.cols,
+                                      m.weights.begin() + static_cast<std::ptrdiff_t>(i + 1) * m.cols));
+    j["weights"] = std::move(w);
+  } else if (!m.weights.empty()) {
+    j["weights"] = m.weights;  // not a valid model; write what is there
+  }
   return j;
 }
 

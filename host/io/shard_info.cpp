@@ -150,6 +150,7 @@ std::string jobFingerprint(const CurveModel& m, const SampleLayout& layout, Outp
   h.points(m.points);
   h.f64s(m.alpha);
   h.f64s(m.knots);
+  if (!m.weights.empty()) h.f64s(m.weights);  // rational only: other jobs keep their fingerprints
   return h.hex();
 }
 
@@ -167,6 +168,7 @@ std::string jobFingerprint(const SurfaceModel& m, const SampleLayout& layout, Ou
   h.f64s(m.alpha);
   h.f64s(m.knotsU);
   h.f64s(m.knotsV);
+  if (!m.weights.empty()) h.f64s(m.weights);  // rational only: other jobs keep their fingerprints
   return h.hex();
 }
 

@@ -47,11 +47,24 @@ std::optional<std::string> knotLimitation(const std::vector<double>& knots, cons
   return std::nullopt;
 }
 
+// Weights of a rational B-spline multiply the (scaled) net and are summed with it: far from 1 they
+// would leave the precision's range before the quotient brings them back.
+std::optional<std::string> weightLimitation(const std::vector<double>& weights, Precision precision) {
+  const double limit = precision == Precision::Float ? 1e15 : 1e150;
+  const auto [lo, hi] = std::minmax_element(weights.begin(), weights.end());
+  if (lo == weights.end() || (*lo >= 1.0 / limit && *hi <= limit)) return std::nullopt;
+  char text[160];
+  std::snprintf(text, sizeof text, "weights from %.3g to %.3g leave [%.0e, %.0e], what the %s GPU kernels sum", *lo, *hi,
+                1.0 / limit, limit, precision == Precision::Float ? "fp32" : "fp64");
+  return std::string(text);
+}
+
 }  // namespace
 
 std::optional<std::string> gpuLimitation(const Curve& curve, Precision precision) {
   if (curve.usesKnotVector()) {
     if (auto why = knotLimitation(curve.model().knots, "knots", precision)) return why;
+    if (auto why = weightLimitation(curve.model().weights, precision)) return why;
   }
   return limitation(curve.model().family, curve.model().alpha, precision);
 }
@@ -60,6 +73,7 @@ std::optional<std::string> gpuLimitation(const Surface& surface, Precision preci
   if (surface.usesKnotVector()) {
     if (auto why = knotLimitation(surface.model().knotsU, "knots[0]", precision)) return why;
     if (auto why = knotLimitation(surface.model().knotsV, "knots[1]", precision)) return why;
+    if (auto why = weightLimitation(surface.model().weights, precision)) return why;
   }
   return limitation(surface.model().family, surface.model().alpha, precision);
 }

@@ -111,7 +111,7 @@ py::object wrap(io::Model m) {
 // Keyword constructor: the keys of the model file format, checked by the same parser.
 nlohmann::json keywordModel(const char* kind, py::object points, const std::string& construction, py::object degree,
                             py::object order, py::object lambda, py::object mu, py::object alpha, py::object closed,
-                            py::object knots) {
+                            py::object knots, py::object weights) {
   nlohmann::json j = {{"kind", kind}, {"construction", construction}};
   auto put = [&](const char* key, py::object v) {
     if (!v.is_none()) j[key] = toJson(v, key);
@@ -131,6 +131,7 @@ nlohmann::json keywordModel(const char* kind, py::object points, const std::stri
     }
   }
   put("knots", knots);
+  put("weights", weights);
   return j;
 }
 
@@ -701,16 +702,19 @@ PYBIND11_MODULE(shapespline, m) {
   CurveClass curve(m, "Curve", "A curve model (docs/format.md) with its CPU evaluator and, once used on the GPU, a resident GPU model.");
   curve
       .def(py::init([](py::object points, const std::string& construction, py::object degree, py::object order,
-                       py::object lambda, py::object mu, py::object alpha, py::object closed, py::object knots) {
+                       py::object lambda, py::object mu, py::object alpha, py::object closed, py::object knots,
+                       py::object weights) {
              const io::Model parsed = io::parseModel(
-                 keywordModel("curve", points, construction, degree, order, lambda, mu, alpha, closed, knots));
+                 keywordModel("curve", points, construction, degree, order, lambda, mu, alpha, closed, knots, weights));
              return std::make_shared<CurveHandle>(Curve::create(std::get<CurveModel>(parsed)));
            }),
            py::arg("points"), py::kw_only(), py::arg("construction") = "extended_bspline", py::arg("degree") = py::none(),
            py::arg("order") = py::none(), py::arg("lambda_") = py::none(), py::arg("mu") = py::none(),
            py::arg("alpha") = py::none(), py::arg("closed") = py::none(), py::arg("knots") = py::none(),
-           "Curve(points, *, construction, degree, order, lambda_, mu, alpha, closed, knots): points (n, 2) or (n, 3); "
-           "the other keywords are the model file's keys (alpha a scalar or one value per point).")
+           py::arg("weights") = py::none(),
+           "Curve(points, *, construction, degree, order, lambda_, mu, alpha, closed, knots, weights): points (n, 2) "
+           "or (n, 3); the other keywords are the model file's keys (alpha a scalar or one value per point; weights "
+           "one positive value per point of a bspline with knots: a rational B-spline).")
       .def_static(
           "from_dict",
           [](py::dict d) {
@@ -728,6 +732,8 @@ PYBIND11_MODULE(shapespline, m) {
       .def_property_readonly("closed", [](const CurveHandle& h) { return h.model().model().closed; })
       .def_property_readonly("order", [](const CurveHandle& h) { return h.model().model().family.order; })
       .def_property_readonly("knots", [](const CurveHandle& h) { return vecArray(h.model().model().knots); })
+      .def_property_readonly("weights", [](const CurveHandle& h) { return vecArray(h.model().model().weights); },
+                             "Weights of a rational bspline (empty: not rational).")
       .def_property_readonly("spans", [](const CurveHandle& h) {
         const SpanRange s = h.model().spans();
         return py::make_tuple(s.first, s.last);
@@ -802,16 +808,18 @@ PYBIND11_MODULE(shapespline, m) {
   SurfaceClass surface(m, "Surface", "A surface model (docs/format.md) with its CPU evaluator and, once used on the GPU, a resident GPU model.");
   surface
       .def(py::init([](py::object points, const std::string& construction, py::object degree, py::object order,
-                       py::object lambda, py::object mu, py::object alpha, py::object closed, py::object knots) {
+                       py::object lambda, py::object mu, py::object alpha, py::object closed, py::object knots,
+                       py::object weights) {
              const io::Model parsed = io::parseModel(
-                 keywordModel("surface", points, construction, degree, order, lambda, mu, alpha, closed, knots));
+                 keywordModel("surface", points, construction, degree, order, lambda, mu, alpha, closed, knots, weights));
              return std::make_shared<SurfaceHandle>(Surface::create(std::get<SurfaceModel>(parsed)));
            }),
            py::arg("points"), py::kw_only(), py::arg("construction") = "extended_bspline", py::arg("degree") = py::none(),
            py::arg("order") = py::none(), py::arg("lambda_") = py::none(), py::arg("mu") = py::none(),
            py::arg("alpha") = py::none(), py::arg("closed") = py::none(), py::arg("knots") = py::none(),
+           py::arg("weights") = py::none(),
            "Surface(points, *, ...): points (rows, cols, 3); closed a bool or (closed_u, closed_v); alpha a scalar or "
-           "(rows, cols); order and knots per direction for bspline.")
+           "(rows, cols); order and knots per direction for bspline; weights (rows, cols) for a rational bspline.")
       .def_static(
           "from_dict",
           [](py::dict d) {

@@ -321,6 +321,103 @@ TEST_P(GpuBSpline, ControlPointUpdateAndRejectedParameters) {
   compareCurve(cpu, ev, state, pr, err);
 }
 
+// Rational B-splines (docs/math.md §10.8) on the GPU, grid and list kernels: the NURBS unit circle
+// stays on the circle to the precision, and a general rational surface (a torus of revolution with
+// one weight changed) matches the CPU.
+TEST_P(GpuBSpline, RationalCurvesAndSurfacesMatchCpu) {
+  if (skipFp64()) GTEST_SKIP() << "no shaderFloat64";
+  const Precision pr = GetParam();
+  const double rel = relFor(pr);
+  const std::vector<glm::dvec3> circle = {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, 0},
+                                          {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}};
+  const double h = std::sqrt(0.5);
+  const std::vector<double> weights = {1, h, 1, h, 1, h, 1, h, 1};
+  const std::vector<double> knots = {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
+  CurveModel cm;
+  cm.family.construction = Construction::BSpline;
+  cm.family.order = 3;
+  cm.dimension = 2;
+  cm.points = circle;
+  cm.weights = weights;
+  cm.knots = knots;
+  const Curve curve = Curve::create(cm);
+  gpu::CurveEvaluator cev(ctx_, pr);
+  gpu::GpuCurve gcurve(ctx_, curve, pr);
+  Tracker err;
+  double worstRadius = 0.0;
+  GridSpec cgrid;
+  cgrid.samplesU = 9;
+  const std::vector<int> items = curveGridItems(curve);
+  cev.evaluateGrid(gcurve, cgrid, fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2), [&](const GridChunk& c) {
+    for (size_t i = 0; i < c.pointCount(); ++i) {
+      const glm::dvec3 p(c.coord(Field::Point, i, 0), c.coord(Field::Point, i, 1), c.coord(Field::Point, i, 2));
+      worstRadius = std::max(worstRadius, std::abs(glm::length(p) - 1.0));
+      const size_t item = c.firstItem + i / 9;
+      const CurvePoint e = curve.evaluate(items[item], double(i % 9) / 8);
+      const glm::dvec3 d1(c.coord(Field::D1, i, 0), c.coord(Field::D1, i, 1), c.coord(Field::D1, i, 2));
+      err.check("circle point", e.point, p, 4 * rel, "grid " + std::to_string(i));
+      err.check("circle d1", e.d1, d1, 64 * rel * glm::length(e.d1), "grid " + std::to_string(i));
+    }
+  });
+  std::vector<double> us;
+  for (int k = 0; k <= 40; ++k) us.push_back(k / 40.0);
+  const auto at = cev.evaluateListAt(gcurve, us);
+  for (size_t k = 0; k < us.size(); ++k) {
+    worstRadius = std::max(worstRadius, std::abs(glm::length(at[k].point) - 1.0));
+    const CurvePoint e = curve.evaluateAt(us[k]);
+    err.check("circle list d2", e.d2, at[k].d2, 256 * rel * (1.0 + glm::length(e.d2)), "u " + std::to_string(us[k]));
+  }
+  EXPECT_LE(worstRadius, pr == Precision::Double ? 1e-15 : 1e-6);
+
+  SurfaceModel sm;
+  sm.family.construction = Construction::BSpline;
+  sm.family.order = 3;
+  sm.orderV = 3;
+  sm.rows = sm.cols = 9;
+  sm.knotsU = sm.knotsV = knots;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j) {
+      const double x = 3.0 + 1.25 * circle[size_t(j)].x;
+      sm.points.push_back({x * circle[size_t(i)].x, x * circle[size_t(i)].y, 1.25 * circle[size_t(j)].y});
+      sm.weights.push_back(weights[size_t(i)] * weights[size_t(j)]);
+    }
+  sm.weights[40] = 2.5;
+  const Surface surface = Surface::create(sm);
+  gpu::SurfaceEvaluator sev(ctx_, pr);
+  gpu::GpuSurface gsurface(ctx_, surface, pr);
+  const double tol = 16 * rel * bboxDiag(sm.points), tol1 = 64 * tol, tol2 = 1024 * tol;
+  const auto sitems = surfaceGridItems(surface);
+  FieldMask all = 0;
+  for (Field f : {Field::Point, Field::Du, Field::Dv, Field::Duu, Field::Duv, Field::Dvv, Field::Normal}) all |= fieldBit(f);
+  for (auto [su, sv] : {std::pair{5, 3}, std::pair{4, 8}}) {
+    sev.evaluateGrid(gsurface, {su, sv, 0, 0}, all, [&](const GridChunk& ch) {
+      for (size_t i = 0; i < ch.pointCount(); ++i) {
+        const size_t item = ch.firstItem + i / size_t(su * sv), k = i % size_t(su * sv);
+        const auto [pi, pj] = sitems[item];
+        const SurfacePoint e = surface.evaluate(pi, pj, double(k / size_t(sv)) / (su - 1), double(k % size_t(sv)) / (sv - 1));
+        auto got = [&](Field f) { return glm::dvec3(ch.coord(f, i, 0), ch.coord(f, i, 1), ch.coord(f, i, 2)); };
+        const std::string where = "grid " + std::to_string(su) + "x" + std::to_string(sv) + " point " + std::to_string(i);
+        err.check("point", e.point, got(Field::Point), tol, where);
+        err.check("du", e.du, got(Field::Du), tol1, where);
+        err.check("dv", e.dv, got(Field::Dv), tol1, where);
+        err.check("duu", e.duu, got(Field::Duu), tol2, where);
+        err.check("duv", e.duv, got(Field::Duv), tol2, where);
+        err.check("dvv", e.dvv, got(Field::Dvv), tol2, where);
+      }
+    });
+  }
+  std::vector<std::pair<double, double>> uv;
+  for (int k = 0; k < 30; ++k) uv.push_back({(k * 37 % 101) / 100.0, (k * 53 % 101) / 100.0});
+  const auto sat = sev.evaluateListAt(gsurface, uv);
+  for (size_t k = 0; k < uv.size(); ++k) {
+    const SurfacePoint e = surface.evaluateAt(uv[k].first, uv[k].second);
+    err.check("list point", e.point, sat[k].point, tol, "at " + std::to_string(k));
+    err.check("list duv", e.duv, sat[k].duv, tol2, "at " + std::to_string(k));
+  }
+  std::printf("  rational %s: circle max | |P| - 1 | %.2e, max error/tol %.3g\n",
+              pr == Precision::Double ? "fp64" : "fp32", worstRadius, err.maxRatio);
+}
+
 INSTANTIATE_TEST_SUITE_P(Precisions, GpuBSpline, ::testing::Values(Precision::Float, Precision::Double),
                          [](const auto& i) { return std::string(i.param == Precision::Double ? "fp64" : "fp32"); });
 
