@@ -53,7 +53,7 @@ SurfaceModel bsplineWorkloadModel() {
   return gridSurfaceModel({Construction::ExtendedBSpline, 4, 0, 0.0, {}}, kNetSize, 17);
 }
 
-SurfaceModel knotWorkloadModel(bool randomKnots) {
+SurfaceModel knotWorkloadModel(bool randomKnots, bool rational) {
   SurfaceModel m = bsplineWorkloadModel();
   m.family = {Construction::BSpline, 0, 4, 0.0, {}};
   m.orderV = 4;
@@ -71,6 +71,10 @@ SurfaceModel knotWorkloadModel(bool randomKnots) {
       (*knots)[size_t(k)] = t;
     }
   }
+  if (rational) {
+    std::uniform_real_distribution<double> weight(0.5, 2.0);
+    for (size_t k = 0; k < m.points.size(); ++k) m.weights.push_back(weight(rng));
+  }
   return m;
 }
 
@@ -83,13 +87,22 @@ struct BSplineWorkload {
 };
 
 // The nets of the surface benchmarks: the uniform bicubic workload and the same net as a
-// knot-vector B-spline (the general path) with uniform and with random knots.
-enum class Net { Uniform, KnotUniform, KnotRandom };
-constexpr Net kNets[] = {Net::Uniform, Net::KnotUniform, Net::KnotRandom};
-const char* netName(Net n) { return n == Net::Uniform ? "bspline3" : n == Net::KnotUniform ? "knot3_uniform" : "knot3_random"; }
+// knot-vector B-spline (the general path) with uniform and with random knots, and the latter with
+// random weights in [0.5, 2] (a NURBS surface).
+enum class Net { Uniform, KnotUniform, KnotRandom, NurbsRandom };
+constexpr Net kNets[] = {Net::Uniform, Net::KnotUniform, Net::KnotRandom, Net::NurbsRandom};
+const char* netName(Net n) {
+  switch (n) {
+    case Net::Uniform: return "bspline3";
+    case Net::KnotUniform: return "knot3_uniform";
+    case Net::KnotRandom: return "knot3_random";
+    case Net::NurbsRandom: return "nurbs3_random";
+  }
+  return "?";
+}
 
 const BSplineWorkload& workload(Net net = Net::Uniform) {
-  static const std::array<BSplineWorkload, 3> w = [] {
+  static const std::array<BSplineWorkload, 4> w = [] {
     auto make = [](SurfaceModel m) {
       BSplineWorkload b{Surface::create(std::move(m)), 0.0, 0};
       b.scale = boxDiagonal(b.surface.model().points);
@@ -97,8 +110,8 @@ const BSplineWorkload& workload(Net net = Net::Uniform) {
       if (b.patches != 3721) throw std::logic_error("B-spline workload: expected 3721 patches");
       return b;
     };
-    return std::array<BSplineWorkload, 3>{make(bsplineWorkloadModel()), make(knotWorkloadModel(false)),
-                                          make(knotWorkloadModel(true))};
+    return std::array<BSplineWorkload, 4>{make(bsplineWorkloadModel()), make(knotWorkloadModel(false, false)),
+                                          make(knotWorkloadModel(true, false)), make(knotWorkloadModel(true, true))};
   }();
   return w[size_t(net)];
 }

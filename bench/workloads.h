@@ -44,8 +44,8 @@ double boxDiagonal(const std::vector<glm::dvec3>& points);
 // for bench/e2e.
 SurfaceModel bsplineWorkloadModel();
 // The same net as an order-4 knot-vector B-spline: knots 0..67 (the same surface), or clamped
-// random knots (intervals of 0.25 to 1.75).
-SurfaceModel knotWorkloadModel(bool randomKnots);
+// random knots (intervals of 0.25 to 1.75); rational: random weights in [0.5, 2].
+SurfaceModel knotWorkloadModel(bool randomKnots, bool rational);
 
 // The real-time workload (tessellation_bench.cpp, bench/realtime): an α-EB surface of degree 5,
 // 25 x 40 patches (open/open) over a gentle height field, α = 0.6 with every 7th vertex at 1.

@@ -71,10 +71,8 @@ void runExtend(const ExtendArgs& a) {
     }
     if (!a.svg.empty()) svg = &outputs.add(a.svg, "--svg");
     const ExtensionResult r = extendCurve(bsplineCurveFromModel(cm), targets, givenU);
-    CurveModel ext = cm;
+    CurveModel ext = extendedModel(cm, r);
     ext.dimension = dim;
-    ext.points = r.curve.points;
-    ext.knots = r.curve.knots;
     validateCurve(ext);
     out.write(io::toJson(ext).dump(2) + "\n");
     std::printf("extended %zu -> %zu points; target parameters:", cm.points.size(), ext.points.size());
@@ -101,12 +99,7 @@ void runExtend(const ExtendArgs& a) {
       throw InputError("--u", a.u, "needs one parameter per --to-curve (" + std::to_string(curves.size()) + ")");
     }
     const SurfaceExtensionResult r = extendSurfaceU(bsplineSurfaceFromModel(sm), curves, givenU);
-    SurfaceModel ext = sm;
-    ext.rows = r.surface.rows;
-    ext.cols = r.surface.cols;
-    ext.points = r.surface.points;
-    ext.knotsU = r.surface.knotsU;
-    ext.knotsV = r.surface.knotsV;
+    const SurfaceModel ext = extendedModel(sm, r);
     validateSurface(ext);
     out.write(io::toJson(ext).dump(2) + "\n");
     std::printf("extended %d -> %d rows; target parameters:", sm.rows, ext.rows);

@@ -88,8 +88,38 @@ ExtensionResult extendWithParameters(const BSplineCurveData& curve, std::span<co
   const double span = u.back() - a;
   out.knotsNormalized.reserve(knots.size());
   for (double t : knots) out.knotsNormalized.push_back((t - a) / span);
-  out.curve = BSplineCurveData{k, std::move(knots), std::move(q)};
+  out.curve = BSplineCurveData{k, std::move(knots), std::move(q), {}};
   out.u = std::move(u);
+  return out;
+}
+
+// A rational curve (docs/math.md §10.8) is extended in homogeneous space. Unclamping and inverse de
+// Boor are linear in the control points, so the homogeneous points w P and the weights (carried as
+// points (w, 0, 0)) are extended apart with the same parameters, and each target R_s is the
+// homogeneous point (w_R R_s, w_R). Throws ModelError naming the control point when a new weight
+// is not positive (the rational curve would not exist there).
+ExtensionResult extendRational(const BSplineCurveData& curve, std::span<const glm::dvec3> targets,
+                               std::vector<double> u, double targetWeight) {
+  BSplineCurveData homogeneous{curve.order, curve.knots, {}, {}}, weights{curve.order, curve.knots, {}, {}};
+  for (size_t i = 0; i < curve.points.size(); ++i) {
+    homogeneous.points.push_back(curve.weights[i] * curve.points[i]);
+    weights.points.push_back({curve.weights[i], 0.0, 0.0});
+  }
+  std::vector<glm::dvec3> hTargets, wTargets;
+  for (const glm::dvec3& r : targets) hTargets.push_back(targetWeight * r), wTargets.push_back({targetWeight, 0.0, 0.0});
+  ExtensionResult out = extendWithParameters(homogeneous, hTargets, u);
+  const ExtensionResult w = extendWithParameters(weights, wTargets, std::move(u));
+  out.curve.weights.resize(out.curve.points.size());
+  for (size_t i = 0; i < out.curve.points.size(); ++i) {
+    const double wi = w.curve.points[i].x;
+    if (!(wi > 0.0) || !std::isfinite(wi))
+      throw ModelError("weights[" + std::to_string(i) + "]", text(wi),
+                       "the rational extension gives this control point a weight that is not positive; choose other "
+                       "target parameters (--u)");
+    out.curve.points[i] /= wi;
+    out.curve.weights[i] = wi;
+  }
+  for (size_t i = 0; i < out.unclampedPoints.size(); ++i) out.unclampedPoints[i] /= w.unclampedPoints[i].x;
   return out;
 }
 
@@ -177,14 +207,8 @@ glm::dvec3 inverseDeBoor(int order, std::span<const double> t, std::span<const g
   return level[0][k - 1];
 }
 
-// Unclamping and inverse de Boor in homogeneous space are not written yet: refused, never
-// computed on the Euclidean net as if the weights were 1.
-constexpr const char* kRationalExtension =
-    "the extension of a rational B-spline (weights) is not supported yet; extend the non-rational model";
-
 ExtensionResult extendCurve(const BSplineCurveData& curve, std::span<const glm::dvec3> targets,
                             std::optional<std::vector<double>> givenU) {
-  if (!curve.weights.empty()) throw ModelError("weights", "present", kRationalExtension);
   const int count = static_cast<int>(curve.points.size());
   const double b = checkRightClamped(curve.order, curve.knots, count, "knots");
   if (targets.empty()) throw ModelError("targets", "[]", "at least one target point is required");
@@ -206,13 +230,15 @@ ExtensionResult extendCurve(const BSplineCurveData& curve, std::span<const glm::
   } else {
     u = chordParameters(curve, targets);
   }
+  // A rational curve's targets take the weight of P_n, the end point C(b) interpolates: with every
+  // weight 1 this is the non-rational extension.
+  if (!curve.weights.empty()) return extendRational(curve, targets, std::move(u), curve.weights.back());
   return extendWithParameters(curve, targets, std::move(u));
 }
 
 SurfaceExtensionResult extendSurfaceU(const BSplineSurfaceData& surface,
                                       std::span<const std::vector<glm::dvec3>> targetCurves,
                                       std::optional<std::vector<double>> givenU) {
-  if (!surface.weights.empty()) throw ModelError("weights", "present", kRationalExtension);
   const int rows = surface.rows, cols = surface.cols;
   if (static_cast<int>(surface.points.size()) != rows * cols)
     throw ModelError("points", std::to_string(surface.points.size()), "the net must have rows * cols points");
@@ -231,10 +257,14 @@ SurfaceExtensionResult extendSurfaceU(const BSplineSurfaceData& surface,
                   "target_curves[" + std::to_string(s) + "][" + std::to_string(j) + "]");
   }
 
+  const bool rational = !surface.weights.empty();
   auto column = [&](int j) {
-    BSplineCurveData c{surface.orderU, surface.knotsU, {}};
+    BSplineCurveData c{surface.orderU, surface.knotsU, {}, {}};
     c.points.reserve(static_cast<size_t>(rows));
-    for (int i = 0; i < rows; ++i) c.points.push_back(surface.points[static_cast<size_t>(i) * cols + j]);
+    for (int i = 0; i < rows; ++i) {
+      c.points.push_back(surface.points[static_cast<size_t>(i) * cols + j]);
+      if (rational) c.weights.push_back(surface.weights[static_cast<size_t>(i) * cols + j]);
+    }
     return c;
   };
   auto columnTargets = [&](int j) {
@@ -267,18 +297,43 @@ SurfaceExtensionResult extendSurfaceU(const BSplineSurfaceData& surface,
   ext.rows = rows + static_cast<int>(m);
   ext.cols = cols;
   ext.points.assign(static_cast<size_t>(ext.rows) * cols, glm::dvec3(0.0));
+  if (rational) ext.weights.assign(ext.points.size(), 0.0);
   for (int j = 0; j < cols; ++j) {
     // Columns share K_final; a column whose target equals its end point (a collapsed edge) is
-    // still well defined with common parameters, so no per-column distinctness check here.
+    // still well defined with common parameters, so no per-column distinctness check here. A
+    // rational column's targets take the weight of its last control point, so the surface at u_s
+    // is the rational curve of target curve s with the weights of the net's last row.
     const auto targets = columnTargets(j);
-    ExtensionResult e = extendWithParameters(column(j), targets, out.u);
-    for (int i = 0; i < ext.rows; ++i) ext.points[static_cast<size_t>(i) * cols + j] = e.curve.points[static_cast<size_t>(i)];
+    const BSplineCurveData c = column(j);
+    ExtensionResult e = rational ? extendRational(c, targets, out.u, c.weights.back())
+                                 : extendWithParameters(c, targets, out.u);
+    for (int i = 0; i < ext.rows; ++i) {
+      ext.points[static_cast<size_t>(i) * cols + j] = e.curve.points[static_cast<size_t>(i)];
+      if (rational) ext.weights[static_cast<size_t>(i) * cols + j] = e.curve.weights[static_cast<size_t>(i)];
+    }
     if (j == 0) {
       ext.knotsU = e.curve.knots;
       out.knotsNormalizedU = e.knotsNormalized;
     }
   }
   return out;
+}
+
+CurveModel extendedModel(CurveModel model, const ExtensionResult& result) {
+  model.points = result.curve.points;
+  model.knots = result.curve.knots;
+  model.weights = result.curve.weights;
+  return model;
+}
+
+SurfaceModel extendedModel(SurfaceModel model, const SurfaceExtensionResult& result) {
+  model.rows = result.surface.rows;
+  model.cols = result.surface.cols;
+  model.points = result.surface.points;
+  model.knotsU = result.surface.knotsU;
+  model.knotsV = result.surface.knotsV;
+  model.weights = result.surface.weights;
+  return model;
 }
 
 }  // namespace shapespline

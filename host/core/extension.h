@@ -54,4 +54,9 @@ SurfaceExtensionResult extendSurfaceU(const BSplineSurfaceData& surface,
                                       std::span<const std::vector<glm::dvec3>> targetCurves,
                                       std::optional<std::vector<double>> givenU = std::nullopt);
 
+// `model` (the extended one) with the result's control points, knots and weights (rational
+// models), ready for validate / Curve::create.
+CurveModel extendedModel(CurveModel model, const ExtensionResult& result);
+SurfaceModel extendedModel(SurfaceModel model, const SurfaceExtensionResult& result);
+
 }  // namespace shapespline

@@ -177,6 +177,24 @@ CurveModel readCurve(const json& doc, Construction c) {
   return m;
 }
 
+// One number per vertex of a surface, as rows shaped like `points` (alpha, weights), row-major.
+// `what`: the rule's start ("weights must be an array").
+std::vector<double> readVertexRows(const json& a, const std::string& key, const std::string& what, int rows, int cols) {
+  const std::string shape = std::to_string(rows) + " x " + std::to_string(cols);
+  if (!a.is_array() || a.size() != static_cast<size_t>(rows))
+    fail(key, a.is_array() ? std::to_string(a.size()) + " rows" : shortDump(a),
+         what + " of rows shaped like points (" + shape + ")");
+  std::vector<double> out;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!a[i].is_array() || a[i].size() != static_cast<size_t>(cols))
+      fail(idx(key, i), a[i].is_array() ? std::to_string(a[i].size()) + " values" : shortDump(a[i]),
+           "each " + key + " row must have one number per column (" + std::to_string(cols) + ")");
+    const auto row = getNumberArray(a[i], idx(key, i), "numbers");
+    out.insert(out.end(), row.begin(), row.end());
+  }
+  return out;
+}
+
 SurfaceModel readSurface(const json& doc, Construction c) {
   SurfaceModel m;
   m.family.construction = c;
@@ -225,17 +243,7 @@ SurfaceModel readSurface(const json& doc, Construction c) {
     if (auto v = scalarAlpha(a)) {
       m.alpha.assign(m.points.size(), *v);
     } else {
-      const std::string shape = std::to_string(m.rows) + " x " + std::to_string(m.cols);
-      if (!a.is_array() || a.size() != static_cast<size_t>(m.rows))
-        fail("alpha", a.is_array() ? std::to_string(a.size()) + " rows" : shortDump(a),
-             "alpha must be a number or an array of rows shaped like points (" + shape + ")");
-      for (size_t i = 0; i < a.size(); ++i) {
-        if (!a[i].is_array() || a[i].size() != static_cast<size_t>(m.cols))
-          fail(idx("alpha", i), a[i].is_array() ? std::to_string(a[i].size()) + " values" : shortDump(a[i]),
-               "each alpha row must have one number per column (" + std::to_string(m.cols) + ")");
-        const auto row = getNumberArray(a[i], idx("alpha", i), "numbers");
-        m.alpha.insert(m.alpha.end(), row.begin(), row.end());
-      }
+      m.alpha = readVertexRows(a, "alpha", "alpha must be a number or an array", m.rows, m.cols);
     }
   }
   if (doc.contains("knots")) {
@@ -245,20 +253,7 @@ SurfaceModel readSurface(const json& doc, Construction c) {
     m.knotsU = getNumberArray(k[0], "knots[0]", "numbers");
     m.knotsV = getNumberArray(k[1], "knots[1]", "numbers");
   }
-  if (doc.contains("weights")) {
-    const json& w = doc.at("weights");
-    const std::string shape = std::to_string(m.rows) + " x " + std::to_string(m.cols);
-    if (!w.is_array() || w.size() != static_cast<size_t>(m.rows))
-      fail("weights", w.is_array() ? std::to_string(w.size()) + " rows" : shortDump(w),
-           "weights must be an array of rows shaped like points (" + shape + ")");
-    for (size_t i = 0; i < w.size(); ++i) {
-      if (!w[i].is_array() || w[i].size() != static_cast<size_t>(m.cols))
-        fail(idx("weights", i), w[i].is_array() ? std::to_string(w[i].size()) + " values" : shortDump(w[i]),
-             "each weights row must have one number per column (" + std::to_string(m.cols) + ")");
-      const auto row = getNumberArray(w[i], idx("weights", i), "numbers");
-      m.weights.insert(m.weights.end(), row.begin(), row.end());
-    }
-  }
+  if (doc.contains("weights")) m.weights = readVertexRows(doc.at("weights"), "weights", "weights must be an array", m.rows, m.cols);
   return m;
 }
 

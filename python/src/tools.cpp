@@ -247,9 +247,7 @@ void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHand
           py::gil_scoped_release release;
           r = extendCurve(bsplineCurveFromModel(c.model()), pts, given);
         }
-        CurveModel ext = c.model();
-        ext.points = r.curve.points;
-        ext.knots = r.curve.knots;
+        const CurveModel ext = extendedModel(c.model(), r);
         py::dict d;
         d["curve"] = std::make_shared<CurveHandle>(Curve::create(ext));
         d["u"] = vec1(r.u);
@@ -284,12 +282,7 @@ void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHand
           py::gil_scoped_release release;
           r = extendSurfaceU(bsplineSurfaceFromModel(s.model()), curves, given);
         }
-        SurfaceModel ext = s.model();
-        ext.rows = r.surface.rows;
-        ext.cols = r.surface.cols;
-        ext.points = r.surface.points;
-        ext.knotsU = r.surface.knotsU;
-        ext.knotsV = r.surface.knotsV;
+        const SurfaceModel ext = extendedModel(s.model(), r);
         py::dict d;
         d["surface"] = std::make_shared<SurfaceHandle>(Surface::create(ext));
         d["u"] = vec1(r.u);

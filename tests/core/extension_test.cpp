@@ -15,7 +15,7 @@ namespace shapespline {
 namespace {
 
 BSplineCurveData workedExample() {
-  return {4, {0, 0, 0, 0, 0.25, 0.5, 1, 1, 1, 1}, {{0, 0, 0}, {1, 2, 0}, {3, 3, 0}, {5, 1, 0}, {6, 4, 0}, {8, 3, 0}}};
+  return {4, {0, 0, 0, 0, 0.25, 0.5, 1, 1, 1, 1}, {{0, 0, 0}, {1, 2, 0}, {3, 3, 0}, {5, 1, 0}, {6, 4, 0}, {8, 3, 0}}, {}};
 }
 
 void expectPoint(const glm::dvec3& actual, glm::dvec3 expected, double tol, const std::string& what) {
@@ -63,7 +63,7 @@ TEST(Extension, WorkedExampleTwoTargets) {
 BSplineCurveData randomCurve(std::mt19937& rng, int order, int count, bool leftClamped) {
   std::uniform_real_distribution<double> unit(0.0, 1.0), coord(-2.0, 2.0);
   const double a = 0.5, b = 2.0;
-  BSplineCurveData c{order, {}, {}};
+  BSplineCurveData c{order, {}, {}, {}};
   for (int i = 0; i < order; ++i) c.knots.push_back(leftClamped ? a : a - 0.2 * (order - 1 - i));
   const int interior = count - order;
   for (int i = 1; i <= interior; ++i) c.knots.push_back(a + (b - a) * (i + 0.4 * (unit(rng) - 0.5)) / (interior + 1));
@@ -263,7 +263,7 @@ TEST(Extension, SurfaceReachesTargetCurvesAndKeepsTheSurface) {
             }
           }
           for (int q = 0; q < m; ++q) {
-            const BSplineCurveData target{kv, s.knotsV, targets[static_cast<size_t>(q)]};
+            const BSplineCurveData target{kv, s.knotsV, targets[static_cast<size_t>(q)], {}};
             for (double v = 0; v <= 1.0; v += 0.125) {
               const auto p = evalBSplineSurface(e.surface, e.u[static_cast<size_t>(q)], v);
               EXPECT_LT(glm::length(p.point - evalBSplineCurve(target, v).point), 1e-9)

@@ -5,11 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <shapespline/core/curve.h>
+#include <shapespline/core/extension.h>
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/core/validate.h>
 
 #include <glm/geometric.hpp>
+
+#include "support/test_models.h"
 
 #include <cmath>
 #include <vector>
@@ -19,49 +22,18 @@ namespace {
 
 using glm::dvec3;
 
-// The quadratic NURBS unit circle of 9 control points (The NURBS Book, Ex. 7.2): the corners of
-// the square with weight √2/2, knots of multiplicity 2 at the quarters.
+using test::nurbsCircle;
+using test::nurbsTorus;
+
 const std::vector<dvec3> kCirclePoints = {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, 0},
-                                         {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}};
-const double kHalfRoot2 = std::sqrt(0.5);
-const std::vector<double> kCircleWeights = {1, kHalfRoot2, 1, kHalfRoot2, 1, kHalfRoot2, 1, kHalfRoot2, 1};
+                                          {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}};
 const std::vector<double> kCircleKnots = {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
-
-CurveModel circleModel(double radius) {
-  CurveModel m;
-  m.family.construction = Construction::BSpline;
-  m.family.order = 3;
-  m.dimension = 2;
-  for (const dvec3& p : kCirclePoints) m.points.push_back(radius * p);
-  m.weights = kCircleWeights;
-  m.knots = kCircleKnots;
-  return m;
-}
-
-// A torus as the surface of revolution of a circle of radius r about z, centred at distance R:
-// P_ij = (x_j c_i.x, x_j c_i.y, z_j), w_ij = w_i w_j (The NURBS Book §8.5).
-SurfaceModel torusModel(double R, double r) {
-  SurfaceModel m;
-  m.family.construction = Construction::BSpline;
-  m.family.order = 3;
-  m.orderV = 3;
-  m.rows = m.cols = 9;
-  m.knotsU = m.knotsV = kCircleKnots;
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j) {
-      const dvec3 c = kCirclePoints[size_t(i)], d = kCirclePoints[size_t(j)];
-      const double x = R + r * d.x;
-      m.points.push_back({x * c.x, x * c.y, r * d.y});
-      m.weights.push_back(kCircleWeights[size_t(i)] * kCircleWeights[size_t(j)]);
-    }
-  return m;
-}
 
 constexpr double kUlp = 2.220446049250313e-16;
 
 TEST(Nurbs, CircleEveryPointAtTheRadius) {
   for (double radius : {1.0, 3.5e-3, 7e5}) {
-    const Curve c = Curve::create(circleModel(radius));
+    const Curve c = Curve::create(nurbsCircle(radius));
     double worst = 0.0;
     for (int k = 0; k <= 1000; ++k) {
       const CurvePoint p = c.evaluateAt(k / 1000.0);
@@ -87,7 +59,7 @@ TEST(Nurbs, CircleEveryPointAtTheRadius) {
 
 TEST(Nurbs, TorusEveryPointOnTheTorus) {
   const double R = 3.0, r = 1.25;
-  const Surface s = Surface::create(torusModel(R, r));
+  const Surface s = Surface::create(nurbsTorus(R, r));
   const FieldMask all = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) | fieldBit(Field::Duu) |
                         fieldBit(Field::Duv) | fieldBit(Field::Dvv) | fieldBit(Field::Normal);
   double worst = 0.0, maxDiff = 0.0;
@@ -118,7 +90,7 @@ TEST(Nurbs, TorusEveryPointOnTheTorus) {
 
 // The quotient rule against central differences of the point (and of the first derivative).
 TEST(Nurbs, DerivativesMatchFiniteDifferences) {
-  SurfaceModel m = torusModel(3.0, 1.25);
+  SurfaceModel m = nurbsTorus(3.0, 1.25);
   m.weights[40] = 2.5;  // not a torus any more: a general rational surface
   // Parameters away from the knots at the quarters, where the quadratic is only C0.
   const Surface s = Surface::create(m);
@@ -137,7 +109,7 @@ TEST(Nurbs, DerivativesMatchFiniteDifferences) {
 }
 
 TEST(Nurbs, AllOnesWeightsAreTheNonRationalSpline) {
-  SurfaceModel m = torusModel(3.0, 1.25);
+  SurfaceModel m = nurbsTorus(3.0, 1.25);
   const SurfaceModel plain = [&] { SurfaceModel p = m; p.weights.clear(); return p; }();
   m.weights.assign(m.weights.size(), 1.0);
   const Surface a = Surface::create(m), b = Surface::create(plain);
@@ -152,7 +124,7 @@ TEST(Nurbs, BadWeightsAreRefusedNamingTheEntry) {
     const char* rule;
   };
   for (const Case& c : {Case{0.0, "positive finite"}, Case{-1.0, "positive finite"}, Case{1e308, "overflows fp64"}}) {
-    SurfaceModel m = torusModel(3.0, 1.25);
+    SurfaceModel m = nurbsTorus(3.0, 1.25);
     m.weights[2 * 9 + 0] = c.w;  // point (0, 4.25, 0): 1e308 w P overflows
     try {
       validateSurface(m);
@@ -162,12 +134,78 @@ TEST(Nurbs, BadWeightsAreRefusedNamingTheEntry) {
       EXPECT_NE(e.rule().find(c.rule), std::string::npos) << e.rule();
     }
   }
-  CurveModel curve = circleModel(1.0);
+  CurveModel curve = nurbsCircle(1.0);
   curve.weights.pop_back();
   EXPECT_THROW(validateCurve(curve), ModelError);
-  curve = circleModel(1.0);
+  curve = nurbsCircle(1.0);
   curve.knots.clear();  // a uniform B-spline without a knot vector takes no weights
   EXPECT_THROW(validateCurve(curve), ModelError);
+}
+
+}  // namespace
+}  // namespace shapespline
+
+namespace shapespline {
+namespace {
+
+// Rational extension (docs/math.md §10.8): in homogeneous space, the targets weighted like P_n.
+TEST(NurbsExtension, CurveKeepsItsDomainAndReachesTheTargets) {
+  CurveModel m = nurbsCircle(2.0);  // the whole circle: clamped at both ends
+  const Curve before = Curve::create(m);
+  const std::vector<dvec3> targets = {{3.0, -0.5, 0.0}, {3.5, 1.0, 0.0}};
+  const ExtensionResult r = extendCurve(bsplineCurveFromModel(m), targets);
+  const CurveModel extended = extendedModel(m, r);
+  validateCurve(extended);
+  ASSERT_EQ(extended.weights.size(), extended.points.size());
+  for (double w : extended.weights) EXPECT_GT(w, 0.0);
+  const Curve after = Curve::create(extended);
+  double worst = 0.0;
+  for (int k = 0; k <= 200; ++k) {
+    const double u = k / 200.0;
+    worst = std::max(worst, glm::length(after.evaluateAt(u).point - before.evaluateAt(u).point));
+    EXPECT_LE(std::abs(glm::length(after.evaluateAt(u).point) - 2.0), 8 * kUlp * 2.0) << u;  // still the circle
+  }
+  EXPECT_LE(worst, 1e-14 * 2.0);
+  for (size_t s = 0; s < targets.size(); ++s)
+    EXPECT_LE(glm::length(after.evaluateAt(r.u[s]).point - targets[s]), 1e-13 * 4.0) << s;
+  // All weights 1: exactly the non-rational extension.
+  CurveModel plain = nurbsCircle(2.0);
+  plain.weights.clear();
+  CurveModel ones = plain;
+  ones.weights.assign(ones.points.size(), 1.0);
+  const ExtensionResult a = extendCurve(bsplineCurveFromModel(plain), targets);
+  const ExtensionResult b = extendCurve(bsplineCurveFromModel(ones), targets);
+  ASSERT_EQ(a.curve.points.size(), b.curve.points.size());
+  for (size_t i = 0; i < a.curve.points.size(); ++i)
+    EXPECT_LE(glm::length(a.curve.points[i] - b.curve.points[i]), 1e-14 * 4.0) << i;
+}
+
+TEST(NurbsExtension, SurfaceReachesTheRationalTargetCurve) {
+  const SurfaceModel m = nurbsTorus(3.0, 1.25);
+  const Surface before = Surface::create(m);
+  std::vector<dvec3> target;
+  for (int j = 0; j < 9; ++j) target.push_back(dvec3(4.0 + 0.5 * kCirclePoints[size_t(j)].x, -1.5, kCirclePoints[size_t(j)].y));
+  const std::vector<std::vector<dvec3>> targets = {target};
+  const SurfaceExtensionResult r = extendSurfaceU(bsplineSurfaceFromModel(m), targets);
+  const SurfaceModel extended = extendedModel(m, r);
+  validateSurface(extended);
+  const Surface after = Surface::create(extended);
+  double worst = 0.0;
+  for (int a = 0; a <= 20; ++a)
+    for (int b = 0; b <= 20; ++b)
+      worst = std::max(worst, glm::length(after.evaluateAt(a / 20.0, b / 20.0).point -
+                                          before.evaluateAt(a / 20.0, b / 20.0).point));
+  EXPECT_LE(worst, 1e-13);
+  // At u_1 the surface is the rational curve of the target's points with the last row's weights.
+  CurveModel rowCurve;
+  rowCurve.family = {Construction::BSpline, 0, 3, 0.0, {}};
+  rowCurve.dimension = 3;
+  rowCurve.points = target;
+  rowCurve.knots = kCircleKnots;
+  for (int j = 0; j < 9; ++j) rowCurve.weights.push_back(m.weights[size_t(8 * 9 + j)]);
+  const Curve expected = Curve::create(rowCurve);
+  for (int b = 0; b <= 20; ++b)
+    EXPECT_LE(glm::length(after.evaluateAt(r.u[0], b / 20.0).point - expected.evaluateAt(b / 20.0).point), 1e-12) << b;
 }
 
 }  // namespace

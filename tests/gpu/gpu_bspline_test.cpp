@@ -27,6 +27,7 @@
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/gpu/evaluator.h>
+#include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 
@@ -328,18 +329,7 @@ TEST_P(GpuBSpline, RationalCurvesAndSurfacesMatchCpu) {
   if (skipFp64()) GTEST_SKIP() << "no shaderFloat64";
   const Precision pr = GetParam();
   const double rel = relFor(pr);
-  const std::vector<glm::dvec3> circle = {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, 0},
-                                          {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}};
-  const double h = std::sqrt(0.5);
-  const std::vector<double> weights = {1, h, 1, h, 1, h, 1, h, 1};
-  const std::vector<double> knots = {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
-  CurveModel cm;
-  cm.family.construction = Construction::BSpline;
-  cm.family.order = 3;
-  cm.dimension = 2;
-  cm.points = circle;
-  cm.weights = weights;
-  cm.knots = knots;
+  const CurveModel cm = nurbsCircle(1.0);
   const Curve curve = Curve::create(cm);
   gpu::CurveEvaluator cev(ctx_, pr);
   gpu::GpuCurve gcurve(ctx_, curve, pr);
@@ -369,18 +359,7 @@ TEST_P(GpuBSpline, RationalCurvesAndSurfacesMatchCpu) {
   }
   EXPECT_LE(worstRadius, pr == Precision::Double ? 1e-15 : 1e-6);
 
-  SurfaceModel sm;
-  sm.family.construction = Construction::BSpline;
-  sm.family.order = 3;
-  sm.orderV = 3;
-  sm.rows = sm.cols = 9;
-  sm.knotsU = sm.knotsV = knots;
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j) {
-      const double x = 3.0 + 1.25 * circle[size_t(j)].x;
-      sm.points.push_back({x * circle[size_t(i)].x, x * circle[size_t(i)].y, 1.25 * circle[size_t(j)].y});
-      sm.weights.push_back(weights[size_t(i)] * weights[size_t(j)]);
-    }
+  SurfaceModel sm = nurbsTorus(3.0, 1.25);
   sm.weights[40] = 2.5;
   const Surface surface = Surface::create(sm);
   gpu::SurfaceEvaluator sev(ctx_, pr);

@@ -173,6 +173,17 @@ std::vector<BadModel> build() {
                    kNet4),
        "closed"},
       {"ubp_surface_two_orders", surface("ubp", R"("order": [4, 4], "points": )" + kNet4), "order"},
+      // Weights (rational B-splines, docs/format.md Weights).
+      {"weights_zero", curve("bspline", bs4 + R"("knots": [0,0,0,0,0.5,1,1,1,1], "weights": [1,0,1,1,1], )" + pts5),
+       "weights[1]"},
+      {"weights_count", curve("bspline", bs4 + R"("knots": [0,0,0,0,0.5,1,1,1,1], "weights": [1,1], )" + pts5),
+       "weights"},
+      {"weights_without_knots", curve("bspline", bs4 + R"("weights": [1,1,1,1,1], )" + pts5), "weights"},
+      {"weights_on_extended_bspline", xw(R"("weights": [1,1,1,1,1], )" + pts5), "weights"},
+      {"weights_negative_surface",
+       surface("bspline", R"("order": [4, 4], "knots": [[0,0,0,0,1,1,1,1],[0,0,0,0,1,1,1,1]], )"
+                          R"("weights": [[1,1,1,1],[1,1,1,1],[1,1,1,-2],[1,1,1,1]], "points": )" + kNet4),
+       "weights[2][3]"},
   };
 }
 

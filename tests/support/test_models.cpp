@@ -22,6 +22,44 @@ SurfaceModel alphaEBTube(int rows, int cols) {
   return m;
 }
 
+namespace {
+
+const glm::dvec3 kCircle[9] = {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, 0, 0},
+                               {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}, {1, 0, 0}};
+double circleWeight(int i) { return i % 2 ? std::sqrt(0.5) : 1.0; }
+const std::vector<double> kCircleKnots = {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
+
+}  // namespace
+
+CurveModel nurbsCircle(double radius) {
+  CurveModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = 3;
+  m.dimension = 2;
+  for (int i = 0; i < 9; ++i) {
+    m.points.push_back(radius * kCircle[i]);
+    m.weights.push_back(circleWeight(i));
+  }
+  m.knots = kCircleKnots;
+  return m;
+}
+
+SurfaceModel nurbsTorus(double R, double r) {
+  SurfaceModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = 3;
+  m.orderV = 3;
+  m.rows = m.cols = 9;
+  m.knotsU = m.knotsV = kCircleKnots;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j) {
+      const double x = R + r * kCircle[j].x;
+      m.points.push_back({x * kCircle[i].x, x * kCircle[i].y, r * kCircle[j].y});
+      m.weights.push_back(circleWeight(i) * circleWeight(j));
+    }
+  return m;
+}
+
 SurfaceModel wavyNet(FamilySpec family, int n, bool alpha, double scale) {
   SurfaceModel m;
   m.family = family;

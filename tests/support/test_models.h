@@ -13,4 +13,12 @@ SurfaceModel alphaEBTube(int rows, int cols);
 // moved by up to 0.3 (a fixed seed), all times `scale`; α drawn from [0.05, 1) when `alpha`.
 SurfaceModel wavyNet(FamilySpec family, int n, bool alpha, double scale = 1.0);
 
+// The quadratic NURBS circle of 9 control points (the square's corners and edge midpoints, the
+// corners weighted √2/2, knots 0,0,0,¼,¼,½,½,¾,¾,1,1,1; docs/math.md §10.8): exactly the circle of
+// `radius` about the origin, 2-D.
+CurveModel nurbsCircle(double radius);
+// The torus of revolution of that circle: tube radius r at distance R from the z axis,
+// P_ij = ((R + r d_j.x) c_i.x, (R + r d_j.x) c_i.y, r d_j.y), w_ij = w_i w_j (9 x 9 net).
+SurfaceModel nurbsTorus(double R, double r);
+
 }  // namespace shapespline::test
