@@ -519,6 +519,24 @@ void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, i
   }
 }
 
+// The homogeneous partials of a rational row (coordinates 0-2: A, coordinate 3: W) become the
+// surface's, in place, sample by sample (point_math.h rationalSurface).
+template <class RowFn>
+void rationalRows(const bool need[6], int samples, RowFn row) {
+  for (int b = 0; b < samples; ++b) {
+    glm::dvec3 q[6];
+    double w[6];
+    for (int k = 0; k < 6; ++k) {
+      q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
+      w[k] = need[k] ? row(k, 3)[b] : 0.0;
+    }
+    pm::rationalSurface(q[0], q[1], q[2], q[3], q[4], q[5], w[0], w[1], w[2], w[3], w[4], w[5]);
+    for (int k = 0; k < 6; ++k)
+      if (need[k])
+        for (int c = 0; c < 3; ++c) row(k, c)[b] = q[k][c];
+  }
+}
+
 }  // namespace
 
 void sampleCurveGrid(const Curve& curve, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
@@ -650,10 +668,12 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
       }
       for (int a = aBegin; a < aEnd; ++a) {
         if (knotU) {
-          if (rational)
+          if (rational) {
             knotRowPartials(*knotU, *knotV, homogeneous.data(), stride, a, need, row);
-          else
+            rationalRows(need, Sv, row);
+          } else {
             knotRowPartials(*knotU, *knotV, P, stride, a, need, row);
+          }
         } else {
           // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
           glm::dvec3 T[3][kMaxBasisCount];
@@ -680,7 +700,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
             }
           }
         }
-        if (!alphaEB && !normal && !rational) {
+        if (!alphaEB && !normal) {
           // Plain partials: the rows go out as they are (into interleaved planes, or records).
           out.putRows(fieldRows, Sv, point);
           point += static_cast<size_t>(Sv);
@@ -691,11 +711,6 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
         for (int b = 0; b < Sv; ++b, ++point) {
           glm::dvec3 q[6];
           for (int k = 0; k < 6; ++k) q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
-          if (rational) {
-            double w[6];
-            for (int k = 0; k < 6; ++k) w[k] = need[k] ? row(k, 3)[b] : 0.0;
-            pm::rationalSurface(q[0], q[1], q[2], q[3], q[4], q[5], w[0], w[1], w[2], w[3], w[4], w[5]);
-          }
           if (alphaEB) {
             // docs/math.md §5.3, only the orders the requested fields need (need[] already includes
             // the first partials that α-EB second partials use); the skipped ones feed no output.
