@@ -84,14 +84,17 @@ class Handle {
 
   // A grid job: Session::plan decides; the CPU path runs the core sampler, the GPU path the
   // resident mirror. Chunks arrive on the calling thread in item order.
+  // `slice` (optional): order-free per-slice work, on the CPU sampler's workers; GPU chunks are
+  // handed to it whole, before the consumer.
   sampling::Report sampleGrid(const sampling::DeviceRequest& request, const GridSpec& grid, FieldMask fields,
-                              const ChunkConsumer& consumer, size_t chunkPoints) {
+                              const ChunkConsumer& consumer, size_t chunkPoints, const SliceConsumer& slice = {}) {
     {
       std::shared_lock lock(mutex_);
       sampling::Report r = python::plan(model_, request);
       if (!r.gpu) {
         sampling::GridOptions o;
         o.chunkPoints = chunkPoints;
+        o.slice = slice;
         sampling::sampleOnCpu(model_, r, grid, fields, consumer, o);
         return r;
       }
@@ -100,12 +103,16 @@ class Handle {
     sampling::Report r = python::plan(model_, request);  // again: the model may have changed
     if (!r.gpu) {
       lock.unlock();
-      return sampleGrid(request, grid, fields, consumer, chunkPoints);
+      return sampleGrid(request, grid, fields, consumer, chunkPoints, slice);
     }
     try {
       Resident& res = resident(r, chunkPoints);
       sampling::ChunkUnscaler unscale(r.netScaleExponent);
-      res.evaluator->evaluateGrid(*res.mirror, grid, fields, [&](const GridChunk& c) { unscale(c, consumer); });
+      const ChunkConsumer sliceThenConsume = [&](const GridChunk& c) {
+        if (slice) slice(c, 0, c.pointCount());
+        consumer(c);
+      };
+      res.evaluator->evaluateGrid(*res.mirror, grid, fields, [&](const GridChunk& c) { unscale(c, sliceThenConsume); });
     } catch (const vk::VulkanError&) {
       rethrowDeviceError();
     }

@@ -17,7 +17,9 @@
 #include <glm/geometric.hpp>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 
@@ -188,15 +190,15 @@ GridSpec parseGrid(py::object grid, py::object samples) {
 }
 
 template <class T>
-void copyPlane(const GridChunk& c, Field f, T* dst) {
-  const size_t n = c.pointCount() * 3;
+void copyPlane(const GridChunk& c, Field f, T* dst, size_t first = 0, size_t count = SIZE_MAX) {
+  const size_t begin = first * 3, end = std::min(c.pointCount(), first + std::min(count, c.pointCount())) * 3;
   const void* src = c.planes[size_t(f)];
   if (c.precision == Precision::Double) {
     const auto* s = static_cast<const double*>(src);
-    for (size_t i = 0; i < n; ++i) dst[i] = static_cast<T>(s[i]);
+    for (size_t i = begin; i < end; ++i) dst[i] = static_cast<T>(s[i]);
   } else {
     const auto* s = static_cast<const float*>(src);
-    for (size_t i = 0; i < n; ++i) dst[i] = static_cast<T>(s[i]);
+    for (size_t i = begin; i < end; ++i) dst[i] = static_cast<T>(s[i]);
   }
 }
 
@@ -251,20 +253,21 @@ py::object sample(Handle<Model>& h, py::object grid, py::object samples, py::obj
   {
     py::gil_scoped_release release;
     const size_t ppi = g.pointsPerItem();
-    report = h.sampleGrid(
-        request, g, mask,
-        [&](const GridChunk& c) {
-          const size_t offset = ((c.firstItem - g.firstItem) * ppi + c.firstItemPoint()) * 3;
-          for (int f = 0; f < kFieldCount; ++f) {
-            if (!dst[size_t(f)] || !c.planes[size_t(f)]) continue;
-            if (dbl) {
-              copyPlane(c, Field(f), static_cast<double*>(dst[size_t(f)]) + offset);
-            } else {
-              copyPlane(c, Field(f), static_cast<float*>(dst[size_t(f)]) + offset);
-            }
-          }
-        },
-        static_cast<size_t>(chunkPoints));
+    // The copy into the arrays is order-free: a slice consumer, run by the CPU sampler's workers
+    // as they finish their rows (while the values are in their caches), not one serial pass on this
+    // thread after each chunk.
+    const SliceConsumer copy = [&](const GridChunk& c, size_t first, size_t count) {
+      const size_t offset = ((c.firstItem - g.firstItem) * ppi + c.firstItemPoint()) * 3;
+      for (int f = 0; f < kFieldCount; ++f) {
+        if (!dst[size_t(f)] || !c.planes[size_t(f)]) continue;
+        if (dbl) {
+          copyPlane(c, Field(f), static_cast<double*>(dst[size_t(f)]) + offset, first, count);
+        } else {
+          copyPlane(c, Field(f), static_cast<float*>(dst[size_t(f)]) + offset, first, count);
+        }
+      }
+    };
+    report = h.sampleGrid(request, g, mask, [](const GridChunk&) {}, static_cast<size_t>(chunkPoints), copy);
   }
   if (withReport) return py::make_tuple(out, reportObject(report));
   return out;
