@@ -167,6 +167,23 @@ TEST_F(SamplingGpu, ModelBeyondTheKernelsFallsBackWithItsReason) {
   EXPECT_TRUE(session.plan(c, {DeviceKind::Vulkan, Precision::Double, true}).gpu);  // fp64 represents it
 }
 
+// Weights far from 1 would leave the kernels' range in the homogeneous sums: the GPU path falls
+// back with the reason (fp32 beyond [1e-15, 1e15], fp64 beyond [1e-150, 1e150]); the CPU takes them.
+TEST(GpuLimits, RationalWeightsFarFromOneAreNamed) {
+  CurveModel m = exampleModel<CurveModel>("clamped_bspline.json");
+  m.weights.assign(m.points.size(), 1.0);
+  EXPECT_FALSE(sampling::gpuLimitation(Curve::create(m), Precision::Float));
+  m.weights[2] = 1e20;
+  const auto why = sampling::gpuLimitation(Curve::create(m), Precision::Float);
+  ASSERT_TRUE(why);
+  EXPECT_NE(why->find("weights from 1 to 1e+20"), std::string::npos) << *why;
+  EXPECT_FALSE(sampling::gpuLimitation(Curve::create(m), Precision::Double));
+  m.weights[2] = 1e-200;
+  EXPECT_TRUE(sampling::gpuLimitation(Curve::create(m), Precision::Double));
+  const CurvePoint p = Curve::create(m).evaluateAt(0.4);  // the CPU path evaluates it
+  EXPECT_TRUE(std::isfinite(p.point.x) && std::isfinite(p.d2.y));
+}
+
 TEST_F(SamplingGpu, HugeNetInFp32IsScaledExactlyAndBack) {
   sampling::Session session(ctx_);
   SurfaceModel m = exampleModel<SurfaceModel>("surface_aeb.json");
