@@ -9,6 +9,7 @@
 #include <shapespline/cli/common.h>
 #include <shapespline/core/family.h>
 #include <shapespline/core/curve.h>
+#include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/png_writer.h>
@@ -62,13 +63,11 @@ render::PixelRect fitTarget(int w, int h, int labelBand) {
 // Samples of every patch for the camera to fit: (n+1)^2 per patch, n from 8 down to 2 as the patch
 // count grows, so that a tile costs at most about 2^14 CPU evaluations.
 void addSurfaceSamples(const Surface& s, std::vector<glm::dvec3>& out) {
-  const PatchRange r = s.patches();
-  const int patches = (r.u.last - r.u.first + 1) * (r.v.last - r.v.first + 1);
-  const int n = std::clamp(int(std::sqrt(16384.0 / patches)) - 1, 2, 8);
-  for (int i = r.u.first; i <= r.u.last; ++i)
-    for (int j = r.v.first; j <= r.v.last; ++j)
-      for (int a = 0; a <= n; ++a)
-        for (int b = 0; b <= n; ++b) out.push_back(s.evaluate(i, j, double(a) / n, double(b) / n).point);
+  const auto patches = surfaceGridItems(s);  // knot vectors: the non-empty interval pairs
+  const int n = std::clamp(int(std::sqrt(16384.0 / double(patches.size()))) - 1, 2, 8);
+  for (const auto& [i, j] : patches)
+    for (int a = 0; a <= n; ++a)
+      for (int b = 0; b <= n; ++b) out.push_back(s.evaluate(i, j, double(a) / n, double(b) / n).point);
 }
 
 // Model with the sweep value applied (validated when the Surface/Curve is created).
@@ -177,12 +176,7 @@ void runRender(const RenderArgs& a) {
     if (a.controlNet) fitted = base.points;
     for (size_t k = 0; k < tiles; ++k) addSurfaceSamples(Surface::create(withValue(base, sweep, k)), fitted);
     const Surface first = Surface::create(withValue(base, sweep, 0));
-    std::unique_ptr<render::SurfaceDrawing> drawing;
-    try {
-      drawing = painter.tessellate(first, a.rate, a.wireframe);
-    } catch (const render::UnsupportedSurface& e) {
-      throw InputError("MODEL", a.model, e.what());
-    }
+    std::unique_ptr<render::SurfaceDrawing> drawing = painter.tessellate(first, a.rate, a.wireframe);
     const render::Camera cam = render::Camera::fit(fitted, az, el, w, h, target);
     for (size_t k = 0; k < tiles; ++k) {
       if (!sweep.values.empty()) {

@@ -154,7 +154,8 @@ class GpuSurface : public GpuModel {
   size_t patchesV() const { return static_cast<size_t>(patches().v.last - patches().v.first + 1); }
   size_t patchCount() const { return patchesU() * patchesV(); }
   // Grid items (core/grid_sampler.h surfaceGridItems): patches, or the non-empty interval pairs,
-  // row-major with gridItemsV() per row.
+  // row-major with gridItemsV() per row. Also the tessellators' patch grid.
+  size_t gridItemsU() const { return knotVector() ? intervalsU_ : patchesU(); }
   size_t gridItemsV() const { return knotVector() ? intervalsV_ : patchesV(); }
   size_t gridItemCount() const { return knotVector() ? intervalsU_ * intervalsV_ : patchCount(); }
   std::pair<double, double> parameterRangeU() const { return surface_.parameterRangeU(); }

@@ -1,7 +1,9 @@
 #include <shapespline/gpu/tessellator.h>
 
+#include <shapespline/core/tess_patches.h>
 #include <shapespline/gpu/kernel_runs.h>
 #include <shapespline/gpu/kernels.h>
+#include <shapespline/gpu/list_packing.h>
 #include <shapespline/shaders/layout.h>
 #include "shaders/tessellate_pack_comp.h"
 #include "shaders/tessellate_pack_comp_f64.h"
@@ -86,13 +88,16 @@ GridPlan planGrid(const TessTopology& t) {
   return g;
 }
 
-// Where the pack pass finds a (perimeter) sample: the grid pass's slot when the sample lies on its
-// patch's grid, else a new list-mode sample (an edge whose rate differs from the patch's).
+// Where the pack pass finds a sample: the grid pass's slot when the sample lies on its patch's
+// grid, else a new list-mode sample (an edge whose rate differs from the patch's). Knot-vector
+// surfaces have no grid pass: every sample is a list sample.
 class SourceMap {
  public:
-  SourceMap(const TessTopology& t, const GridPlan& g) : topo_(t), plan_(g) {}
+  SourceMap(const TessTopology& t, const GridPlan& g, bool everySampleListed)
+      : topo_(t), plan_(g), everySampleListed_(everySampleListed) {}
 
   uint32_t operator()(const TessSample& s) {
+    if (everySampleListed_) return listed(s);
     const size_t p = size_t(s.a) * topo_.rates.patchesV + s.b;
     const uint32_t n = plan_.patches[4 * p], m = plan_.patches[4 * p + 1];
     // Grid points are i/n; any other edge point k/e is at least 1/e >= 1/4096 of a step away.
@@ -103,15 +108,20 @@ class SourceMap {
         throw std::logic_error("SurfaceTessellator: a shared vertex lies inside its patch");
       return plan_.patches[4 * p + 3] + tess_layout::tessPerimeterSlot(n, m, a, b);
     }
-    list.push_back(s);
-    return uint32_t(list.size() - 1) | tl::kTessListSource;
+    return listed(s);
   }
 
   std::vector<TessSample> list;
 
  private:
+  uint32_t listed(const TessSample& s) {
+    list.push_back(s);
+    return uint32_t(list.size() - 1) | tl::kTessListSource;
+  }
+
   const TessTopology& topo_;
   const GridPlan& plan_;
+  bool everySampleListed_;
 };
 
 }  // namespace
@@ -147,18 +157,18 @@ const vk::ComputePipeline& SurfaceTessellator::packPipeline() {
 SurfaceTessellator::~SurfaceTessellator() = default;
 
 TessRates SurfaceTessellator::uniformRates(const GpuSurface& surface, int rate) {
-  return TessRates::uniform(int(surface.patchesU()), int(surface.patchesV()), surface.model().closedU,
-                            surface.model().closedV, rate);
+  return uniformTessRates(surface.surface(), rate);
 }
 
 VkDeviceSize SurfaceTessellator::vertexBytes() const { return VkDeviceSize(vertexCount()) * tl::kTessVertexStride; }
 
 void SurfaceTessellator::setRates(const TessRates& rates) {
-  if (rates.patchesU != int(surface_.patchesU()) || rates.patchesV != int(surface_.patchesV()) ||
-      rates.closedU != surface_.model().closedU || rates.closedV != surface_.model().closedV)
+  const int patchesU = int(surface_.gridItemsU()), patchesV = int(surface_.gridItemsV());
+  if (rates.patchesU != patchesU || rates.patchesV != patchesV || rates.closedU != surface_.model().closedU ||
+      rates.closedV != surface_.model().closedV)
     throw std::invalid_argument("SurfaceTessellator: the rates describe a " + std::to_string(rates.patchesU) + " x " +
                                 std::to_string(rates.patchesV) + " patch grid with other closure flags than the surface's " +
-                                std::to_string(surface_.patchesU()) + " x " + std::to_string(surface_.patchesV()));
+                                std::to_string(patchesU) + " x " + std::to_string(patchesV));
   TessTopology topo = buildTessTopology(rates);
   vk::Context& ctx = *ctx_;
   const VkDeviceSize maxRange = ctx.limits().maxStorageBufferRange;
@@ -170,38 +180,36 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   for (uint32_t k = shared; k < topo.vertexCount; ++k)
     if (topo.extraCount[k] != 0) throw std::logic_error("SurfaceTessellator: an interior vertex has extra samples");
 
+  // Knot-vector surfaces: every vertex from the list pass, so the pack pass writes them all.
+  const bool knot = surface_.knotVector();
+  const uint32_t packed = knot ? topo.vertexCount : shared;
+  const TessPatches patches(surface_.surface());
+
   // Pack pass inputs: sources (canonical ones first, then the extras), extra ranges, uv.
-  SourceMap sourceOf(topo, plan);
-  std::vector<uint32_t> sources(shared), extra(2 * size_t(shared));
-  std::vector<float> uvs(2 * size_t(shared));
-  const int fu = surface_.patches().u.first, fv = surface_.patches().v.first;
-  for (uint32_t k = 0; k < shared; ++k) {
-    const TessSample& s = topo.samples[k];
-    sources[k] = sourceOf(s);
-    uvs[2 * k] = float(s.a + fu) + float(s.u);
-    uvs[2 * k + 1] = float(s.b + fv) + float(s.v);
+  SourceMap sourceOf(topo, plan, knot);
+  std::vector<uint32_t> sources(packed), extra(2 * size_t(packed));
+  std::vector<float> uvs(2 * size_t(packed));
+  for (uint32_t k = 0; k < packed; ++k) {
+    sources[k] = sourceOf(topo.samples[k]);
+    const auto uv = patches.uv(surface_.surface(), topo.samples[k]);
+    uvs[2 * k] = uv[0];
+    uvs[2 * k + 1] = uv[1];
   }
-  for (uint32_t k = 0; k < shared; ++k) {
+  for (uint32_t k = 0; k < packed; ++k) {
     extra[2 * k] = uint32_t(sources.size());
     extra[2 * k + 1] = topo.extraCount[k];
     for (uint32_t e = 0; e < topo.extraCount[k]; ++e) sources.push_back(sourceOf(topo.samples[topo.extraFirst[k] + e]));
   }
 
-  // List-mode samples in REAL precision, model patch indices.
+  // List-mode samples (model patch indices; knot spans and parameters as the CPU picks them).
   const Precision pr = surface_.precision();
   const size_t listCount = sourceOf.list.size();
-  const size_t sampleBytes = pr == Precision::Double ? sizeof(layout::ListSampleD) : sizeof(layout::ListSampleF);
-  std::vector<std::byte> listBytes(listCount * sampleBytes);
+  std::vector<SurfaceSample> listed(listCount);
   for (size_t k = 0; k < listCount; ++k) {
     const TessSample& s = sourceOf.list[k];
-    if (pr == Precision::Double) {
-      const layout::ListSampleD x{uint32_t(s.a + fu), uint32_t(s.b + fv), 0, 0, s.u, s.v, 0.0, 0.0};
-      std::memcpy(listBytes.data() + k * sizeof(x), &x, sizeof(x));
-    } else {
-      const layout::ListSampleF x{uint32_t(s.a + fu), uint32_t(s.b + fv), 0, 0, float(s.u), float(s.v), 0.f, 0.f};
-      std::memcpy(listBytes.data() + k * sizeof(x), &x, sizeof(x));
-    }
+    listed[k] = {patches.u[s.a], patches.v[s.b], s.u, s.v};
   }
+  const std::vector<std::byte> listBytes = packListSamples(surfaceListSamples(surface_, listed), pr);
   if (generation_ > 0) ctx.waitIdle();  // the old buffers may still be in use by submitted work
 
   const size_t rs = realSize(pr);
@@ -219,7 +227,7 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   ownVertices_ = vk::Buffer::create(ctx, std::max<VkDeviceSize>(VkDeviceSize(topo.vertexCount) * tl::kTessVertexStride, 64),
                                     kTessVertexBufferUsage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                     vk::MemoryUse::DeviceLocal, "tess.vertices");
-  boundaryVertexCount_ = shared;
+  boundaryVertexCount_ = packed;
   gridUniform_ = plan.uniform;
   gridPush_ = {};
   gridPush_.invocations = uint32_t(plan.rows.size() / 2);
@@ -246,15 +254,17 @@ SurfaceTessellator::TargetSets& SurfaceTessellator::targetSets(VkBuffer vertices
   if (it != impl_->targetSets.end()) return it->second;
   KernelSet& k = *kernels_;
   TargetSets sets;
-  sets.grid = vk::DescriptorSet::create(*ctx_, gridPipeline());
-  for (uint32_t b = 0; b < kBindingCount; ++b) sets.grid.bind(b, k.dummy());
-  sets.grid.bind(layout::kBindingNet, surface_.netBuffer())
-      .bind(layout::kBindingParams, surface_.paramBuffer())
-      .bind(layout::kBindingVerts, surface_.vertexBuffer())
-      .bind(tl::kTessGridBindingPatches, patchRecords_)
-      .bind(tl::kTessGridBindingRows, rowItems_)
-      .bind(tl::kTessGridBindingBoundary, boundary_);
-  sets.grid.bindExternal(tl::kTessGridBindingVertices, vertices, offset, vertexBytes());
+  if (!surface_.knotVector()) {
+    sets.grid = vk::DescriptorSet::create(*ctx_, gridPipeline());
+    for (uint32_t b = 0; b < kBindingCount; ++b) sets.grid.bind(b, k.dummy());
+    sets.grid.bind(layout::kBindingNet, surface_.netBuffer())
+        .bind(layout::kBindingParams, surface_.paramBuffer())
+        .bind(layout::kBindingVerts, surface_.vertexBuffer())
+        .bind(tl::kTessGridBindingPatches, patchRecords_)
+        .bind(tl::kTessGridBindingRows, rowItems_)
+        .bind(tl::kTessGridBindingBoundary, boundary_);
+    sets.grid.bindExternal(tl::kTessGridBindingVertices, vertices, offset, vertexBytes());
+  }
   sets.pack = vk::DescriptorSet::create(*ctx_, packPipeline());
   sets.pack.bind(0, k.dummy())
       .bind(1, k.dummy())
@@ -304,14 +314,20 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   // recorded command buffer never depends on host-side dirty state).
   if (aeb) recordAlphaEBVertices(k, surface_, true, cmd, impl_->vertexPassSet);
 
-  // (2) Edge points that are not on their patch's grid (mixed edge rates): list mode.
+  // (2) Edge points that are not on their patch's grid (mixed edge rates), or every vertex of a
+  // knot-vector surface: list mode.
   if (listSampleCount_ > 0) {
+    const bool knot = surface_.knotVector();
     const FieldMask mask = fieldBit(Field::Point) | fieldBit(Field::Normal);
     SpecValues spec = basisSpec(bu, bv);
     spec[layout::kSpecOutputMask] = mask;
     spec[layout::kSpecAlphaEB] = aeb ? 1u : 0u;
-    spec[layout::kSpecListMode] = 1u;
-    const auto& eval = k.pipeline(Kernel::SurfaceEval, spec);
+    if (knot) {
+      spec[layout::kSpecRational] = surface_.rational() ? 1u : 0u;
+    } else {
+      spec[layout::kSpecListMode] = 1u;
+    }
+    const auto& eval = k.pipeline(knot ? Kernel::BSplineSurfaceEval : Kernel::SurfaceEval, spec);
     if (!impl_->listSet.handle()) {
       impl_->listSet = vk::DescriptorSet::create(*ctx_, eval);
       for (uint32_t b = 0; b < kBindingCount; ++b) impl_->listSet.bind(b, k.dummy());
@@ -322,19 +338,29 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
           .bind(layout::kBindingOutput + uint32_t(Field::Point), points_)
           .bind(layout::kBindingOutput + uint32_t(Field::Normal), normals_);
     }
-    layout::EvalPush ep = surfacePush(surface_);
-    ep.firstItem = 0;
-    ep.itemCount = listSampleCount_;
     eval.bind(cmd, impl_->listSet.handle());
-    eval.push(cmd, ep);
+    if (knot) {
+      layout::KnotEvalPush kp = knotPush(surface_, uint32_t(surface_.gridItemsV()), surface_.netCols());
+      kp.listMode = 1;
+      kp.firstItem = 0;
+      kp.itemCount = listSampleCount_;
+      eval.push(cmd, kp);
+    } else {
+      layout::EvalPush ep = surfacePush(surface_);
+      ep.firstItem = 0;
+      ep.itemCount = listSampleCount_;
+      eval.push(cmd, ep);
+    }
     k.dispatch(cmd, (uint64_t(listSampleCount_) + layout::kPointsPerInvocation - 1) / layout::kPointsPerInvocation);
   }
 
   // (3) Every patch's grid: interior vertices into the target, perimeter samples into boundary_.
   TargetSets& sets = targetSets(targets.vertexBuffer, targets.vertexOffset);
-  const auto& grid = gridPipeline();
-  grid.bind(cmd, sets.grid.handle());
-  if (gridUniform_) {  // inner rows, then rows 0 and n (tess_layout.h TessGridPush)
+  if (surface_.knotVector()) {
+    // No grid pass: the list pass above evaluated every vertex.
+  } else if (gridUniform_) {
+    const auto& grid = gridPipeline();
+    grid.bind(cmd, sets.grid.handle());  // inner rows, then rows 0 and n (tess_layout.h TessGridPush)
     tl::TessGridPush inner = gridPush_, edges = gridPush_;
     inner.invocations = gridPatchCount_ * ((gridPush_.rateN - 2) / gridPush_.rowsPerInvocation + 1);
     inner.edgeRows = 0;
@@ -345,6 +371,8 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
     grid.push(cmd, edges);
     k.dispatch(cmd, edges.invocations);
   } else {
+    const auto& grid = gridPipeline();
+    grid.bind(cmd, sets.grid.handle());
     grid.push(cmd, gridPush_);
     k.dispatch(cmd, gridPush_.invocations);
   }

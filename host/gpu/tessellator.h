@@ -1,7 +1,9 @@
 #pragma once
-// SurfaceTessellator: turns a GpuSurface (any uniform construction: α-EB, extended B-spline, GB,
-// UBP, GUBP, knot-free B-spline) into a triangle mesh on the GPU, recorded into the caller's
-// command buffer and written into the caller's vertex and index buffers, ready for vkCmdDrawIndexed.
+// SurfaceTessellator: turns a GpuSurface (any construction: α-EB, extended B-spline, GB, UBP,
+// GUBP, B-splines with or without knot vectors and weights) into a triangle mesh on the GPU,
+// recorded into the caller's command buffer and written into the caller's vertex and index
+// buffers, ready for vkCmdDrawIndexed. Its patch grid is gridItemsU() x gridItemsV(): the
+// surface's patches, or the non-empty knot interval pairs of a knot-vector B-spline.
 //
 // Per rate configuration (constructor / setRates, host side, once): the topology of
 // core/tess_topology.h (every unique vertex evaluated once: watertight, bitwise identical shared
@@ -15,6 +17,9 @@
 // into a scratch buffer, (4) tessellate_pack.comp: the corner and edge vertices from those,
 // (5) the index copy into a target index buffer that has not received this configuration yet,
 // (6) a barrier: shader/transfer writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ at VERTEX_INPUT.
+// Knot-vector surfaces skip (3): pass (2) evaluates every vertex with bspline_surface_eval.comp (per
+// point de Boor–Cox, slower than the grid pass's Horner rows) and (4) packs them all. Vertex uv
+// is the global parameter: patch index + local for uniform families, the knot parameters here.
 // A λ / α / control-point change on the GpuSurface (setLambda, setAlpha(s), updateControlPoint)
 // therefore shows at the next record() without re-uploading the net.
 //

@@ -33,9 +33,6 @@ Painter::Painter(int width, int height) {
 Painter::~Painter() = default;
 
 std::unique_ptr<SurfaceDrawing> Painter::tessellate(const Surface& surface, int rate, bool wireframe) {
-  if (surface.usesKnotVector()) {
-    throw UnsupportedSurface("knot-vector B-spline surfaces are not tessellated on the GPU yet");
-  }
   auto impl = std::make_unique<SurfaceDrawing::Impl>(ctx_, surface, rate);
   if (wireframe) {
     const std::vector<uint32_t> edges = triangleEdges(impl->tessellator.topology().indices);

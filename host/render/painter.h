@@ -15,12 +15,6 @@ namespace shapespline::render {
 
 class SurfaceDrawing;
 
-// A surface the GPU tessellator does not handle (knot-vector B-splines).
-class UnsupportedSurface : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
-};
-
 class Painter {
  public:
   // Throws std::runtime_error("render needs a Vulkan device with a graphics queue: REASON") when
@@ -30,8 +24,8 @@ class Painter {
   Painter(const Painter&) = delete;
   Painter& operator=(const Painter&) = delete;
 
-  // `rate` segments per patch edge; `wireframe`: also upload the triangle edges. Throws
-  // UnsupportedSurface.
+  // `rate` segments per patch edge (knot-vector B-splines: per non-empty knot interval);
+  // `wireframe`: also upload the triangle edges.
   std::unique_ptr<SurfaceDrawing> tessellate(const Surface& surface, int rate, bool wireframe);
 
   // The surface (tessellated in the frame's command buffer) under `overlay`'s lines and markers.

@@ -603,8 +603,6 @@ class Viewer {
 }  // namespace
 
 void runViewer(const SurfaceModel& model, const ViewerOptions& options) {
-  if (!model.knotsU.empty() || !model.knotsV.empty())
-    throw std::invalid_argument("knot-vector B-spline surfaces are not tessellated on the GPU yet");
   Window window(options.width, options.height, options.title);
   vk::ContextOptions co;
   co.validation = options.validation;

@@ -6,6 +6,7 @@
 #include "handle.h"
 
 #include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/tess_patches.h>
 #include <shapespline/core/tess_topology.h>
 #include <shapespline/gpu/tessellator.h>
 #include <shapespline/io/model_json.h>
@@ -436,24 +437,21 @@ struct Mesh {
 // The CPU counterpart of gpu::SurfaceTessellator: the same core topology, each vertex's canonical
 // sample evaluated in fp64, normals the normalised mean over the patches sharing the vertex.
 Mesh tessellateCpu(const Surface& s, int rate) {
-  const PatchRange r = s.patches();
-  const TessTopology topo = buildTessTopology(TessRates::uniform(r.u.last - r.u.first + 1, r.v.last - r.v.first + 1,
-                                                                 s.model().closedU, s.model().closedV, rate));
+  const TessPatches patches(s);
+  const TessTopology topo = buildTessTopology(uniformTessRates(s, rate));
   Mesh m;
   m.vertices.resize(size_t(topo.vertexCount) * 8);
   for (uint32_t k = 0; k < topo.vertexCount; ++k) {
     const TessSample& c = topo.samples[k];
-    const SurfacePoint p = s.evaluate(c.a + r.u.first, c.b + r.v.first, c.u, c.v);
+    const SurfacePoint p = patches.evaluate(s, c);
     glm::dvec3 n = p.normal;
-    for (uint32_t e = 0; e < topo.extraCount[k]; ++e) {
-      const TessSample& x = topo.samples[topo.extraFirst[k] + e];
-      n += s.evaluate(x.a + r.u.first, x.b + r.v.first, x.u, x.v).normal;
-    }
+    for (uint32_t e = 0; e < topo.extraCount[k]; ++e) n += patches.evaluate(s, topo.samples[topo.extraFirst[k] + e]).normal;
     if (topo.extraCount[k] > 0) n = glm::normalize(n);
     float* v = &m.vertices[size_t(k) * 8];
     for (int i = 0; i < 3; ++i) v[i] = float(p.point[i]), v[3 + i] = float(n[i]);
-    v[6] = float(c.a + r.u.first) + float(c.u);
-    v[7] = float(c.b + r.v.first) + float(c.v);
+    const auto uv = patches.uv(s, c);
+    v[6] = uv[0];
+    v[7] = uv[1];
   }
   m.indices = topo.indices;
   return m;
@@ -463,9 +461,6 @@ py::object tessellate(SurfaceHandle& h, int rate, const std::string& device, con
                       bool require, bool withReport) {
   const sampling::DeviceRequest request = deviceRequest(device, precision, require);
   if (rate < 1 || rate > 4096) argumentError("rate", "must be in [1, 4096]", std::to_string(rate));
-  if (h.model().usesKnotVector()) {
-    argumentError("tessellate", "takes uniform constructions; sample() a knot-vector B-spline surface instead");
-  }
   Mesh mesh;
   {
     py::gil_scoped_release release;

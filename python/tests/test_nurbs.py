@@ -135,6 +135,32 @@ def test_rational_surface_derivatives_match_the_rational_reference(maybe_gpu):
                 assert err <= rel * (R + r + np.linalg.norm(want)), (device, precision, field, uv[k], err)
 
 
+def test_torus_tessellates_onto_the_torus(maybe_gpu):
+    """A rational surface with double knots (empty intervals, which get no patch) tessellates on
+    every device: every vertex on the torus to fp32 precision, uv the knot parameters, and the GPU
+    mesh the CPU one."""
+    R, r = 3.0, 1.25
+    P = [[((R + r * d[0]) * c[0], (R + r * d[0]) * c[1], r * d[1]) for d in CIRCLE] for c in CIRCLE]
+    Wt = [[wi * wj for wj in CIRCLE_W] for wi in CIRCLE_W]
+    s = ss.Surface(np.array(P), construction="bspline", order=[3, 3], knots=[CIRCLE_KNOTS, CIRCLE_KNOTS],
+                   weights=np.array(Wt))
+    meshes = {}
+    for device, precision, _ in devices(maybe_gpu):
+        v, tri = s.tessellate(6, device=device, precision=precision, require=device != "cpu")
+        assert v.shape == ((4 * 6 + 1) ** 2, 8) and tri.shape == (2 * (4 * 6) ** 2, 3), (device, v.shape, tri.shape)
+        p = v[:, :3].astype(np.float64)
+        tube = np.hypot(np.hypot(p[:, 0], p[:, 1]) - R, p[:, 2])
+        assert np.max(np.abs(tube - r)) <= 1e-6 * (R + r), (device, precision)
+        assert np.allclose(np.linalg.norm(v[:, 3:6], axis=1), 1.0, atol=1e-5)
+        assert v[:, 6:].min() == 0.0 and v[:, 6:].max() == 1.0
+        meshes[(device, precision)] = (v, tri)
+    vc, ic = meshes[("cpu", "double")]
+    for (device, precision), (v, tri) in meshes.items():
+        assert np.array_equal(tri, ic)
+        assert np.array_equal(v[:, 6:], vc[:, 6:])
+        assert np.abs(v[:, :3] - vc[:, :3]).max() <= 4 * FP32_REL * (R + r), (device, precision)
+
+
 def test_bad_weights_name_the_entry():
     pts = np.array(CIRCLE, float)
     for w, rule in ((0.0, "positive"), (-1.0, "positive"), (math.inf, "finite")):

@@ -159,7 +159,8 @@ TEST(RenderSweepCli, ControlNetIsFramedWithTheSurface) {
 
 TEST(RenderSweepCli, SingleRenderFillsTheImageWithoutALabel) {
   REQUIRE_VULKAN();
-  for (const char* model : {"surface_aeb.json", "torus_aeb.json", "butterfly_aeb.json", "open_aeb.json"}) {
+  for (const char* model : {"surface_aeb.json", "torus_aeb.json", "butterfly_aeb.json", "open_aeb.json", "nurbs_torus.json",
+                            "bspline_surface.json"}) {
     const auto tiles = renderSheet("render " + quote(examplesDir() + "/" + model), 1, 1, 1, 400, 300);
     ASSERT_EQ(tiles.size(), 1u) << model;
     EXPECT_EQ(tiles[0].labelPixels, 0) << model << ": a single render has no label";

@@ -23,6 +23,7 @@
 #include <shapespline/gpu/tessellator.h>
 #include "support/tolerances.h"
 #include "support/degenerate_nets.h"
+#include "support/test_models.h"
 #include "support/vk_fixture.h"
 #include <shapespline/shaders/tess_layout.h>
 #include <shapespline/vk/submit.h>
@@ -177,6 +178,20 @@ std::vector<TessVertex> download(const vk::Buffer& b, uint32_t count, VkDeviceSi
   b.downloadSpan(std::span<TessVertex>(v), offset);
   return v;
 }
+
+// The model patch of tessellation patch (a, b): the surface's patch range, or for a knot-vector
+// B-spline its non-empty knot intervals (gpu/tessellator.h).
+struct TessPatchMap {
+  std::vector<int> u, v;
+  explicit TessPatchMap(const Surface& cpu) {
+    const SurfaceModel& m = cpu.model();
+    for (int i = cpu.patches().u.first; i <= cpu.patches().u.last; ++i)
+      if (m.knotsU.empty() || m.knotsU[i] < m.knotsU[i + 1]) u.push_back(i);
+    for (int j = cpu.patches().v.first; j <= cpu.patches().v.last; ++j)
+      if (m.knotsV.empty() || m.knotsV[j] < m.knotsV[j + 1]) v.push_back(j);
+  }
+  SurfacePoint evaluate(const Surface& cpu, const TessSample& s) const { return cpu.evaluate(u[s.a], v[s.b], s.u, s.v); }
+};
 
 class TessellatorTest : public VulkanTest {
  protected:
@@ -346,13 +361,13 @@ TEST_F(TessellatorTest, PlainFamiliesMatchCpu) {
 int expectInteriorNormals(const gpu::SurfaceTessellator& tess, const Surface& cpu, const std::vector<TessVertex>& v,
                           Precision pr) {
   const TessTopology& t = tess.topology();
-  const PatchRange r = cpu.patches();
+  const TessPatchMap patches(cpu);
   const bool fp64 = pr == Precision::Double;
   double worstRegular = 0.0, worstFallback = 0.0;
   int fallbacks = 0;
   for (uint32_t k = t.cornerCount + t.edgeVertexCount; k < t.vertexCount; ++k) {
     const TessSample& s = t.samples[k];
-    const SurfacePoint e = cpu.evaluate(s.a + r.u.first, s.b + r.v.first, s.u, s.v);
+    const SurfacePoint e = patches.evaluate(cpu, s);
     const glm::dvec3 got(v[k].normal[0], v[k].normal[1], v[k].normal[2]);
     const double err = glm::length(got - e.normal);
     if (e.normalRule == NormalRule::Regular) {
@@ -438,6 +453,61 @@ TEST_P(TessellatorPrecisionTest, DegenerateRowsTakeTheFallbackNormals) {
   const auto v = download(tess.vertexBuffer(), tess.vertexCount());
   expectUnitNormals(v);
   EXPECT_GT(expectInteriorNormals(tess, cpu, v, pr), 20);
+}
+
+// A bicubic on non-uniform knots, unclamped in v, with a double interior knot in u (an empty
+// interval, which has no tessellation patch).
+SurfaceModel nonUniformKnotSurface() {
+  FamilySpec f;
+  f.construction = Construction::BSpline;
+  f.order = 4;
+  SurfaceModel m = wavyNet(f, 7, false);
+  m.knotsU = {0, 0, 0, 0, 0.2, 0.5, 0.5, 1, 1, 1, 1};
+  m.knotsV = {0, 0.1, 0.3, 0.35, 0.6, 0.7, 0.9, 1.2, 1.3, 1.5, 1.6};
+  return m;
+}
+
+// Knot-vector surfaces (every vertex from the list pass) and a rational one (the NURBS torus, whose
+// double knots leave empty intervals too): positions, uv (the knot parameters) and interior normals
+// against the CPU, every vertex of the torus on the torus.
+TEST_P(TessellatorPrecisionTest, KnotVectorAndRationalSurfacesMatchCpu) {
+  const Precision pr = GetParam().precision;
+  if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
+  constexpr double R = 2.0, r = 0.5;
+  for (bool torus : {false, true}) {
+    SCOPED_TRACE(torus ? "NURBS torus" : "non-uniform knots");
+    const Surface cpu = Surface::create(torus ? nurbsTorus(R, r) : nonUniformKnotSurface());
+    const TessPatchMap patches(cpu);
+    gpu::GpuSurface surf(ctx_, cpu, pr);
+    ASSERT_EQ(surf.gridItemsU(), patches.u.size());
+    ASSERT_EQ(surf.gridItemsU(), torus ? 4u : 3u);
+    const double posTol = pr == Precision::Double ? kFp32Rel : kFp32Rel * 20;  // fp32 vertices either way
+    for (bool mixed : {false, true}) {
+      SCOPED_TRACE(mixed ? "mixed rates" : "uniform rates");
+      const TessRates rates = mixed ? mixedRates(int(surf.gridItemsU()), int(surf.gridItemsV()), false, false)
+                                    : gpu::SurfaceTessellator::uniformRates(surf, 7);
+      gpu::SurfaceTessellator tess(ctx_, surf, rates, options());
+      vk::runOneShot(ctx(), [&](VkCommandBuffer cmd) { tess.record(cmd); });
+      const auto v = download(tess.vertexBuffer(), tess.vertexCount());
+      const TessTopology& t = tess.topology();
+      double worst = 0.0, worstTorus = 0.0;
+      for (uint32_t k = 0; k < t.vertexCount; ++k) {
+        const TessSample& s = t.samples[k];
+        const SurfacePoint e = patches.evaluate(cpu, s);
+        const glm::dvec3 got(v[k].position[0], v[k].position[1], v[k].position[2]);
+        worst = std::max(worst, glm::length(e.point - got));
+        const auto [U, V] = cpu.parameterOf(patches.u[s.a], patches.v[s.b], s.u, s.v);
+        EXPECT_EQ(v[k].uv[0], float(U)) << "vertex " << k;
+        EXPECT_EQ(v[k].uv[1], float(V)) << "vertex " << k;
+        if (torus) worstTorus = std::max(worstTorus, std::abs(std::hypot(std::hypot(got.x, got.y) - R, got.z) - r));
+      }
+      EXPECT_LE(worst / scaleOf(cpu.model()), posTol);
+      // The fp32 bound (fp32 vertices either way): 1e-6 of the torus's size.
+      if (torus) EXPECT_LE(worstTorus / (R + r), 1e-6);
+      expectUnitNormals(v);
+      expectInteriorNormals(tess, cpu, v, pr);
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Precisions, TessellatorPrecisionTest,

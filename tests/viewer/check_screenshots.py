@@ -25,8 +25,31 @@ def changed(a, b):
     return float((np.abs(a - b).max(axis=2) > VISIBLE).mean())
 
 
+def check_views(folder, names):
+    """Screenshots of one model from several cameras: the surface is drawn in each, and each view
+    differs from the one before."""
+    shots = [load(folder, n + ".png") for n in names]
+    failures = []
+    for name, img in zip(names, shots):
+        covered = float((img.min(axis=2) < 1 - VISIBLE).mean())
+        print(f"{name}: {covered:.3f} of the pixels are not background")
+        if covered < MIN_SURFACE:
+            failures.append(f"{name}: the surface covers {covered:.3f} of the image, want >= {MIN_SURFACE}")
+    for (a, ia), (b, ib) in zip(zip(names, shots), list(zip(names, shots))[1:]):
+        c = changed(ia, ib)
+        print(f"{a} -> {b}: {c:.4f} of the pixels changed")
+        if c < MIN_CHANGED:
+            failures.append(f"{b}: only {c:.4f} of the pixels changed, want >= {MIN_CHANGED}")
+    return failures
+
+
 def main():
     folder = Path(sys.argv[1])
+    if len(sys.argv) > 2:  # check_screenshots.py FOLDER NAME...: check_views only
+        failures = check_views(folder, sys.argv[2:])
+        for f in failures:
+            print("FAIL:", f)
+        return 1 if failures else 0
     names = ["base", "lambda", "alpha", "camera", "wireframe", "panel"]
     shots = {n: load(folder, n + ".png") for n in names}
     failures = []

@@ -3,7 +3,7 @@
 # its alpha, moves the camera, turns the wireframe and the panel on, and saves a screenshot after
 # each step; check_screenshots.py checks them (surface present, each edit changes the image, the
 # panel is drawn). --validation makes any Vulkan validation message fail the run. A bad script line
-# must fail with exit 2 before any window opens.
+# must fail with exit 2 before any window opens. A NURBS torus session follows.
 # Usage: viewer_test.sh SHAPESPLINE SOURCE_DIR. Exit 77 (skip) only when Xvfb is missing.
 set -euo pipefail
 bin=$1
@@ -81,3 +81,21 @@ cat "$tmp/session.out"
 if grep -qi "validation\|\[vulkan" "$tmp/session.out"; then echo "FAIL: validation output"; exit 1; fi
 grep -q "picked control point (2, 2)" "$tmp/session.out" || { echo "FAIL: pick-point 2 2 did not pick (2, 2)"; exit 1; }
 /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/shots"
+
+# A rational knot-vector surface (the NURBS torus; its double knots leave empty intervals) is
+# tessellated on the GPU like any other (at a fixed rate: the adaptive passes take uniform patches).
+cat >"$tmp/nurbs.txt" <<'SCRIPT'
+panel off
+frames 2
+screenshot nurbs.png
+orbit 60 30
+wireframe on
+screenshot nurbs_orbit.png
+quit
+SCRIPT
+"$bin" view "$src/examples/models/nurbs_torus.json" --size 480x360 --script "$tmp/nurbs.txt" \
+  --screenshot-dir "$tmp/nurbs_shots" --validation >"$tmp/nurbs.out" 2>&1 ||
+  { cat "$tmp/nurbs.out"; echo "FAIL: the NURBS session failed"; exit 1; }
+cat "$tmp/nurbs.out"
+if grep -qi "validation\|\[vulkan" "$tmp/nurbs.out"; then echo "FAIL: validation output"; exit 1; fi
+/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/nurbs_shots" nurbs nurbs_orbit
