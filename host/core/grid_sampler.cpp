@@ -248,20 +248,36 @@ void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, i
 }
 
 // The homogeneous partials of a rational row (coordinates 0-2: A, coordinate 3: W) become the
-// surface's, in place, sample by sample (point_math.h rationalSurface).
+// surface's, in place, sample by sample (point_math.h rationalSurface). Rows of partials that are
+// not needed are never written, so they stay zero and the quotient rule keeps them zero: the
+// per-sample loop has no branch. The second partials are a template flag, so that without them the
+// rule's unused outputs are dead code.
+template <bool kSecond, class RowFn>
+void rationalRowsOf(int samples, RowFn row) {
+  constexpr int kPartials = kSecond ? 6 : 3;
+  double* A[kPartials][3];
+  const double* W[kPartials];
+  for (int k = 0; k < kPartials; ++k) {
+    for (int c = 0; c < 3; ++c) A[k][c] = row(k, c);
+    W[k] = row(k, 3);
+  }
+  for (int b = 0; b < samples; ++b) {
+    glm::dvec3 q[6] = {};
+    double w[6] = {};
+    for (int k = 0; k < kPartials; ++k) q[k] = glm::dvec3(A[k][0][b], A[k][1][b], A[k][2][b]), w[k] = W[k][b];
+    pm::rationalSurface(q[0], q[1], q[2], q[3], q[4], q[5], w[0], w[1], w[2], w[3], w[4], w[5]);
+    for (int k = 0; k < kPartials; ++k)
+      for (int c = 0; c < 3; ++c) A[k][c][b] = q[k][c];
+  }
+}
+
+// `rows` must start zeroed: see rationalRowsOf.
 template <class RowFn>
 void rationalRows(const bool need[6], int samples, RowFn row) {
-  for (int b = 0; b < samples; ++b) {
-    glm::dvec3 q[6];
-    double w[6];
-    for (int k = 0; k < 6; ++k) {
-      q[k] = need[k] ? glm::dvec3(row(k, 0)[b], row(k, 1)[b], row(k, 2)[b]) : glm::dvec3(0.0);
-      w[k] = need[k] ? row(k, 3)[b] : 0.0;
-    }
-    pm::rationalSurface(q[0], q[1], q[2], q[3], q[4], q[5], w[0], w[1], w[2], w[3], w[4], w[5]);
-    for (int k = 0; k < 6; ++k)
-      if (need[k])
-        for (int c = 0; c < 3; ++c) row(k, c)[b] = q[k][c];
+  if (need[3] || need[4] || need[5]) {
+    rationalRowsOf<true>(samples, row);
+  } else {
+    rationalRowsOf<false>(samples, row);
   }
 }
 
