@@ -224,4 +224,10 @@ BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model) {
   return s;
 }
 
+std::vector<glm::dvec4> homogeneousPoints(std::span<const glm::dvec3> points, std::span<const double> weights) {
+  std::vector<glm::dvec4> out(points.size());
+  for (size_t i = 0; i < points.size(); ++i) out[i] = glm::dvec4(weights[i] * points[i], weights[i]);
+  return out;
+}
+
 }  // namespace shapespline

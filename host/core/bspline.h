@@ -4,6 +4,7 @@
 #include <shapespline/core/span_basis.h>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <span>
 #include <vector>
@@ -66,6 +67,10 @@ void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, i
 
 // The knot-vector B-spline of a `bspline` model with `knots` (docs/math.md §10.1). Throws ModelError when
 // the model is not a knot-vector B-spline (construction, closed, knot count).
+// The homogeneous control points (w P, w) of a rational B-spline (docs/math.md §10.8), which the
+// CPU grid sampler and the GPU kernels (NET) contract in place of P; `weights` one per point.
+std::vector<glm::dvec4> homogeneousPoints(std::span<const glm::dvec3> points, std::span<const double> weights);
+
 BSplineCurveData bsplineCurveFromModel(const CurveModel& model);
 BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model);
 

@@ -367,7 +367,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
     const BSplineSurfaceData& d = surface.knotData();
     knotsU.emplace(d.orderU, d.knotsU, d.rows, Su);
     knotsV.emplace(d.orderV, d.knotsV, d.cols, Sv);
-    for (size_t k = 0; rational && k < d.points.size(); ++k) homogeneous.emplace_back(d.weights[k] * d.points[k], d.weights[k]);
+    if (rational) homogeneous = homogeneousPoints(d.points, d.weights);
   }
 
   auto compute = [&](auto&& out, size_t rowBegin, size_t rowEnd, size_t firstPoint) {

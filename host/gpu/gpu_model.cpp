@@ -24,9 +24,9 @@ SpanBasis knotBasis(int order) {
 // rational one the homogeneous (w P, w)), else core's span point list / patch net; w = 0 where
 // unused.
 std::vector<glm::dvec4> netRecords(std::span<const glm::dvec3> points, const std::vector<double>& weights) {
+  if (!weights.empty()) return homogeneousPoints(points, weights);
   std::vector<glm::dvec4> out(points.size());
-  for (size_t i = 0; i < points.size(); ++i)
-    out[i] = weights.empty() ? glm::dvec4(points[i], 0.0) : glm::dvec4(weights[i] * points[i], weights[i]);
+  for (size_t i = 0; i < points.size(); ++i) out[i] = glm::dvec4(points[i], 0.0);
   return out;
 }
 std::vector<glm::dvec4> netPoints(const Curve& c) {

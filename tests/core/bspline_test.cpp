@@ -99,7 +99,7 @@ TEST(BSplineCurve, ClampedEndsInterpolateAndEndTangents) {
   std::mt19937 rng(5);
   for (int order = 2; order <= kMaxBasisCount; ++order) {
     const int count = order + 3;
-    BSplineCurveData c{order, randomKnots(rng, order, count, true, false), randomPoints(rng, count)};
+    BSplineCurveData c{order, randomKnots(rng, order, count, true, false), randomPoints(rng, count), {}};
     const double a = c.knots[order - 1], b = c.knots[count];
     const auto s = evalBSplineCurve(c, a), e = evalBSplineCurve(c, b);
     EXPECT_LT(glm::length(s.point - c.points.front()), 1e-14);
@@ -117,7 +117,7 @@ TEST(BSplineCurve, DerivativesMatchFiniteDifferences) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int order = 2; order <= 8; ++order) {
     const int count = order + 4;
-    BSplineCurveData c{order, randomKnots(rng, order, count, order % 2 == 0, false), randomPoints(rng, count)};
+    BSplineCurveData c{order, randomKnots(rng, order, count, order % 2 == 0, false), randomPoints(rng, count), {}};
     const double a = c.knots[order - 1], b = c.knots[count];
     for (int q = 0; q < 30; ++q) {
       const double x = a + (b - a) * (0.02 + 0.96 * unit(rng));
@@ -147,7 +147,7 @@ TEST(BSplineCurve, HigherDerivativesMatchDerivativeCurves) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int order = 2; order <= kMaxBasisCount; ++order) {
     const int count = order + 3;
-    BSplineCurveData c{order, randomKnots(rng, order, count, true, false), randomPoints(rng, count)};
+    BSplineCurveData c{order, randomKnots(rng, order, count, true, false), randomPoints(rng, count), {}};
     std::vector<BSplineCurveData> chain = {c};
     for (int d = 1; d < order; ++d) {
       const auto& prev = chain.back();
@@ -194,9 +194,9 @@ TEST(BSplineSurface, IsTheTensorProductOfCurves) {
         const double u = s.knotsU[ku - 1] + (s.knotsU[s.rows] - s.knotsU[ku - 1]) * unit(rng);
         const double v = s.knotsV[kv - 1] + (s.knotsV[s.cols] - s.knotsV[kv - 1]) * unit(rng);
         // Rows evaluated in v give a u-curve (and its v-derivative curves).
-        BSplineCurveData c0{ku, s.knotsU, {}}, c1{ku, s.knotsU, {}}, c2{ku, s.knotsU, {}};
+        BSplineCurveData c0{ku, s.knotsU, {}, {}}, c1{ku, s.knotsU, {}, {}}, c2{ku, s.knotsU, {}, {}};
         for (int i = 0; i < s.rows; ++i) {
-          BSplineCurveData row{kv, s.knotsV, {s.points.begin() + i * s.cols, s.points.begin() + (i + 1) * s.cols}};
+          BSplineCurveData row{kv, s.knotsV, {s.points.begin() + i * s.cols, s.points.begin() + (i + 1) * s.cols}, {}};
           const auto p = evalBSplineCurve(row, v);
           c0.points.push_back(p.point), c1.points.push_back(p.d1), c2.points.push_back(p.d2);
         }

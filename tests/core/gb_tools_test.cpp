@@ -61,7 +61,7 @@ TEST(GbTools, LambdaPathsAreStraightLines) {
 TEST(GbTools, LambdaZeroIsTheUniformCubicBSpline) {
   const std::vector<glm::dvec2> pts = {{0, 0}, {1, 3}, {4, 3}, {5, 0}, {7, 2}, {6, 5}, {3, 6}};
   const CurveModel m = gbCurve(pts);
-  BSplineCurveData b{4, {}, {}};
+  BSplineCurveData b{4, {}, {}, {}};
   for (auto p : pts) b.points.emplace_back(p.x, p.y, 0.0);
   for (int i = 0; i < static_cast<int>(pts.size()) + 4; ++i) b.knots.push_back(i);
   for (int span = 1; span <= static_cast<int>(pts.size()) - 3; ++span)
