@@ -192,6 +192,7 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix) 
     line("order", twoOrders(m) ? "[" + std::to_string(m.order) + ", " + std::to_string(m.orderV) + "]"
                                : std::to_string(m.order));
   }
+  if (m.rational) line("rational", "true");
   if (f.usesLambda) line("lambda", number(m.lambda));
   if (f.usesMu) line("mu", listText(m.mu, number));
   if (f.usesAlpha) {
@@ -250,6 +251,7 @@ json metadataJson(const JobMetadata& m) {
   j["construction"] = std::string(f.name);
   if (f.usesDegree) j["degree"] = m.degree;
   if (f.usesOrder) j["order"] = twoOrders(m) ? json::array({m.order, m.orderV}) : json(m.order);
+  if (m.rational) j["rational"] = true;
   if (f.usesLambda) j["lambda"] = m.lambda;
   if (f.usesMu) j["mu"] = m.mu;
   if (f.usesAlpha) {
@@ -314,6 +316,12 @@ JobMetadata metadataFromJson(const json& j) {
       m.order = integer(j, "order", 0, 1000);
     }
   }
+  if (j.contains("rational")) {
+    if (m.construction != Construction::BSpline || j["rational"] != json(true))
+      bad("rational", "must be true, and only for a bspline with weights");
+    m.rational = true;
+    ++keys;
+  }
   if (f->usesLambda) m.lambda = real(member(j, "lambda"), "lambda"), ++keys;
   if (f->usesMu) m.mu = reals(member(j, "mu"), "mu"), ++keys;
   if (f->usesAlpha) {
@@ -353,6 +361,7 @@ std::string metadataDifference(const JobMetadata& a, const JobMetadata& b) {
   if (a.construction != b.construction) return "construction";
   if (a.degree != b.degree) return "degree";
   if (a.order != b.order || a.orderV != b.orderV) return "order";
+  if (a.rational != b.rational) return "rational";
   // Bitwise: -0 and 0 are different models' values; NaN cannot occur (validated models).
   if (std::memcmp(&a.lambda, &b.lambda, sizeof a.lambda) != 0) return "lambda";
   if (a.mu != b.mu) return "mu";
@@ -419,6 +428,7 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
                           Precision computedPrecision, Precision outputPrecision, int samplesU) {
   JobMetadata m = common(model.family, modelPath, device, computedPrecision, outputPrecision);
   m.surface = false;
+  m.rational = !model.weights.empty();
   if (m.usesAlpha()) m.alpha = model.alpha;
   m.samplesU = samplesU;
   m.samplesV = 1;
@@ -429,6 +439,7 @@ JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPat
                           Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV) {
   JobMetadata m = common(model.family, modelPath, device, computedPrecision, outputPrecision);
   m.surface = true;
+  m.rational = !model.weights.empty();
   if (twoOrders(m)) m.orderV = model.orderV;
   if (m.usesAlpha()) {
     m.alpha = model.alpha;

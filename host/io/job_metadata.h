@@ -34,6 +34,7 @@ struct JobMetadata {
   Construction construction = Construction::ExtendedBSpline;
   int degree = 0;                     // written when the family uses a degree
   int order = 0, orderV = 0;          // written when it uses an order (surfaces of two orders: both)
+  bool rational = false;              // a B-spline with weights (NURBS): "rational": true; else absent
   double lambda = 0.0;                // written when it uses λ
   std::vector<double> mu;             // written when it uses μ
   // α per vertex when the family uses α (curves: one per point; surfaces: rows x cols, row-major).
@@ -58,7 +59,7 @@ struct JobMetadata {
 inline constexpr size_t kMetadataCommentListMax = 64;
 
 // One line per key, "<linePrefix><key>: <value>\n", in a fixed order: tool_version, model_file,
-// model_sha256, kind, construction, degree / order, lambda, mu, alpha, singular_vertices, device,
+// model_sha256, kind, construction, degree / order, rational, lambda, mu, alpha, singular_vertices, device,
 // computed_precision, output_precision, grid. `linePrefix` is written as given ("# " for OBJ,
 // "comment " for PLY). Text values are escapeText'ed (io/shard_info.h), so every value stays on its
 // line; numbers are the shortest decimals that read back exactly.
@@ -66,7 +67,7 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix);
 
 // The JSON object: "tool" ("shapespline"), "tool_version", "tool_commit", "model_file",
 // "model_sha256", "kind", "construction", ["degree"], ["order"] (an [u, v] pair for two-order
-// surfaces), ["lambda"], ["mu"], ["alpha"] (curves: a list; surfaces: rows of lists, as in model
+// surfaces), ["rational"] (true, for a B-spline with weights), ["lambda"], ["mu"], ["alpha"] (curves: a list; surfaces: rows of lists, as in model
 // files), ["singular_vertices"] (curves: [i, ...]; surfaces: [[i, j], ...]; present with "alpha"),
 // "device", "computed_precision", "output_precision" ("float" | "double"), "grid" ("UxV" | "S").
 nlohmann::json metadataJson(const JobMetadata& m);

@@ -151,7 +151,24 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   EXPECT_FALSE(j.contains("lambda"));
   EXPECT_FALSE(j.contains("alpha"));
   EXPECT_FALSE(j.contains("singular_vertices"));
+  EXPECT_FALSE(j.contains("rational"));
   EXPECT_EQ(metadataFromJson(j), b);
+
+  // A rational B-spline says so ("rational": true, and a comment line); it is another job than the
+  // same net without weights.
+  s.weights.assign(16, 0.5);
+  const JobMetadata r = jobMetadataOf(s, model, "cpu", Precision::Double, Precision::Double, 5, 6);
+  EXPECT_TRUE(r.rational);
+  EXPECT_EQ(metadataJson(r)["rational"], true);
+  EXPECT_NE(metadataComments(r, "# ").find("# rational: true\n"), std::string::npos);
+  EXPECT_EQ(metadataFromJson(metadataJson(r)), r);
+  EXPECT_EQ(metadataDifference(b, r), "rational");
+  json notBSpline = metadataJson(curveMetadata());
+  notBSpline["rational"] = true;
+  EXPECT_THROW((void)metadataFromJson(notBSpline), MetadataError);
+  json falseFlag = metadataJson(r);
+  falseFlag["rational"] = false;  // absent, not false, is what a non-rational job writes
+  EXPECT_THROW((void)metadataFromJson(falseFlag), MetadataError);
 }
 
 TEST(JobMetadata, SingularVerticesAreTheAlphaOneVertices) {
