@@ -194,14 +194,21 @@ TEST(GridSampler, SurfacesMatchReferenceEvaluator) {
   }
 }
 
-TEST(GridSampler, ByteIdenticalAcrossThreadsChunksAndShards) {
-  const Surface surface = Surface::create(gridSurface({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, 6, false, true, 3));
+// One thread in one chunk, two threads in chunks of 200 points and of 1 point: the same bytes.
+// Returns the one-thread result.
+Collected expectThreadAndChunkInvariant(const Surface& surface) {
   Collected one, two, tiny;
   sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, one.consumer(), {1, size_t{1} << 20});
   sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, two.consumer(), {2, 200});
   sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, tiny.consumer(), {2, 1});
   expectSameBytes(one, two);
   expectSameBytes(one, tiny);
+  return one;
+}
+
+TEST(GridSampler, ByteIdenticalAcrossThreadsChunksAndShards) {
+  const Surface surface = Surface::create(gridSurface({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, 6, false, true, 3));
+  const Collected one = expectThreadAndChunkInvariant(surface);
 
   // Three shards of the item range concatenate to the whole.
   const size_t n = surfaceGridItems(surface).size();
@@ -255,12 +262,7 @@ TEST(GridSampler, KnotSurfacesMatchReferenceEvaluator) {
 TEST(GridSampler, KnotSurfacesByteIdenticalAcrossThreadsAndChunks) {
   const Surface surface = Surface::create(
       knotSurface(4, 3, {0, 0, 0, 0, 0.1, 0.35, 0.35, 0.9, 1, 1, 1, 1}, {0, 0, 0, 0.2, 0.25, 0.7, 1, 1, 1}, 5));
-  Collected one, two, tiny;
-  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, one.consumer(), {1, size_t{1} << 20});
-  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, two.consumer(), {2, 200});
-  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, tiny.consumer(), {2, 1});
-  expectSameBytes(one, two);
-  expectSameBytes(one, tiny);
+  expectThreadAndChunkInvariant(surface);
 }
 
 // Over its budget a job tabulates each interval into the worker's scratch table: the same table.
