@@ -101,6 +101,7 @@ std::vector<SurfaceSample> surfaceSamplesAt(const GpuSurface& surface, std::span
 
 std::vector<std::byte> packListSamples(const std::vector<layout::ListSampleD>& samples, Precision p) {
   std::vector<std::byte> bytes;
+  if (samples.empty()) return bytes;  // memcpy of nothing from a null data() is still undefined
   if (p == Precision::Double) {
     bytes.resize(samples.size() * sizeof(layout::ListSampleD));
     std::memcpy(bytes.data(), samples.data(), bytes.size());
