@@ -53,6 +53,7 @@ layout(constant_id = kSpecOutputMask) const uint OUTPUT_MASK = 1;
 layout(constant_id = kSpecAlphaEB) const uint ALPHA_EB = 0;
 // Knot-vector kernels: NET holds homogeneous (w P, w) records of a rational B-spline (§10.8).
 layout(constant_id = kSpecRational) const uint RATIONAL = 0;
+layout(constant_id = kSpecKnotPatches) const uint KNOT_PATCHES = 0;
 layout(constant_id = kSpecListMode) const uint LIST_MODE = 0;
 layout(constant_id = kSpecSurface) const uint SURFACE = 0;
 

@@ -25,6 +25,14 @@
 //  one interval record per non-empty knot interval (kIntervalStride REALs: span index j, span
 //  used at local t = 1 and the knot parameter there, both as core/bspline.h findKnotSpan picks
 //  them for t_j + 1*(t_{j+1}-t_j)); NET is the plain control net (rows x cols, row-major).
+//  Surfaces also keep one knot patch record per non-empty interval (kKnotPatchStride REALs: the
+//  first control point index j - order + 1, t_j, h = t_{j+1} - t_j, then the interval's basis
+//  in its local parameter as coef[r][d] at 3 + r*11 + d, core/bspline.h knotIntervalBasis), the
+//  u records from params[kParamKnotPatchU] on, the v records from params[kParamKnotPatchV] (the
+//  coefficient area of the header, which knot-vector models do not use otherwise): with the
+//  specialization constant kSpecKnotPatches the uniform patch code (surface_patch.glsl,
+//  patch_rows.glsl) evaluates interval pair (i, j) as patch (i, j), derivatives in the local
+//  parameters.
 //  OUTPUT  (REAL4)  one plane per Field (core/sample_grid.h), bound at kBindingOutput + field:
 //                   tightly packed xyz, point k at REAL offsets 3k..3k+2 of the plane; the plane is
 //                   addressed as REAL4 so that one invocation stores 4 consecutive points as three
@@ -65,6 +73,7 @@ SS_CONST(uint32_t, kSpecSurface, 8u);       // alpha_eb_vertices: 1 surface net,
 SS_CONST(uint32_t, kSpecRunLength, 9u);     // surface_grid / curve_grid: samples per invocation
 SS_CONST(uint32_t, kSpecUniformRates, 10u); // tessellate_grid: 1 when every patch has the same rates
 SS_CONST(uint32_t, kSpecRational, 12u);     // bspline_*: 1 when NET holds homogeneous (w P, w) records
+SS_CONST(uint32_t, kSpecKnotPatches, 13u);  // patch kernels: 1 when patch (i, j) is knot interval pair (i, j)
 // tess_layout.h kTessSpecListSources is 11: ids are unique across both headers (kernels.cpp checks).
 
 // Field indices (must equal core/sample_grid.h Field).
@@ -87,6 +96,10 @@ SS_CONST(uint32_t, kParamHeader, 220u);      // first free entry (α, 1/h)
 SS_CONST(uint32_t, kNoOffset, 0xffffffffu);
 
 SS_CONST(uint32_t, kIntervalStride, 4u);     // knot-vector interval record (see the header)
+SS_CONST(uint32_t, kKnotPatchStride, 113u);  // knot patch record: 3 + kMaxBasis * kCoefStride
+SS_CONST(uint32_t, kKnotPatchCoef, 3u);      // first coefficient of a knot patch record
+SS_CONST(uint32_t, kParamKnotPatchU, 0u);    // knot-vector surfaces: offset of the u records
+SS_CONST(uint32_t, kParamKnotPatchV, 1u);    // ... and of the v records
 
 SS_CONST(uint32_t, kPointsPerInvocation, 4u);
 
@@ -193,6 +206,7 @@ static_assert(sizeof(ListSampleF) == 32 && offsetof(ListSampleF, intervalU) == 8
 static_assert(sizeof(ListSampleD) == 48 && offsetof(ListSampleD, intervalU) == 8 && offsetof(ListSampleD, u) == 16 &&
               offsetof(ListSampleD, v) == 24 && offsetof(ListSampleD, localU) == 32 && offsetof(ListSampleD, localV) == 40);
 static_assert(kParamCoefV == kMaxBasis * kCoefStride && kParamHeader == 2 * kMaxBasis * kCoefStride);
+static_assert(kKnotPatchStride == kKnotPatchCoef + kMaxBasis * kCoefStride);
 
 }  // namespace shapespline::gpu::layout
 #endif

@@ -48,9 +48,9 @@ void loadPatchRows(uint i, uint j) {
   [[unroll]] for (uint r = 0; r < MU; ++r)
     [[unroll]] for (uint s = 0; s < MV; ++s) gP[r][s] = net[base + r * pc.netCols + s].xyz;
   [[unroll]] for (uint r = 0; r < MU; ++r)
-    [[unroll]] for (uint d = 0; d <= DU; ++d) gCu[r][d] = params[kParamCoefU + r * kCoefStride + d];
+    [[unroll]] for (uint d = 0; d <= DU; ++d) gCu[r][d] = params[coefBaseU(i) + r * kCoefStride + d];
   [[unroll]] for (uint s = 0; s < MV; ++s)
-    [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[kParamCoefV + s * kCoefStride + d];
+    [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[coefBaseV(j) + s * kCoefStride + d];
   if (kAEB) loadPatchCorners(i, j, gV, gAl);
 }
 

@@ -44,7 +44,7 @@ Sample evalSample(uint k) {
     j = s.j;
     u = s.u;
     v = s.v;
-    hornerBasis(u, v, B);
+    hornerBasis(i, j, u, v, B);
   } else {
     // Row of the chunk, then row counted from the start of item firstItem (no Su*Sv product:
     // 65536 x 65536 overflows 32 bits).

@@ -220,7 +220,7 @@ void main() {
       REAL u = pc.samplesU > 1u ? REAL(a) / denU : REAL(0);
       REAL v = pc.samplesV > 1u ? REAL(b) / denV : REAL(0);
       Basis2 B;
-      hornerBasis(u, v, B);
+      hornerBasis(i, j, u, v, B);
       PatchDerivs c;
       PatchDerivs q = evalPatch(B, i, j, u, v, c);
       REAL3 n = surfaceNormal(i, j, u, v, q, c);

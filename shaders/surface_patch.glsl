@@ -15,8 +15,32 @@ struct Basis2 {
   REAL bv[kMaxBasis], dv[kMaxBasis], ddv[kMaxBasis];
 };
 
-// The net entry of patch row/column r,s: NET[(i + offU + r) * netCols + j + offV + s].
-uint netBase(uint i, uint j) { return (i + pc.netOffsetU) * pc.netCols + j + pc.netOffsetV; }
+// Knot-vector surfaces (KNOT_PATCHES, layout.h): patch (i, j) is non-empty knot interval pair
+// (i, j), its data in the knot patch records of PARAMS.
+uint knotPatchU(uint i) { return uint(params[kParamKnotPatchU]) + i * kKnotPatchStride; }
+uint knotPatchV(uint j) { return uint(params[kParamKnotPatchV]) + j * kKnotPatchStride; }
+
+// The net entry of patch row/column r,s: NET[(i + offU + r) * netCols + j + offV + s]; knot
+// patches: rows and columns from the intervals' first control points.
+uint netBase(uint i, uint j) {
+  if (KNOT_PATCHES != 0u) return uint(params[knotPatchU(i)]) * pc.netCols + uint(params[knotPatchV(j)]);
+  return (i + pc.netOffsetU) * pc.netCols + j + pc.netOffsetV;
+}
+
+// Where patch (i, j)'s u and v basis coefficients start in PARAMS: the header's (one basis for
+// every patch of a uniform family), or the intervals' own.
+uint coefBaseU(uint i) { return KNOT_PATCHES != 0u ? knotPatchU(i) + kKnotPatchCoef : kParamCoefU; }
+uint coefBaseV(uint j) { return KNOT_PATCHES != 0u ? knotPatchV(j) + kKnotPatchCoef : kParamCoefV; }
+
+// The global parameters of patch (i, j) at local (u, v), as a vertex's uv: i + u, j + v (in float,
+// as core/tess_patches.cpp forms them), or the knot parameters t_i + u h_i, t_j + v h_j.
+vec2 patchParameter(uint i, uint j, REAL u, REAL v) {
+  if (KNOT_PATCHES != 0u) {
+    uint ru = knotPatchU(i), rv = knotPatchV(j);
+    return vec2(float(params[ru + 1u] + u * params[ru + 2u]), float(params[rv + 1u] + v * params[rv + 2u]));
+  }
+  return vec2(float(i) + float(u), float(j) + float(v));
+}
 
 // core/surface.cpp evalTensorPatch: contract along v first (3 row sums), then along u.
 PatchDerivs evalTensorPatch(in Basis2 B, uint base) {
@@ -66,9 +90,9 @@ PatchDerivs evalPatch(in Basis2 B, uint i, uint j, REAL u, REAL v, out PatchDeri
   return c;
 }
 
-void hornerBasis(REAL u, REAL v, out Basis2 B) {
-  evalSpanBasis(kParamCoefU, BASIS_COUNT_U, POLY_DEGREE_U, u, B.bu, B.du, B.ddu);
-  evalSpanBasis(kParamCoefV, BASIS_COUNT_V, POLY_DEGREE_V, v, B.bv, B.dv, B.ddv);
+void hornerBasis(uint i, uint j, REAL u, REAL v, out Basis2 B) {
+  evalSpanBasis(coefBaseU(i), BASIS_COUNT_U, POLY_DEGREE_U, u, B.bu, B.du, B.ddu);
+  evalSpanBasis(coefBaseV(j), BASIS_COUNT_V, POLY_DEGREE_V, v, B.bv, B.dv, B.ddv);
 }
 
 // docs/math.md §5.3 at corner (di, dj) of α-EB patch (i, j) (di, dj in {0, 1}): when the vertex has
@@ -99,7 +123,7 @@ REAL3 surfaceNormal(uint i, uint j, REAL u, REAL v, in PatchDerivs q, in PatchDe
   if (!degenerateCross(q.u, q.v, n)) return normalize(n);
   REAL us = towardCentre(u), vs = towardCentre(v);
   Basis2 B;
-  hornerBasis(us, vs, B);
+  hornerBasis(i, j, us, vs, B);
   PatchDerivs cs;
   PatchDerivs qs = evalPatch(B, i, j, us, vs, cs);
   n = cross(qs.u, qs.v);
@@ -113,7 +137,7 @@ REAL3 surfaceNormal(uint i, uint j, REAL u, REAL v, in PatchDerivs q, in PatchDe
 // gives them): for the rare samples whose row-wise Q_u x Q_v is degenerate.
 REAL3 fullNormalAt(uint i, uint j, REAL u, REAL v) {
   Basis2 B;
-  hornerBasis(u, v, B);
+  hornerBasis(i, j, u, v, B);
   PatchDerivs c;
   PatchDerivs q = evalPatch(B, i, j, u, v, c);
   return surfaceNormal(i, j, u, v, q, c);

@@ -46,7 +46,7 @@ const uint DV = POLY_DEGREE_V;
 void evalPointNormal(uint a, uint b, REAL u, REAL v, out vec3 p, out vec3 n) {
   uint i = a + pc.firstSpanU, j = b + pc.firstSpanV;
   Basis2 B;
-  hornerBasis(u, v, B);
+  hornerBasis(i, j, u, v, B);
   PatchDerivs c;
   PatchDerivs q = evalPatch(B, i, j, u, v, c);
   p = vec3(q.p);
@@ -71,7 +71,7 @@ vec3 meanNormal(vec3 sum, vec3 canonical, uint samples) {
 }
 
 void store(uint k, uint a, uint b, REAL u, REAL v, vec3 p, vec3 n) {
-  vec2 uv = vec2(float(a + pc.firstSpanU) + float(u), float(b + pc.firstSpanV) + float(v));
+  vec2 uv = patchParameter(a + pc.firstSpanU, b + pc.firstSpanV, u, v);
   outVerts[2u * k] = vec4(p, n.x);
   outVerts[2u * k + 1u] = vec4(n.yz, uv);
 }

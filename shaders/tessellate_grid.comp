@@ -44,7 +44,7 @@ const uint DV = POLY_DEGREE_V;
 // Row state shared by the sample writers and the fallback pass. With uniform rates n and m come
 // from push constants, so llvmpipe sees uniform loop bounds and branch conditions.
 uint gN, gM, gInteriorFirst, gBoundaryFirst, gA;
-vec2 gUV0;  // global (U, V) of the patch origin
+uint gI, gJ;  // the model patch
 
 bool innerRow() { return kUniform ? pc.edgeRows == 0u : gA > 0u && gA < gN; }
 bool interiorSample(uint b) { return innerRow() && b > 0u && b < gM; }
@@ -53,7 +53,7 @@ uint perimeterSlot(uint b) { return gBoundaryFirst + tessPerimeterSlot(gN, gM, g
 
 void writeInterior(uint b, REAL3 p, REAL3 n, REAL tu, REAL tv) {
   uint k = interiorVertex(b);
-  STORE_VERTEX(outVerts, k, vec4(vec3(p), float(n.x)), vec4(vec2(n.yz), gUV0 + vec2(float(tu), float(tv))))
+  STORE_VERTEX(outVerts, k, vec4(vec3(p), float(n.x)), vec4(vec2(n.yz), patchParameter(gI, gJ, tu, tv)))
 }
 
 void writePerimeter(uint b, REAL3 p, REAL3 n) {
@@ -97,7 +97,8 @@ void main() {
   }
   uint pa = patchIndex / pc.patchesV;
   uint i = pa + pc.firstSpanU, j = patchIndex - pa * pc.patchesV + pc.firstSpanV;
-  gUV0 = vec2(float(i), float(j));
+  gI = i;
+  gJ = j;
   loadPatchRows(i, j);
   REAL denV = REAL(gM);
   for (uint row = 0u; row < rowCount; ++row) {

@@ -230,4 +230,22 @@ std::vector<glm::dvec4> homogeneousPoints(std::span<const glm::dvec3> points, st
   return out;
 }
 
+SpanBasis knotIntervalBasis(int order, std::span<const double> knots, int span) {
+  double out[kMaxBasisCount][kMaxBasisCount];
+  const int e = bsplineBasisDerivsScaled(order, knots, span, knots[span], order - 1, out);
+  // out[d] are derivatives with respect to 2^e t: times (2^e h)^d / d! (2^e h is moderate even where
+  // h underflows its d-th power).
+  const double scaledH = std::ldexp(knots[span + 1] - knots[span], e);
+  SpanBasis b;
+  b.count = order;
+  b.degree = order - 1;
+  b.centre = (order - 1) / 2;
+  double factor = 1.0;  // (2^e h)^d / d!
+  for (int d = 0; d < order; ++d) {
+    for (int r = 0; r < order; ++r) b.coef[r][d] = out[d][r] * factor;
+    factor *= scaledH / double(d + 1);
+  }
+  return b;
+}
+
 }  // namespace shapespline

@@ -65,12 +65,20 @@ void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, d
 // left of a knot it gives the left-sided limits there (used to test continuity, docs/math.md §10.5).
 void evalBSplineCurveOnSpan(const BSplineCurveData& curve, int span, double t, int derivs, glm::dvec3* out);
 
-// The knot-vector B-spline of a `bspline` model with `knots` (docs/math.md §10.1). Throws ModelError when
-// the model is not a knot-vector B-spline (construction, closed, knot count).
 // The homogeneous control points (w P, w) of a rational B-spline (docs/math.md §10.8), which the
 // CPU grid sampler and the GPU kernels (NET) contract in place of P; `weights` one per point.
 std::vector<glm::dvec4> homogeneousPoints(std::span<const glm::dvec3> points, std::span<const double> weights);
 
+// The `order` basis functions N_{span-order+1+r} on the non-empty interval [t_span, t_span+1] as
+// polynomials in the local parameter s = (t - t_span) / h, h = t_span+1 - t_span, in the power basis
+// of a uniform family's SpanBasis (coef[r][d], Taylor coefficients at s = 0: N^(d)(t_span) h^d / d!),
+// so that the uniform patch kernels can evaluate the interval as a patch (derivatives with respect
+// to s: divide by h^k for the knot parameter's). Knots narrower than 2^-500 stay finite (the
+// scaled recurrence).
+SpanBasis knotIntervalBasis(int order, std::span<const double> knots, int span);
+
+// The knot-vector B-spline of a `bspline` model with `knots` (docs/math.md §10.1). Throws ModelError when
+// the model is not a knot-vector B-spline (construction, closed, knot count).
 BSplineCurveData bsplineCurveFromModel(const CurveModel& model);
 BSplineSurfaceData bsplineSurfaceFromModel(const SurfaceModel& model);
 

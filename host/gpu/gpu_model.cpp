@@ -52,7 +52,7 @@ GpuModel::GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision, Parame
 
 uint32_t GpuModel::alphaOffset() const { return layout::kParamHeader; }
 size_t GpuModel::addKnotDirection(int order, const std::vector<double>& knots, int count, uint32_t& knotOffset,
-                                  uint32_t& intervalOffset) {
+                                  uint32_t& intervalOffset, uint32_t* patchOffset) {
   const uint32_t base = static_cast<uint32_t>(layout::kParamHeader + alphaCount_ + invHCount_);
   knotOffset = base + static_cast<uint32_t>(knotData_.size());
   knotData_.insert(knotData_.end(), knots.begin(), knots.end());
@@ -69,6 +69,20 @@ size_t GpuModel::addKnotDirection(int order, const std::vector<double>& knots, i
     const int end = findKnotSpan(order, knots, count, x);
     knotData_.insert(knotData_.end(), {double(j), double(end), std::clamp(x, lo, hi), 0.0});
     ++intervals;
+  }
+  if (patchOffset) {
+    *patchOffset = base + static_cast<uint32_t>(knotData_.size());
+    for (int j = order - 1; j < count; ++j) {
+      if (!(knots[j] < knots[j + 1])) continue;
+      const SpanBasis b = knotIntervalBasis(order, knots, j);
+      std::vector<double> record(layout::kKnotPatchStride, 0.0);
+      record[0] = double(j - order + 1);
+      record[1] = knots[j];
+      record[2] = knots[j + 1] - knots[j];
+      for (int r = 0; r < b.count; ++r)
+        for (int d = 0; d <= b.degree; ++d) record[layout::kKnotPatchCoef + r * layout::kCoefStride + d] = b.coef[r][d];
+      knotData_.insert(knotData_.end(), record.begin(), record.end());
+    }
   }
   return intervals;
 }
@@ -239,8 +253,8 @@ GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface,
     basisU_ = knotBasis(orderU);
     basisV_ = knotBasis(orderV);
     netCols_ = cols_;
-    intervalsU_ = addKnotDirection(orderU, m.knotsU, m.rows, knotOffsetU_, intervalOffsetU_);
-    intervalsV_ = addKnotDirection(orderV, m.knotsV, m.cols, knotOffsetV_, intervalOffsetV_);
+    intervalsU_ = addKnotDirection(orderU, m.knotsU, m.rows, knotOffsetU_, intervalOffsetU_, &knotPatchOffsetU_);
+    intervalsV_ = addKnotDirection(orderV, m.knotsV, m.cols, knotOffsetV_, intervalOffsetV_, &knotPatchOffsetV_);
   } else {
     basisU_ = surface_.basisU();
     basisV_ = surface_.basisV();
@@ -252,7 +266,12 @@ GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface,
 }
 
 std::vector<double> GpuSurface::paramsOf(const Surface& s) const {
-  if (s.usesKnotVector()) return paramBlock(basisU_, basisV_, {}, {});
+  if (s.usesKnotVector()) {
+    std::vector<double> p = paramBlock(basisU_, basisV_, {}, {});
+    p[layout::kParamKnotPatchU] = double(knotPatchOffsetU_);
+    p[layout::kParamKnotPatchV] = double(knotPatchOffsetV_);
+    return p;
+  }
   return paramBlock(s.basisU(), s.basisV(), s.model().alpha, {});
 }
 

@@ -81,9 +81,10 @@ class GpuModel {
   // Throws std::invalid_argument when a new basis would change the net layout (basis size m).
   void requireSameBasisSize(const SpanBasis& u, const SpanBasis& v) const;
   // Appends the knots and interval records of one direction to the PARAMS tail (before
-  // createBuffers); returns the number of non-empty intervals.
+  // createBuffers), and with `patchOffset` the knot patch records (shaders/layout.h); returns the
+  // number of non-empty intervals.
   size_t addKnotDirection(int order, const std::vector<double>& knots, int count, uint32_t& knotOffset,
-                          uint32_t& intervalOffset);
+                          uint32_t& intervalOffset, uint32_t* patchOffset = nullptr);
   void requireUniform(const char* what) const;
 
   std::shared_ptr<vk::Context> ctx_;
@@ -175,6 +176,7 @@ class GpuSurface : public GpuModel {
 
   Surface surface_;
   size_t intervalsU_ = 0, intervalsV_ = 0;
+  uint32_t knotPatchOffsetU_ = 0, knotPatchOffsetV_ = 0;  // layout.h knot patch records
 };
 
 }  // namespace shapespline::gpu

@@ -82,8 +82,9 @@ class KernelSet {
 // (same names), from a surface.
 template <class Push>
 void setSurfaceNetFields(Push& p, const GpuSurface& s) {
-  p.firstSpanU = uint32_t(s.patches().u.first);
-  p.firstSpanV = uint32_t(s.patches().v.first);
+  // Knot-vector surfaces (knot patches, layout.h): patch i is the i-th non-empty interval.
+  p.firstSpanU = s.knotVector() ? 0u : uint32_t(s.patches().u.first);
+  p.firstSpanV = s.knotVector() ? 0u : uint32_t(s.patches().v.first);
   p.netCols = s.netCols();
   p.netOffsetU = s.netOffsetU();
   p.netOffsetV = s.netOffsetV();

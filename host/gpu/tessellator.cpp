@@ -89,8 +89,8 @@ GridPlan planGrid(const TessTopology& t) {
 }
 
 // Where the pack pass finds a sample: the grid pass's slot when the sample lies on its patch's
-// grid, else a new list-mode sample (an edge whose rate differs from the patch's). Knot-vector
-// surfaces have no grid pass: every sample is a list sample.
+// grid, else a new list-mode sample (an edge whose rate differs from the patch's). Rational
+// knot-vector surfaces have no grid pass: every sample is a list sample.
 class SourceMap {
  public:
   SourceMap(const TessTopology& t, const GridPlan& g, bool everySampleListed)
@@ -180,13 +180,13 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   for (uint32_t k = shared; k < topo.vertexCount; ++k)
     if (topo.extraCount[k] != 0) throw std::logic_error("SurfaceTessellator: an interior vertex has extra samples");
 
-  // Knot-vector surfaces: every vertex from the list pass, so the pack pass writes them all.
-  const bool knot = surface_.knotVector();
-  const uint32_t packed = knot ? topo.vertexCount : shared;
+  // Rational knot-vector surfaces: every vertex from the list pass, so the pack pass writes them all.
+  listOnly_ = surface_.knotVector() && surface_.rational();
+  const uint32_t packed = listOnly_ ? topo.vertexCount : shared;
   const TessPatches patches(surface_.surface());
 
   // Pack pass inputs: sources (canonical ones first, then the extras), extra ranges, uv.
-  SourceMap sourceOf(topo, plan, knot);
+  SourceMap sourceOf(topo, plan, listOnly_);
   std::vector<uint32_t> sources(packed), extra(2 * size_t(packed));
   std::vector<float> uvs(2 * size_t(packed));
   for (uint32_t k = 0; k < packed; ++k) {
@@ -254,7 +254,7 @@ SurfaceTessellator::TargetSets& SurfaceTessellator::targetSets(VkBuffer vertices
   if (it != impl_->targetSets.end()) return it->second;
   KernelSet& k = *kernels_;
   TargetSets sets;
-  if (!surface_.knotVector()) {
+  if (!listOnly_) {
     sets.grid = vk::DescriptorSet::create(*ctx_, gridPipeline());
     for (uint32_t b = 0; b < kBindingCount; ++b) sets.grid.bind(b, k.dummy());
     sets.grid.bind(layout::kBindingNet, surface_.netBuffer())
@@ -284,6 +284,7 @@ const vk::ComputePipeline& SurfaceTessellator::gridPipeline() {
   SpecValues spec = basisSpec(bu, bv);
   spec[layout::kSpecAlphaEB] = surface_.alphaEB() ? 1u : 0u;
   spec[layout::kSpecUniformRates] = gridUniform_ ? 1u : 0u;
+  spec[layout::kSpecKnotPatches] = surface_.knotVector() ? 1u : 0u;
   return kernels_->pipeline(Kernel::TessellateGrid, spec);
 }
 
@@ -315,7 +316,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   if (aeb) recordAlphaEBVertices(k, surface_, true, cmd, impl_->vertexPassSet);
 
   // (2) Edge points that are not on their patch's grid (mixed edge rates), or every vertex of a
-  // knot-vector surface: list mode.
+  // rational knot-vector surface: list mode (knot vectors: bspline_surface_eval.comp).
   if (listSampleCount_ > 0) {
     const bool knot = surface_.knotVector();
     const FieldMask mask = fieldBit(Field::Point) | fieldBit(Field::Normal);
@@ -356,7 +357,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
 
   // (3) Every patch's grid: interior vertices into the target, perimeter samples into boundary_.
   TargetSets& sets = targetSets(targets.vertexBuffer, targets.vertexOffset);
-  if (surface_.knotVector()) {
+  if (listOnly_) {
     // No grid pass: the list pass above evaluated every vertex.
   } else if (gridUniform_) {
     const auto& grid = gridPipeline();

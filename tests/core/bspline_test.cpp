@@ -83,6 +83,38 @@ TEST(BSplineBasis, MatchesRecursiveCoxDeBoorAndSumsToOne) {
   }
 }
 
+// knotIntervalBasis: the interval's basis in the power basis of its local parameter, against the
+// independent Cox–de Boor values inside the interval and at both ends (the right end as the limit
+// from the left), and its derivative against bsplineBasisDerivs' times h.
+TEST(BSplineBasis, IntervalPowerBasisIsTheSpansPolynomial) {
+  std::mt19937 rng(23);
+  for (int order = 2; order <= kMaxBasisCount; ++order) {
+    for (int trial = 0; trial < 4; ++trial) {
+      const int count = order + 3 + trial;
+      const auto knots = randomKnots(rng, order, count, trial % 2 == 0, trial >= 2);
+      for (int span = order - 1; span < count; ++span) {
+        const double t0 = knots[span], h = knots[span + 1] - t0;
+        if (!(h > 0)) continue;
+        const SpanBasis b = knotIntervalBasis(order, knots, span);
+        ASSERT_EQ(b.count, order);
+        ASSERT_EQ(b.degree, order - 1);
+        for (double s : {0.0, 0.125, 0.5, 0.8, 1.0}) {
+          double value[kMaxBasisCount], d1[kMaxBasisCount];
+          evalSpanBasis(b, s, value, d1, nullptr);
+          double out[3][kMaxBasisCount];
+          bsplineBasisDerivs(order, knots, span, t0 + s * h, 1, out);
+          for (int r = 0; r < order; ++r) {
+            const double x = s < 1.0 ? t0 + s * h : std::nextafter(knots[span + 1], t0);
+            EXPECT_NEAR(value[r], coxDeBoor(knots, span - order + 1 + r, order, x), 1e-12)
+                << "order " << order << " span " << span << " s " << s << " r " << r;
+            EXPECT_NEAR(d1[r], out[1][r] * h, 1e-11 * order) << "order " << order << " span " << span << " s " << s;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(BSplineBasis, FindKnotSpanAtKnotsAndEnds) {
   const std::vector<double> knots = {0, 0, 0, 0, 0.25, 0.5, 0.5, 1, 1, 1, 1};
   const int order = 4, count = 7;

@@ -17,8 +17,10 @@
 #include <glm/common.hpp>
 
 #include <shapespline/core/surface.h>
+#include <shapespline/core/tess_patches.h>
 #include <shapespline/core/tess_topology.h>
 #include <shapespline/gpu/adaptive_tessellator.h>
+#include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 #include <shapespline/vk/submit.h>
@@ -63,6 +65,21 @@ SurfaceModel torus() {
     }
   m.alpha.assign(size_t(m.rows) * m.cols, 0.7);
   m.alpha[9] = 1.0;
+  return m;
+}
+
+// The wave's net as a cubic B-spline on non-uniform knots, clamped in u with a double knot (an
+// empty interval, which gets no patch), unclamped in v: its patches are the non-empty knot
+// interval pairs (core/tess_patches.h).
+SurfaceModel knotSheet() {
+  SurfaceModel m = waveSheet();
+  m.family = FamilySpec{};
+  m.family.construction = Construction::BSpline;
+  m.family.order = 4;
+  m.orderV = 4;
+  m.alpha.clear();
+  m.knotsU = {0, 0, 0, 0, 0.1, 0.3, 0.3, 0.5, 0.8, 1, 1, 1, 1};
+  m.knotsV = {0, 0.5, 0.7, 1, 1.6, 2, 2.1, 2.5, 3.5, 4, 4.2, 4.5, 5, 5.5, 6};
   return m;
 }
 
@@ -187,18 +204,19 @@ void expectTopologyOfRates(const gpu::AdaptiveTessellator::Mesh& mesh, const Tes
 // Max |GPU - CPU| of the vertex positions (units of the net's box) and the worst |normal| - 1.
 void expectVerticesOfSurface(const gpu::AdaptiveTessellator::Mesh& mesh, const TessTopology& topo, const Surface& cpu,
                              const std::string& what) {
-  const PatchRange pr = cpu.patches();
+  const TessPatches patches(cpu);
   const double scale = boxOf(cpu.model()).diagonal();
   double worst = 0.0, worstNormal = 0.0;
   for (uint32_t k = 0; k < topo.vertexCount; ++k) {
     const TessSample& s = topo.samples[k];
-    const SurfacePoint e = cpu.evaluate(s.a + pr.u.first, s.b + pr.v.first, s.u, s.v);
+    const SurfacePoint e = patches.evaluate(cpu, s);
     const TessVertex& v = mesh.vertices[k];
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.point[c] - double(v.position[c])));
     const glm::dvec3 n(v.normal[0], v.normal[1], v.normal[2]);
     ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z)) << what << " vertex " << k;
     worstNormal = std::max(worstNormal, std::abs(glm::length(n) - 1.0));
-    EXPECT_FLOAT_EQ(v.uv[0], float(s.a + pr.u.first) + float(s.u)) << what << " vertex " << k;
+    EXPECT_FLOAT_EQ(v.uv[0], patches.uv(cpu, s)[0]) << what << " vertex " << k;
+    EXPECT_FLOAT_EQ(v.uv[1], patches.uv(cpu, s)[1]) << what << " vertex " << k;
   }
   EXPECT_LE(worst / scale, kFp32Rel * 20) << what;
   EXPECT_LE(worstNormal, 1e-5) << what;
@@ -210,7 +228,7 @@ void expectVerticesOfSurface(const gpu::AdaptiveTessellator::Mesh& mesh, const T
   int compared = 0;
   for (uint32_t k = topo.cornerCount; k < topo.vertexCount; ++k) {
     const TessSample& s = topo.samples[k];
-    const SurfacePoint e = cpu.evaluate(s.a + pr.u.first, s.b + pr.v.first, s.u, s.v);
+    const SurfacePoint e = patches.evaluate(cpu, s);
     if (e.normalRule != NormalRule::Regular) continue;
     if (glm::length(glm::cross(e.du, e.dv)) < 0.05 * glm::length(e.du) * glm::length(e.dv)) continue;
     const TessVertex& v = mesh.vertices[k];
@@ -222,7 +240,8 @@ void expectVerticesOfSurface(const gpu::AdaptiveTessellator::Mesh& mesh, const T
 }
 
 TEST_F(AdaptiveTessellatorTest, MeshIsTheTopologyOfItsRatesAndTheSurfacesVertices) {
-  const std::pair<const char*, SurfaceModel> models[] = {{"wave", waveSheet()}, {"torus", torus()}, {"tube", tube()}};
+  const std::pair<const char*, SurfaceModel> models[] = {
+      {"wave", waveSheet()}, {"torus", torus()}, {"tube", tube()}, {"knot sheet", knotSheet()}};
   for (const auto& [name, model] : models) {
     const Surface cpu = Surface::create(model);
     gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
@@ -259,7 +278,7 @@ ErrorReport screenError(const gpu::AdaptiveTessellator::Mesh& mesh, const Surfac
                         double maxRate) {
   const TessTopology topo = buildTessTopology(mesh.rates);
   const TessRates& r = topo.rates;
-  const PatchRange pr = cpu.patches();
+  const TessPatches patches(cpu);
   static const double kBary[][3] = {{1 / 3.0, 1 / 3.0, 1 / 3.0}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5},
                                     {0.6, 0.2, 0.2},             {0.2, 0.6, 0.2}, {0.2, 0.2, 0.6}};
   ErrorReport rep;
@@ -285,7 +304,7 @@ ErrorReport screenError(const gpu::AdaptiveTessellator::Mesh& mesh, const Surfac
         }
         for (const auto& w : kBary) {
           const glm::dvec2 uv = w[0] * local[0] + w[1] * local[1] + w[2] * local[2];
-          const glm::dvec3 exact = toPixel(vp, cpu.evaluate(a + pr.u.first, b + pr.v.first, uv.x, uv.y).point);
+          const glm::dvec3 exact = toPixel(vp, cpu.evaluate(patches.u[a], patches.v[b], uv.x, uv.y).point);
           if (exact.z <= 0 || exact.x < 0 || exact.x > kWidth || exact.y < 0 || exact.y > kHeight) continue;
           const glm::dvec3 mesh3 = w[0] * pix[0] + w[1] * pix[1] + w[2] * pix[2];
           rep.worst = std::max(rep.worst, glm::length(glm::dvec2(exact) - glm::dvec2(mesh3)));
@@ -297,7 +316,8 @@ ErrorReport screenError(const gpu::AdaptiveTessellator::Mesh& mesh, const Surfac
 }
 
 TEST_F(AdaptiveTessellatorTest, ScreenSpaceErrorStaysBelowTheTolerance) {
-  const std::pair<const char*, SurfaceModel> models[] = {{"wave", waveSheet()}, {"torus", torus()}};
+  const std::pair<const char*, SurfaceModel> models[] = {
+      {"wave", waveSheet()}, {"torus", torus()}, {"knot sheet", knotSheet()}};
   for (const auto& [name, model] : models) {
     const Surface cpu = Surface::create(model);
     gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
@@ -446,6 +466,15 @@ TEST_F(AdaptiveTessellatorTest, RefusesBadOptionsByName) {
   o = {};
   o.maxRate = 4096;  // 80 patches at 4096^2 exceed any storage-buffer range
   EXPECT_THROW(gpu::AdaptiveTessellator(ctx_, surf, o), std::length_error);
+  // Rational surfaces go to the fixed-rate tessellator for now, by name.
+  const Surface nurbs = Surface::create(nurbsTorus(2.0, 0.5));
+  gpu::GpuSurface rational(ctx_, nurbs, Precision::Float);
+  try {
+    gpu::AdaptiveTessellator t(ctx_, rational, {});
+    ADD_FAILURE() << "a rational surface was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("rational"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -82,8 +82,8 @@ if grep -qi "validation\|\[vulkan" "$tmp/session.out"; then echo "FAIL: validati
 grep -q "picked control point (2, 2)" "$tmp/session.out" || { echo "FAIL: pick-point 2 2 did not pick (2, 2)"; exit 1; }
 /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/shots"
 
-# A rational knot-vector surface (the NURBS torus; its double knots leave empty intervals) is
-# tessellated on the GPU like any other (at a fixed rate: the adaptive passes take uniform patches).
+# Knot-vector surfaces: a rational one (the NURBS torus; its double knots leave empty intervals)
+# at a fixed rate, a non-rational one (bspline_surface.json) by the adaptive tessellator.
 cat >"$tmp/nurbs.txt" <<'SCRIPT'
 panel off
 frames 2
@@ -93,9 +93,11 @@ wireframe on
 screenshot nurbs_orbit.png
 quit
 SCRIPT
-"$bin" view "$src/examples/models/nurbs_torus.json" --size 480x360 --script "$tmp/nurbs.txt" \
-  --screenshot-dir "$tmp/nurbs_shots" --validation >"$tmp/nurbs.out" 2>&1 ||
-  { cat "$tmp/nurbs.out"; echo "FAIL: the NURBS session failed"; exit 1; }
-cat "$tmp/nurbs.out"
-if grep -qi "validation\|\[vulkan" "$tmp/nurbs.out"; then echo "FAIL: validation output"; exit 1; fi
-/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/nurbs_shots" nurbs nurbs_orbit
+for knot_model in nurbs_torus bspline_surface; do
+  "$bin" view "$src/examples/models/$knot_model.json" --size 480x360 --script "$tmp/nurbs.txt" \
+    --screenshot-dir "$tmp/$knot_model" --validation >"$tmp/$knot_model.out" 2>&1 ||
+    { cat "$tmp/$knot_model.out"; echo "FAIL: the $knot_model session failed"; exit 1; }
+  cat "$tmp/$knot_model.out"
+  if grep -qi "validation\|\[vulkan" "$tmp/$knot_model.out"; then echo "FAIL: validation output"; exit 1; fi
+  /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/$knot_model" nurbs nurbs_orbit
+done
