@@ -1,5 +1,6 @@
 #version 450
-// Fast grid path of surface_eval.comp for tensor surfaces (docs/math.md §1, §6) and α-EB surfaces
+// Fast grid path of surface_eval.comp for tensor surfaces (docs/math.md §1, §6; also knot-vector
+// B-splines as knot patches, §10.1, gpu/kernel_runs.h knotPatchGridJob) and α-EB surfaces
 // (§5.2, §5.3: Q = C + a (L - C) with the bilinear singular-blend weights of the 4 corner α and V,
 // their u half blended once per row, derivatives by the weight rule) when samplesV is a multiple
 // of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one
@@ -79,7 +80,11 @@ void main() {
   uint lin = pc.firstItem + item;
   uint pi = lin / pc.itemsV;
   uint i = pi + pc.firstSpanU, j = lin - pi * pc.itemsV + pc.firstSpanV;
-  uint base = (i + pc.netOffsetU) * pc.netCols + j + pc.netOffsetV;
+  uint base = netBase(i, j);
+  // Knot patches (layout.h): partials with respect to the knot parameters, 1/h per direction times
+  // the local ones (uniform families: 1, folded away).
+  REAL ku = KNOT_PATCHES != 0u ? REAL(1) / params[knotPatchU(i) + 2u] : REAL(1);
+  REAL kv = KNOT_PATCHES != 0u ? REAL(1) / params[knotPatchV(j) + 2u] : REAL(1);
 
   // The patch net, once per invocation.
   REAL3 P[MU][MV];
@@ -88,9 +93,9 @@ void main() {
   // Basis coefficients coef[r][d] (PARAMS, constant addresses) in registers.
   REAL cu[MU][DU + 1u], cv[MV][DV + 1u];
   [[unroll]] for (uint r = 0; r < MU; ++r)
-    [[unroll]] for (uint d = 0; d <= DU; ++d) cu[r][d] = params[kParamCoefU + r * kCoefStride + d];
+    [[unroll]] for (uint d = 0; d <= DU; ++d) cu[r][d] = params[coefBaseU(i) + r * kCoefStride + d];
   [[unroll]] for (uint s = 0; s < MV; ++s)
-    [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[kParamCoefV + s * kCoefStride + d];
+    [[unroll]] for (uint d = 0; d <= DV; ++d) cv[s][d] = params[coefBaseV(j) + s * kCoefStride + d];
   REAL denU = REAL(pc.samplesU - 1u), denV = REAL(pc.samplesV - 1u);
   // α-EB corner data (i,j), (i,j+1), (i+1,j), (i+1,j+1), once per invocation.
   REAL3 V[4];
@@ -158,11 +163,11 @@ void main() {
           hornerStep(f0, f1, f2, t, W2[d]);
         }
         p[e] = c0;
-        u[e] = kNeedT1 ? e0 : REAL3(0);
-        v[e] = kNeedD1V ? c1 : REAL3(0);
-        uu[e] = kWantDuu ? f0 : REAL3(0);
-        uv[e] = kWantDuv ? e1 : REAL3(0);
-        vv[e] = kWantDvv ? REAL(2) * c2 : REAL3(0);
+        u[e] = kNeedT1 ? ku * e0 : REAL3(0);
+        v[e] = kNeedD1V ? kv * c1 : REAL3(0);
+        uu[e] = kWantDuu ? (ku * ku) * f0 : REAL3(0);
+        uv[e] = kWantDuv ? (ku * kv) * e1 : REAL3(0);
+        vv[e] = kWantDvv ? (REAL(2) * kv * kv) * c2 : REAL3(0);
         if (kAEB) {
           // docs/math.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q,
           // only for the orders the requested fields need.

@@ -22,7 +22,10 @@ SpecValues evalSpec(const GpuModel& m, FieldMask fields, uint32_t listMode) {
   SpecValues spec = basisSpec(m.basisU(), m.basisV());
   spec[layout::kSpecOutputMask] = fields;
   spec[layout::kSpecAlphaEB] = m.alphaEB() ? 1u : 0u;
-  if (m.knotVector()) spec[layout::kSpecRational] = m.rational() ? 1u : 0u;
+  if (m.knotVector()) {
+    spec[layout::kSpecRational] = m.rational() ? 1u : 0u;
+    spec[layout::kSpecKnotPatches] = 1u;  // read by the patch kernels (knotPatchGridJob) only
+  }
   if (listMode != kNoListMode) spec[layout::kSpecListMode] = listMode;
   return spec;
 }
@@ -122,7 +125,7 @@ layout::KnotEvalPush knotPush(const GpuModel& m, uint32_t itemsV, uint32_t netCo
 
 layout::EvalPush surfacePush(const GpuSurface& s) {
   layout::EvalPush p{};
-  p.itemsV = uint32_t(s.patchesV());
+  p.itemsV = uint32_t(s.gridItemsV());
   p.samplesU = 1;
   p.samplesV = 1;
   setSurfaceNetFields(p, s);
@@ -165,6 +168,39 @@ GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuSurface& 
   job.knotTable = table ? &*table : nullptr;
   if (table) job.push.tableOffsetV = table->offsetV;
   return job;
+}
+
+namespace {
+
+// Whether every interior knot of one direction leaves the surface C^`smooth` (order - 1 -
+// multiplicity >= smooth) and every non-empty interval is wide enough for 1/h^2 in `precision`.
+bool smoothKnots(int order, const std::vector<double>& knots, int count, int smooth, Precision precision) {
+  const double minWidth = precision == Precision::Double ? 1e-100 : 1e-12;
+  for (int j = order - 1; j < count; ++j) {
+    const double h = knots[j + 1] - knots[j];
+    if (h > 0.0 && h < minWidth) return false;
+  }
+  for (int j = order; j < count;) {  // the interior knots t_order .. t_{count-1}
+    int e = j;
+    while (e + 1 < count && knots[e + 1] == knots[j]) ++e;
+    if (order - 1 - (e - j + 1) < smooth) return false;
+    j = e + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<GridJob<layout::EvalPush>> knotPatchGridJob(const GpuSurface& s, const GridSpec& grid, FieldMask fields) {
+  if (!s.knotVector() || s.rational() || grid.samplesV % 4 != 0) return std::nullopt;
+  const FieldMask second = fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv);
+  const int smooth = (fields & second) ? 2 : (fields & ~fieldBit(Field::Point)) ? 1 : 0;
+  const BSplineSurfaceData& d = s.surface().knotData();
+  if (!smoothKnots(d.orderU, d.knotsU, d.rows, smooth, s.precision()) ||
+      !smoothKnots(d.orderV, d.knotsV, d.cols, smooth, s.precision()))
+    return std::nullopt;
+  // knotVector: no basis table (the kernel takes the intervals' coefficients from PARAMS).
+  return GridJob<layout::EvalPush>{Kernel::SurfaceGrid, true, true, kSurfaceFields, surfacePush(s), s.gridItemCount()};
 }
 
 template <class Push>

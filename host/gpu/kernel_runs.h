@@ -72,6 +72,13 @@ GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuCurve& c,
 GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuSurface& s, const GridSpec& grid,
                                           std::optional<KnotGridTable>& table);
 
+// A non-rational knot-vector surface's grid job on surface_grid.comp, each non-empty interval pair
+// evaluated as a patch from its power-basis coefficients (shaders/layout.h knot patches), where
+// that gives the CPU's values: samplesV a multiple of 4 and every interior knot as smooth as the
+// highest partial asked (where a partial jumps, the CPU evaluates an interval's last sample on the
+// next interval, which bspline_surface_grid.comp's table does too). Otherwise nullopt.
+std::optional<GridJob<layout::EvalPush>> knotPatchGridJob(const GpuSurface& s, const GridSpec& grid, FieldMask fields);
+
 // A grid job chunk by chunk (gpu/chunk_plan.h), two chunks in flight: the consumer reads chunk k
 // while the GPU computes k+1. Instantiated for layout::EvalPush and layout::KnotEvalPush.
 template <class Push>

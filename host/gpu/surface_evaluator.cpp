@@ -18,6 +18,10 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
                                     const ChunkConsumer& consumer) {
   checkPrecision(*kernels_, surface);
   if (surface.knotVector()) {
+    if (const auto job = knotPatchGridJob(surface, grid, fields)) {
+      runGrid(*kernels_, *planes_, surface, *job, grid, fields, consumer, options_.maxPlaneBytes);
+      return;
+    }
     std::optional<KnotGridTable> table;
     runGrid(*kernels_, *planes_, surface, knotGridJob(*kernels_, surface, grid, table), grid, fields, consumer,
             options_.maxPlaneBytes);

@@ -27,6 +27,7 @@
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/gpu/evaluator.h>
+#include <shapespline/gpu/kernel_runs.h>
 #include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
@@ -223,6 +224,71 @@ Surface knotSurface(int ku, int kv, int rows, int cols, bool clampedU, bool clam
   m.knotsU = randomKnots(ku, rows, clampedU, ku - 1, rng);
   m.knotsV = randomKnots(kv, cols, clampedV, kv - 1, rng);
   return Surface::create(std::move(m));
+}
+
+// The knot-patch grid path (surface_grid.comp on each interval's power-basis coefficients,
+// gpu/kernel_runs.h knotPatchGridJob): taken exactly where every interior knot is as smooth as the
+// highest partial asked, and there equal to the CPU, partials with respect to the knot parameters.
+TEST_P(GpuBSpline, KnotPatchGridMatchesCpuWhereItApplies) {
+  if (skipFp64()) GTEST_SKIP() << "no shaderFloat64";
+  const Precision pr = GetParam();
+  gpu::SurfaceEvaluator ev(ctx_, pr);
+  const FieldMask first = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) | fieldBit(Field::Normal);
+  const FieldMask all = first | fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv);
+  struct Case {
+    int order;
+    std::vector<double> knotsU, knotsV;
+    FieldMask fields;
+    bool patches;  // knotPatchGridJob applies
+  };
+  const std::vector<double> simple4 = {0, 0, 0, 0, 0.15, 0.4, 0.45, 1, 1, 1, 1};  // 7 points
+  const std::vector<double> open4 = {-1, -0.5, 0, 0.2, 0.9, 1.0, 1.7, 2.5, 2.6, 3, 3.2};
+  const std::vector<double> double4 = {0, 0, 0, 0, 0.3, 0.3, 0.7, 1, 1, 1, 1};     // a C1 knot
+  const std::vector<double> simple3 = {0, 0, 0, 0.1, 0.35, 0.5, 0.8, 1, 1, 1};       // 7 points, C1
+  const Case cases[] = {{4, simple4, open4, all, true},       {4, double4, simple4, all, false},
+                        {4, double4, simple4, fieldBit(Field::Point), true}, {3, simple3, simple3, all, false},
+                        {3, simple3, simple3, first, true}};
+  for (const Case& c : cases) {
+    SurfaceModel m;
+    m.family.construction = Construction::BSpline;
+    m.family.order = m.orderV = c.order;
+    m.rows = m.cols = 7;
+    for (int i = 0; i < 7; ++i)
+      for (int j = 0; j < 7; ++j) m.points.push_back({double(i), double(j), std::sin(0.8 * i + 0.5 * j)});
+    m.knotsU = c.knotsU;
+    m.knotsV = c.knotsV;
+    const Surface cpu = Surface::create(m);
+    gpu::GpuSurface state(ctx_, cpu, pr);
+    GridSpec grid;
+    grid.samplesU = 5;
+    grid.samplesV = 8;
+    SCOPED_TRACE("order " + std::to_string(c.order) + " fields " + std::to_string(c.fields));
+    EXPECT_EQ(gpu::knotPatchGridJob(state, grid, c.fields).has_value(), c.patches);
+    const double h = std::min(minInterval(m.knotsU), minInterval(m.knotsV));
+    const double tol = 4.0 * relFor(pr) * bboxDiag(m.points), tol1 = tol * 8 * c.order / h,
+                 tol2 = tol * 64 * c.order * c.order / (h * h);
+    const auto items = surfaceGridItems(cpu);
+    double worst = 0.0;  // error / tolerance
+    ev.evaluateGrid(state, grid, c.fields, [&](const GridChunk& ch) {
+      for (size_t it = 0; it < ch.itemCount; ++it) {
+        const auto [i, j] = items[ch.firstItem + it];
+        for (int a = 0; a < grid.samplesU; ++a)
+          for (int b = 0; b < grid.samplesV; ++b) {
+            const SurfacePoint e = cpu.evaluate(i, j, a / 4.0, b / 7.0);
+            const size_t p = it * 40 + size_t(a) * 8 + b;
+            const std::pair<Field, std::pair<glm::dvec3, double>> want[] = {
+                {Field::Point, {e.point, tol}}, {Field::Du, {e.du, tol1}},   {Field::Dv, {e.dv, tol1}},
+                {Field::Duu, {e.duu, tol2}},    {Field::Duv, {e.duv, tol2}}, {Field::Dvv, {e.dvv, tol2}}};
+            for (const auto& [f, ref] : want) {
+              if (!(c.fields & fieldBit(f))) continue;
+              const glm::dvec3 got(ch.coord(f, p, 0), ch.coord(f, p, 1), ch.coord(f, p, 2));
+              worst = std::max(worst, glm::length(got - ref.first) / ref.second);
+            }
+          }
+      }
+    });
+    EXPECT_LE(worst, 1.0);
+  }
 }
 
 TEST_P(GpuBSpline, SurfacesMatchCpu) {
