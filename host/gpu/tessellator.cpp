@@ -232,7 +232,7 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   gridPush_ = {};
   gridPush_.invocations = uint32_t(plan.rows.size() / 2);
   gridPush_.rowsPerInvocation = rowsPerInvocation(plan.patches[0] - 1, uint32_t(plan.patches.size() / 4));
-  gridPush_.patchesV = uint32_t(surface_.patchesV());
+  gridPush_.patchesV = uint32_t(surface_.gridItemsV());
   setSurfaceNetFields(gridPush_, surface_);
   gridPush_.rateN = plan.patches[0];
   gridPush_.rateM = plan.patches[1];

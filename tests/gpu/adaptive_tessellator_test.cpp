@@ -68,8 +68,8 @@ SurfaceModel torus() {
   return m;
 }
 
-// The wave's net as a cubic B-spline on non-uniform knots, clamped in u with a double knot (an
-// empty interval, which gets no patch), unclamped in v: its patches are the non-empty knot
+// The wave's net as a cubic B-spline on non-uniform knots, clamped in u, unclamped in v, a double
+// knot in each direction (empty intervals, which get no patch): its patches are the non-empty knot
 // interval pairs (core/tess_patches.h).
 SurfaceModel knotSheet() {
   SurfaceModel m = waveSheet();
@@ -79,7 +79,7 @@ SurfaceModel knotSheet() {
   m.orderV = 4;
   m.alpha.clear();
   m.knotsU = {0, 0, 0, 0, 0.1, 0.3, 0.3, 0.5, 0.8, 1, 1, 1, 1};
-  m.knotsV = {0, 0.5, 0.7, 1, 1.6, 2, 2.1, 2.5, 3.5, 4, 4.2, 4.5, 5, 5.5, 6};
+  m.knotsV = {0, 0.5, 0.7, 1, 1.6, 2, 2, 2.5, 3.5, 4, 4.2, 4.5, 5, 5.5, 6};
   return m;
 }
 

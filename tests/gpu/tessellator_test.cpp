@@ -456,15 +456,15 @@ TEST_P(TessellatorPrecisionTest, DegenerateRowsTakeTheFallbackNormals) {
   EXPECT_GT(expectInteriorNormals(tess, cpu, v, pr), 20);
 }
 
-// A bicubic on non-uniform knots, unclamped in v, with a double interior knot in u (an empty
-// interval, which has no tessellation patch).
+// A bicubic on non-uniform knots, unclamped in v, with a double interior knot in each direction
+// (empty intervals, which have no tessellation patch).
 SurfaceModel nonUniformKnotSurface() {
   FamilySpec f;
   f.construction = Construction::BSpline;
   f.order = 4;
   SurfaceModel m = wavyNet(f, 7, false);
   m.knotsU = {0, 0, 0, 0, 0.2, 0.5, 0.5, 1, 1, 1, 1};
-  m.knotsV = {0, 0.1, 0.3, 0.35, 0.6, 0.7, 0.9, 1.2, 1.3, 1.5, 1.6};
+  m.knotsV = {0, 0.1, 0.3, 0.35, 0.6, 0.6, 0.9, 1.2, 1.3, 1.5, 1.6};
   return m;
 }
 
@@ -482,6 +482,8 @@ TEST_P(TessellatorPrecisionTest, KnotVectorAndRationalSurfacesMatchCpu) {
     gpu::GpuSurface surf(ctx_, cpu, pr);
     ASSERT_EQ(surf.gridItemsU(), patches.u.size());
     ASSERT_EQ(surf.gridItemsU(), torus ? 4u : 3u);
+    ASSERT_EQ(surf.gridItemsV(), torus ? 4u : 3u);
+    ASSERT_LT(surf.gridItemsV(), surf.patchesV());  // the knot range has empty intervals
     const double posTol = pr == Precision::Double ? kFp32Rel : kFp32Rel * 20;  // fp32 vertices either way
     const auto [ulo, uhi] = cpu.parameterRangeU();
     const auto [vlo, vhi] = cpu.parameterRangeV();
