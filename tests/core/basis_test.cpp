@@ -227,7 +227,9 @@ TEST(Basis, JointSmoothness) {
       const Vals end = eval(s, 1.0), start = eval(s, 0.0);
       EXPECT_NEAR(end.b[r], start.b[r - 1], kTol) << "k=" << k;
       EXPECT_NEAR(end.d1[r], start.d1[r - 1], kTol * 10) << "k=" << k;
-      if (k >= 4) EXPECT_NEAR(end.d2[r], start.d2[r - 1], kTol * 100) << "k=" << k;
+      if (k >= 4) {
+        EXPECT_NEAR(end.d2[r], start.d2[r - 1], kTol * 100) << "k=" << k;
+      }
     }
   }
   // λ = -1 is the one value where order 3 happens to be C^2 (1 + 2λ = -2 - λ), so use λ = 1/2.

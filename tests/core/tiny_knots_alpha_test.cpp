@@ -51,7 +51,7 @@ TEST(TinyKnots, BasisOfSubnormalKnotIntervalsEqualsTheUnitBasisEveryOrder) {
 TEST(TinyKnots, CurveDerivativesThatFitFp64AreFiniteAndScaled) {
   // Points 2^-1000 apart and knots 2^-1030 apart: d1 ~ 2^30 is representable, although 1/h alone
   // (2^1030) is not; d2 ~ 2^1060 is not, and comes out as inf (beyond fp64), never NaN.
-  BSplineCurveData unit{4, {0, 0, 0, 0, 1, 2, 3, 3, 3, 3}, {}};
+  BSplineCurveData unit{4, {0, 0, 0, 0, 1, 2, 3, 3, 3, 3}, {}, {}};
   const double p[6][2] = {{0, 0}, {1, 2}, {3, 3}, {5, 1}, {6, 4}, {8, 3}};
   for (const auto& q : p) unit.points.emplace_back(q[0], q[1], 0.0);
   BSplineCurveData tiny = unit;

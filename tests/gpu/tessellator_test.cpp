@@ -512,7 +512,9 @@ TEST_P(TessellatorPrecisionTest, KnotVectorAndRationalSurfacesMatchCpu) {
       }
       EXPECT_LE(worst / scaleOf(cpu.model()), posTol);
       // The fp32 bound (fp32 vertices either way): 1e-6 of the torus's size.
-      if (torus) EXPECT_LE(worstTorus / (R + r), 1e-6);
+      if (torus) {
+        EXPECT_LE(worstTorus / (R + r), 1e-6);
+      }
       expectUnitNormals(v);
       expectInteriorNormals(tess, cpu, v, pr);
     }
