@@ -30,6 +30,11 @@ std::optional<std::string> knotLimitation(const std::vector<double>& knots, cons
   const bool fp32 = precision == Precision::Float;
   const double limit = fp32 ? kMinKnotIntervalGpuFloat : kMinKnotIntervalGpuDouble;
   char text[160];
+  if (fp32 && knots.size() > kMaxKnotsGpuFloat) {
+    std::snprintf(text, sizeof text, "%s: %zu knots; the fp32 GPU kernels index their records exactly for at most %zu",
+                  field, knots.size(), kMaxKnotsGpuFloat);
+    return std::string(text);
+  }
   for (size_t i = 1; i < knots.size(); ++i) {
     const double h = knots[i] - knots[i - 1];
     if (!(h > 0.0)) continue;

@@ -26,6 +26,10 @@ inline constexpr double kMinAlphaGpuDouble = 1e-300;
 // (NaN instead of a value); in fp32 an interval must also survive rounding its knots to fp32.
 inline constexpr double kMinKnotIntervalGpuFloat = 1e-30;
 inline constexpr double kMinKnotIntervalGpuDouble = 1e-300;
+// The fp32 kernels read PARAMS indices (spans, first control points, record offsets; up to 118
+// values per knot: knots, interval and knot patch records, shaders/layout.h) as fp32 values, exact
+// below 2^24: at most this many knots per direction.
+inline constexpr size_t kMaxKnotsGpuFloat = 65536;
 
 // Why the `precision` kernels cannot evaluate the model, or nullopt when they can.
 std::optional<std::string> gpuLimitation(const Curve& curve, Precision precision);

@@ -167,6 +167,28 @@ TEST_F(SamplingGpu, ModelBeyondTheKernelsFallsBackWithItsReason) {
   EXPECT_TRUE(session.plan(c, {DeviceKind::Vulkan, Precision::Double, true}).gpu);  // fp64 represents it
 }
 
+// More knots than fp32 PARAMS indices address exactly: the fp32 GPU path falls back, naming them;
+// fp64 takes them.
+TEST(GpuLimits, KnotCountBeyondFp32IndexingIsNamed) {
+  SurfaceModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = m.orderV = 2;
+  m.rows = int(sampling::kMaxKnotsGpuFloat);  // rows + order knots along u
+  m.cols = 2;
+  for (int i = 0; i < m.rows; ++i)
+    for (int j = 0; j < m.cols; ++j) m.points.push_back({double(i), double(j), 0.0});
+  for (int i = 0; i < m.rows + 2; ++i) m.knotsU.push_back(double(i));
+  m.knotsV = {0, 0, 1, 1};
+  const auto why = sampling::gpuLimitation(Surface::create(m), Precision::Float);
+  ASSERT_TRUE(why);
+  EXPECT_NE(why->find("knots[0]: 65538 knots"), std::string::npos) << *why;
+  EXPECT_FALSE(sampling::gpuLimitation(Surface::create(m), Precision::Double));
+  m.rows -= 2;
+  m.points.resize(size_t(m.rows) * m.cols);
+  m.knotsU.resize(size_t(m.rows) + 2);
+  EXPECT_FALSE(sampling::gpuLimitation(Surface::create(m), Precision::Float));
+}
+
 // Weights far from 1 would leave the kernels' range in the homogeneous sums: the GPU path falls
 // back with the reason (fp32 beyond [1e-15, 1e15], fp64 beyond [1e-150, 1e150]); the CPU takes them.
 TEST(GpuLimits, RationalWeightsFarFromOneAreNamed) {
