@@ -21,6 +21,7 @@
 #include <glm/common.hpp>
 
 #include <shapespline/core/surface.h>
+#include <shapespline/core/tess_patches.h>
 #include <shapespline/gpu/tessellator.h>
 #include "support/tolerances.h"
 #include "support/degenerate_nets.h"
@@ -179,20 +180,6 @@ std::vector<TessVertex> download(const vk::Buffer& b, uint32_t count, VkDeviceSi
   b.downloadSpan(std::span<TessVertex>(v), offset);
   return v;
 }
-
-// The model patch of tessellation patch (a, b): the surface's patch range, or for a knot-vector
-// B-spline its non-empty knot intervals (gpu/tessellator.h).
-struct TessPatchMap {
-  std::vector<int> u, v;
-  explicit TessPatchMap(const Surface& cpu) {
-    const SurfaceModel& m = cpu.model();
-    for (int i = cpu.patches().u.first; i <= cpu.patches().u.last; ++i)
-      if (m.knotsU.empty() || m.knotsU[i] < m.knotsU[i + 1]) u.push_back(i);
-    for (int j = cpu.patches().v.first; j <= cpu.patches().v.last; ++j)
-      if (m.knotsV.empty() || m.knotsV[j] < m.knotsV[j + 1]) v.push_back(j);
-  }
-  SurfacePoint evaluate(const Surface& cpu, const TessSample& s) const { return cpu.evaluate(u[s.a], v[s.b], s.u, s.v); }
-};
 
 class TessellatorTest : public VulkanTest {
  protected:
@@ -362,7 +349,7 @@ TEST_F(TessellatorTest, PlainFamiliesMatchCpu) {
 int expectInteriorNormals(const gpu::SurfaceTessellator& tess, const Surface& cpu, const std::vector<TessVertex>& v,
                           Precision pr) {
   const TessTopology& t = tess.topology();
-  const TessPatchMap patches(cpu);
+  const TessPatches patches(cpu);
   const bool fp64 = pr == Precision::Double;
   double worstRegular = 0.0, worstFallback = 0.0;
   int fallbacks = 0;
@@ -478,7 +465,7 @@ TEST_P(TessellatorPrecisionTest, KnotVectorAndRationalSurfacesMatchCpu) {
   for (bool torus : {false, true}) {
     SCOPED_TRACE(torus ? "NURBS torus" : "non-uniform knots");
     const Surface cpu = Surface::create(torus ? nurbsTorus(R, r) : nonUniformKnotSurface());
-    const TessPatchMap patches(cpu);
+    const TessPatches patches(cpu);
     gpu::GpuSurface surf(ctx_, cpu, pr);
     ASSERT_EQ(surf.gridItemsU(), patches.u.size());
     ASSERT_EQ(surf.gridItemsU(), torus ? 4u : 3u);
