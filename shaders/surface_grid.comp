@@ -1,6 +1,6 @@
 #version 450
 // Fast grid path of surface_eval.comp for tensor surfaces (docs/math.md §1, §6; also knot-vector
-// B-splines as knot patches, §10.1, gpu/kernel_runs.h knotPatchGridJob) and α-EB surfaces
+// B-splines, rational or not, as knot patches, §10.1, §10.8, gpu/kernel_runs.h knotPatchGridJob) and α-EB surfaces
 // (§5.2, §5.3: Q = C + a (L - C) with the bilinear singular-blend weights of the 4 corner α and V,
 // their u half blended once per row, derivatives by the weight rule) when samplesV is a multiple
 // of 4, with or without the unit normal: one invocation = RUN_LENGTH consecutive samples of one
@@ -50,12 +50,16 @@ const bool kWantDuv = (OUTPUT_MASK & (1u << kFieldDuv)) != 0u;
 const bool kWantDvv = (OUTPUT_MASK & (1u << kFieldDvv)) != 0u;
 const bool kWantNormal = (OUTPUT_MASK & (1u << kFieldNormal)) != 0u;
 const bool kAEB = ALPHA_EB != 0u;
-// Base partials C_u / C_v: for their own field, the normal, and the α-EB second partials.
-// (Plain integer spec-constant arithmetic: glslang emits invalid SPIR-V for nested && / || of them.)
+// Rational knot patches (NURBS): NET holds (w P, w); the weight sums W ride along as a scalar
+// channel and the quotient rule of point_math.h turns the homogeneous partials into the surface's.
+const bool kRational = RATIONAL != 0u;
+// Base partials C_u / C_v: for their own field, the normal, and the α-EB or rational second
+// partials (the quotient rule of S_uu needs S_u). (Plain integer spec-constant arithmetic: glslang
+// emits invalid SPIR-V for nested && / || of them.)
 const bool kNeedT1 = (OUTPUT_MASK & ((1u << kFieldDu) | (1u << kFieldDuv) | (1u << kFieldNormal) |
-                                     ALPHA_EB * (1u << kFieldDuu))) != 0u;
+                                     (ALPHA_EB | RATIONAL) * (1u << kFieldDuu))) != 0u;
 const bool kNeedD1V = (OUTPUT_MASK & ((1u << kFieldDv) | (1u << kFieldDuv) | (1u << kFieldNormal) |
-                                      ALPHA_EB * (1u << kFieldDvv))) != 0u;
+                                      (ALPHA_EB | RATIONAL) * (1u << kFieldDvv))) != 0u;
 // Samples per invocation (a multiple of 4): RUN_LENGTH < samplesV: a run of one row (RUN_LENGTH
 // divides samplesV); RUN_LENGTH >= samplesV: RUN_LENGTH / samplesV whole rows of one patch (dividing
 // samplesU). The u contraction of a row is shared by all of its samples.
@@ -88,8 +92,13 @@ void main() {
 
   // The patch net, once per invocation.
   REAL3 P[MU][MV];
+  REAL PW[MU][MV];  // rational: the weights (dead code otherwise, w never loaded)
   [[unroll]] for (uint r = 0; r < MU; ++r)
-    [[unroll]] for (uint s = 0; s < MV; ++s) P[r][s] = net[base + r * pc.netCols + s].xyz;
+    [[unroll]] for (uint s = 0; s < MV; ++s) {
+      REAL4 h = net[base + r * pc.netCols + s];
+      P[r][s] = h.xyz;
+      PW[r][s] = kRational ? h.w : REAL(0);
+    }
   // Basis coefficients coef[r][d] (PARAMS, constant addresses) in registers.
   REAL cu[MU][DU + 1u], cv[MV][DV + 1u];
   [[unroll]] for (uint r = 0; r < MU; ++r)
@@ -120,29 +129,45 @@ void main() {
       H2 = cornerBlendU(fu.f20, fu.f21, al, V);
     }
     REAL3 T0[MV], T1[MV], T2[MV];
+    REAL TW0[MV], TW1[MV], TW2[MV];  // the same sums of the weights (rational)
     [[unroll]] for (uint s = 0; s < MV; ++s) {
       T0[s] = REAL3(0);
       T1[s] = REAL3(0);
       T2[s] = REAL3(0);
+      TW0[s] = REAL(0);
+      TW1[s] = REAL(0);
+      TW2[s] = REAL(0);
     }
     [[unroll]] for (uint r = 0; r < MU; ++r) {
       REAL w0 = cu[r][DU], dp = REAL(0), ddp = REAL(0);
       [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) hornerStep(w0, dp, ddp, tu, cu[r][d]);
       // T1 and T2 feed only the outputs that need them (the rest is dead code).
-      [[unroll]] for (uint s = 0; s < MV; ++s) accumulate3(T0[s], T1[s], T2[s], w0, dp, REAL(2) * ddp, P[r][s]);
+      [[unroll]] for (uint s = 0; s < MV; ++s) {
+        accumulate3(T0[s], T1[s], T2[s], w0, dp, REAL(2) * ddp, P[r][s]);
+        accumulate3(TW0[s], TW1[s], TW2[s], w0, dp, REAL(2) * ddp, PW[r][s]);
+      }
     }
     // The row in the power basis of v: W_k[d] = Σ_s c_s,d T_k[s] (B_s(v) = Σ_d c_s,d v^d), so a
     // sample is one Horner pass over d instead of every v basis function and a contraction
     // (llvmpipe fuses no multiply-adds: 54 instead of 120 operations for P, Q_u, Q_v of a bicubic).
     REAL3 W0[DV + 1u], W1[DV + 1u], W2[DV + 1u];
+    REAL WW0[DV + 1u], WW1[DV + 1u], WW2[DV + 1u];  // rational: of TW0, TW1, TW2
     [[unroll]] for (uint d = 0; d <= DV; ++d) {
       W0[d] = REAL3(0);
       W1[d] = REAL3(0);
       W2[d] = REAL3(0);
+      WW0[d] = REAL(0);
+      WW1[d] = REAL(0);
+      WW2[d] = REAL(0);
       [[unroll]] for (uint s = 0; s < MV; ++s) {
         W0[d] += cv[s][d] * T0[s];
         if (kNeedT1) W1[d] += cv[s][d] * T1[s];
         if (kWantDuu) W2[d] += cv[s][d] * T2[s];
+        if (kRational) {
+          WW0[d] += cv[s][d] * TW0[s];
+          if (kNeedT1) WW1[d] += cv[s][d] * TW1[s];
+          if (kWantDuu) WW2[d] += cv[s][d] * TW2[s];
+        }
       }
     }
 
@@ -157,17 +182,31 @@ void main() {
         REAL3 c0 = W0[DV], c1 = REAL3(0), c2 = REAL3(0);  // of W0: C, C_v, C_vv / 2
         REAL3 e0 = W1[DV], e1 = REAL3(0), e2 = REAL3(0);  // of W1: C_u, C_uv
         REAL3 f0 = W2[DV], f1 = REAL3(0), f2 = REAL3(0);  // of W2: C_uu
+        REAL cw0 = WW0[DV], cw1 = REAL(0), cw2 = REAL(0);   // rational: W, W_v, W_vv / 2
+        REAL ew0 = WW1[DV], ew1 = REAL(0), ew2 = REAL(0);   // W_u, W_uv
+        REAL fw0 = WW2[DV], fw1 = REAL(0), fw2 = REAL(0);   // W_uu
         [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
           hornerStep(c0, c1, c2, t, W0[d]);
           hornerStep(e0, e1, e2, t, W1[d]);
           hornerStep(f0, f1, f2, t, W2[d]);
+          if (kRational) {
+            hornerStep(cw0, cw1, cw2, t, WW0[d]);
+            hornerStep(ew0, ew1, ew2, t, WW1[d]);
+            hornerStep(fw0, fw1, fw2, t, WW2[d]);
+          }
         }
         p[e] = c0;
-        u[e] = kNeedT1 ? ku * e0 : REAL3(0);
-        v[e] = kNeedD1V ? kv * c1 : REAL3(0);
-        uu[e] = kWantDuu ? (ku * ku) * f0 : REAL3(0);
-        uv[e] = kWantDuv ? (ku * kv) * e1 : REAL3(0);
-        vv[e] = kWantDvv ? (REAL(2) * kv * kv) * c2 : REAL3(0);
+        u[e] = kNeedT1 ? e0 : REAL3(0);
+        v[e] = kNeedD1V ? c1 : REAL3(0);
+        uu[e] = kWantDuu ? f0 : REAL3(0);
+        uv[e] = kWantDuv ? e1 : REAL3(0);
+        vv[e] = kWantDvv ? REAL(2) * c2 : REAL3(0);
+        if (kRational) rationalSurface(p[e], u[e], v[e], uu[e], uv[e], vv[e], cw0, ew0, cw1, fw0, ew1, REAL(2) * cw2);
+        u[e] *= ku;
+        v[e] *= kv;
+        uu[e] *= ku * ku;
+        uv[e] *= ku * kv;
+        vv[e] *= kv * kv;
         if (kAEB) {
           // docs/math.md §5.3 (evalAlphaEBPatch): weight derivative (r,q) = u-factor r x v-factor q,
           // only for the orders the requested fields need.

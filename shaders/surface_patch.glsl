@@ -42,16 +42,25 @@ vec2 patchParameter(uint i, uint j, REAL u, REAL v) {
   return vec2(float(i) + float(u), float(j) + float(v));
 }
 
-// core/surface.cpp evalTensorPatch: contract along v first (3 row sums), then along u.
+// core/surface.cpp evalTensorPatch: contract along v first (3 row sums), then along u. Rational
+// knot patches: the same sums of NET's (w P, w), then point_math.h's quotient rule.
 PatchDerivs evalTensorPatch(in Basis2 B, uint base) {
   PatchDerivs o;
   o.p = REAL3(0); o.u = REAL3(0); o.v = REAL3(0); o.uu = REAL3(0); o.uv = REAL3(0); o.vv = REAL3(0);
+  PatchDerivs w;  // the weight sums in .x (rational)
+  w.p = REAL3(0); w.u = REAL3(0); w.v = REAL3(0); w.uu = REAL3(0); w.uv = REAL3(0); w.vv = REAL3(0);
   for (uint r = 0; r < BASIS_COUNT_U; ++r) {
-    REAL3 s0 = REAL3(0), s1 = REAL3(0), s2 = REAL3(0);
+    REAL3 s0 = REAL3(0), s1 = REAL3(0), s2 = REAL3(0), q0 = REAL3(0), q1 = REAL3(0), q2 = REAL3(0);
     uint row = base + r * pc.netCols;
-    for (uint s = 0; s < BASIS_COUNT_V; ++s) accumulate3(s0, s1, s2, B.bv[s], B.dv[s], B.ddv[s], net[row + s].xyz);
+    for (uint s = 0; s < BASIS_COUNT_V; ++s) {
+      REAL4 h = net[row + s];
+      accumulate3(s0, s1, s2, B.bv[s], B.dv[s], B.ddv[s], h.xyz);
+      if (RATIONAL != 0u) accumulate3(q0, q1, q2, B.bv[s], B.dv[s], B.ddv[s], REAL3(h.w, 0, 0));
+    }
     accumulateTensorRow(o.p, o.u, o.v, o.uu, o.uv, o.vv, B.bu[r], B.du[r], B.ddu[r], s0, s1, s2);
+    if (RATIONAL != 0u) accumulateTensorRow(w.p, w.u, w.v, w.uu, w.uv, w.vv, B.bu[r], B.du[r], B.ddu[r], q0, q1, q2);
   }
+  if (RATIONAL != 0u) rationalSurface(o.p, o.u, o.v, o.uu, o.uv, o.vv, w.p.x, w.u.x, w.v.x, w.uu.x, w.uv.x, w.vv.x);
   return o;
 }
 

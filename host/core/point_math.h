@@ -108,6 +108,12 @@ PM_FN void accumulate3(PM_INOUT(REAL3) s0, PM_INOUT(REAL3) s1, PM_INOUT(REAL3) s
   s1 += b1 * P;
   s2 += b2 * P;
 }
+// The same for a scalar (a rational net's weight).
+PM_FN void accumulate3(PM_INOUT(REAL) s0, PM_INOUT(REAL) s1, PM_INOUT(REAL) s2, REAL b0, REAL b1, REAL b2, REAL w) {
+  s0 += b0 * w;
+  s1 += b1 * w;
+  s2 += b2 * w;
+}
 
 // Row r of a tensor patch (docs/math.md §6): the row contracted along v gives s0 = Σ_s B_s P, s1 with
 // B_s', s2 with B_s''; weighted with B_r, B_r', B_r'' (bu, du, ddu) it adds to the six partials.

@@ -192,7 +192,7 @@ bool smoothKnots(int order, const std::vector<double>& knots, int count, int smo
 }  // namespace
 
 std::optional<GridJob<layout::EvalPush>> knotPatchGridJob(const GpuSurface& s, const GridSpec& grid, FieldMask fields) {
-  if (!s.knotVector() || s.rational() || grid.samplesV % 4 != 0) return std::nullopt;
+  if (!s.knotVector() || grid.samplesV % 4 != 0) return std::nullopt;
   const FieldMask second = fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv);
   const int smooth = (fields & second) ? 2 : (fields & ~fieldBit(Field::Point)) ? 1 : 0;
   const BSplineSurfaceData& d = s.surface().knotData();

@@ -72,8 +72,9 @@ GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuCurve& c,
 GridJob<layout::KnotEvalPush> knotGridJob(const KernelSet& k, const GpuSurface& s, const GridSpec& grid,
                                           std::optional<KnotGridTable>& table);
 
-// A non-rational knot-vector surface's grid job on surface_grid.comp, each non-empty interval pair
-// evaluated as a patch from its power-basis coefficients (shaders/layout.h knot patches), where
+// A knot-vector surface's grid job on surface_grid.comp, each non-empty interval pair evaluated as
+// a patch from its power-basis coefficients (shaders/layout.h knot patches; rational: homogeneous
+// sums and the quotient rule), where
 // that gives the CPU's values: samplesV a multiple of 4 and every interior knot as smooth as the
 // highest partial asked (where a partial jumps, the CPU evaluates an interval's last sample on the
 // next interval, which bspline_surface_grid.comp's table does too). Otherwise nullopt.

@@ -228,7 +228,8 @@ Surface knotSurface(int ku, int kv, int rows, int cols, bool clampedU, bool clam
 
 // The knot-patch grid path (surface_grid.comp on each interval's power-basis coefficients,
 // gpu/kernel_runs.h knotPatchGridJob): taken exactly where every interior knot is as smooth as the
-// highest partial asked, and there equal to the CPU, partials with respect to the knot parameters.
+// highest partial asked, and there equal to the CPU, partials with respect to the knot parameters;
+// rational (weights in [0.5, 2]) as well, through the quotient rule.
 TEST_P(GpuBSpline, KnotPatchGridMatchesCpuWhereItApplies) {
   if (skipFp64()) GTEST_SKIP() << "no shaderFloat64";
   const Precision pr = GetParam();
@@ -240,6 +241,7 @@ TEST_P(GpuBSpline, KnotPatchGridMatchesCpuWhereItApplies) {
     std::vector<double> knotsU, knotsV;
     FieldMask fields;
     bool patches;  // knotPatchGridJob applies
+    bool rational = false;
   };
   const std::vector<double> simple4 = {0, 0, 0, 0, 0.15, 0.4, 0.45, 1, 1, 1, 1};  // 7 points
   const std::vector<double> open4 = {-1, -0.5, 0, 0.2, 0.9, 1.0, 1.7, 2.5, 2.6, 3, 3.2};
@@ -247,14 +249,18 @@ TEST_P(GpuBSpline, KnotPatchGridMatchesCpuWhereItApplies) {
   const std::vector<double> simple3 = {0, 0, 0, 0.1, 0.35, 0.5, 0.8, 1, 1, 1};       // 7 points, C1
   const Case cases[] = {{4, simple4, open4, all, true},       {4, double4, simple4, all, false},
                         {4, double4, simple4, fieldBit(Field::Point), true}, {3, simple3, simple3, all, false},
-                        {3, simple3, simple3, first, true}};
+                        {3, simple3, simple3, first, true},   {4, simple4, open4, all, true, true},
+                        {4, double4, simple4, all, false, true}, {3, simple3, simple3, first, true, true}};
   for (const Case& c : cases) {
     SurfaceModel m;
     m.family.construction = Construction::BSpline;
     m.family.order = m.orderV = c.order;
     m.rows = m.cols = 7;
     for (int i = 0; i < 7; ++i)
-      for (int j = 0; j < 7; ++j) m.points.push_back({double(i), double(j), std::sin(0.8 * i + 0.5 * j)});
+      for (int j = 0; j < 7; ++j) {
+        m.points.push_back({double(i), double(j), std::sin(0.8 * i + 0.5 * j)});
+        if (c.rational) m.weights.push_back(std::exp2(std::sin(1.7 * i + 2.3 * j)));
+      }
     m.knotsU = c.knotsU;
     m.knotsV = c.knotsV;
     const Surface cpu = Surface::create(m);
@@ -262,7 +268,8 @@ TEST_P(GpuBSpline, KnotPatchGridMatchesCpuWhereItApplies) {
     GridSpec grid;
     grid.samplesU = 5;
     grid.samplesV = 8;
-    SCOPED_TRACE("order " + std::to_string(c.order) + " fields " + std::to_string(c.fields));
+    SCOPED_TRACE("order " + std::to_string(c.order) + " fields " + std::to_string(c.fields) +
+                 (c.rational ? " rational" : ""));
     EXPECT_EQ(gpu::knotPatchGridJob(state, grid, c.fields).has_value(), c.patches);
     const double h = std::min(minInterval(m.knotsU), minInterval(m.knotsV));
     const double tol = 4.0 * relFor(pr) * bboxDiag(m.points), tol1 = tol * 8 * c.order / h,
@@ -424,6 +431,27 @@ TEST_P(GpuBSpline, RationalCurvesAndSurfacesMatchCpu) {
     err.check("circle list d2", e.d2, at[k].d2, 256 * rel * (1.0 + glm::length(e.d2)), "u " + std::to_string(us[k]));
   }
   EXPECT_LE(worstRadius, pr == Precision::Double ? 1e-15 : 1e-6);
+
+  // The exact torus on the knot-patch grid path (points: its C0 quadrant knots allow it): every
+  // sample at distance r from the tube's centre circle.
+  {
+    const Surface torus = Surface::create(nurbsTorus(3.0, 1.25));
+    gpu::SurfaceEvaluator tev(ctx_, pr);
+    gpu::GpuSurface gtorus(ctx_, torus, pr);
+    const GridSpec tgrid{6, 8, 0, 0};
+    ASSERT_TRUE(gpu::knotPatchGridJob(gtorus, tgrid, fieldBit(Field::Point)).has_value());
+    double worstTube = 0.0;
+    tev.evaluateGrid(gtorus, tgrid, fieldBit(Field::Point), [&](const GridChunk& ch) {
+      for (size_t i = 0; i < ch.pointCount(); ++i) {
+        const glm::dvec3 p(ch.coord(Field::Point, i, 0), ch.coord(Field::Point, i, 1), ch.coord(Field::Point, i, 2));
+        const double ring = std::hypot(p.x, p.y) - 3.0;
+        worstTube = std::max(worstTube, std::abs(std::hypot(ring, p.z) - 1.25) / 1.25);
+      }
+    });
+    std::printf("  rational %s: knot-patch torus max relative | d - r | %.2e\n",
+                pr == Precision::Double ? "fp64" : "fp32", worstTube);
+    EXPECT_LE(worstTube, pr == Precision::Double ? 1e-15 : 1e-6);
+  }
 
   SurfaceModel sm = nurbsTorus(3.0, 1.25);
   sm.weights[40] = 2.5;
