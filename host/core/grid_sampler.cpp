@@ -261,6 +261,9 @@ void rationalRowsOf(int samples, RowFn row) {
     for (int c = 0; c < 3; ++c) A[k][c] = row(k, c);
     W[k] = row(k, 3);
   }
+  // The rows are disjoint slices of one buffer: no sample's stores reach another's loads, which
+  // the compiler cannot see through the pointer table (ivdep lets it vectorise across samples).
+#pragma GCC ivdep
   for (int b = 0; b < samples; ++b) {
     glm::dvec3 q[6] = {};
     double w[6] = {};
