@@ -12,9 +12,12 @@
 // their blend with the u factors of the row. A sample is then one Horner pass over d for the point, Q_v (its
 // derivative) and Q_u, instead of evaluating every v basis function and contracting with them:
 // 90 instead of 228 operations per sample at degree 5 (llvmpipe does not fuse multiply-adds). The
-// rounding bound is the same, Σ |c_s,d| |P| ulps either way. (Globals: a struct of arrays sized
-// by specialization constants miscompiles.)
+// rounding bound is the same, Σ |c_s,d| |P| ulps either way. Rational knot patches (RATIONAL): the
+// same sums of the weights (gWW0, gWW1) ride along and the quotient rule of point_math.h turns the
+// homogeneous values into the surface's. (Globals: a struct of arrays sized by specialization
+// constants miscompiles.)
 REAL3 gW0[DV + 1u], gW1[DV + 1u], gV[4];
+REAL gWW0[DV + 1u], gWW1[DV + 1u];
 REAL gAl[4];
 CornerHalf gH0, gH1;  // the u halves of the α-EB corner weights of the row, u orders 0 and 1
 REAL cv[MV][DV + 1u];  // v basis coefficients (PARAMS)
@@ -24,9 +27,18 @@ void evalSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
   du = gW1[DV];
   dv = REAL3(0);
   REAL3 unused0 = REAL3(0), unused1 = REAL3(0), unused2 = REAL3(0);  // dead code after inlining
+  REAL w = gWW0[DV], wv = REAL(0), wu = gWW1[DV], unusedW = REAL(0);
   [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
     hornerStep(p, dv, unused0, t, gW0[d]);
     hornerStep(du, unused1, unused2, t, gW1[d]);
+    if (RATIONAL != 0u) {
+      hornerStep(w, wv, unusedW, t, gWW0[d]);
+      hornerStep(wu, unusedW, unusedW, t, gWW1[d]);
+    }
+  }
+  if (RATIONAL != 0u) {
+    REAL3 none = REAL3(0);  // the second partials: dead code
+    rationalSurface(p, du, dv, none, none, none, w, wu, wv, REAL(0), REAL(0), REAL(0));
   }
   if (kAEB) {
     // docs/math.md §5.3 (evalAlphaEBPatch) for Q, Q_u, Q_v, the u halves of the weights from the row.
@@ -41,12 +53,17 @@ void evalSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
 
 // Per-patch data (per-lane gathers on llvmpipe: shared by all rows an invocation evaluates).
 REAL3 gP[MU][MV];
+REAL gPW[MU][MV];  // rational: the weights
 REAL gCu[MU][DU + 1u];
 
 void loadPatchRows(uint i, uint j) {
   uint base = netBase(i, j);
   [[unroll]] for (uint r = 0; r < MU; ++r)
-    [[unroll]] for (uint s = 0; s < MV; ++s) gP[r][s] = net[base + r * pc.netCols + s].xyz;
+    [[unroll]] for (uint s = 0; s < MV; ++s) {
+      REAL4 h = net[base + r * pc.netCols + s];
+      gP[r][s] = h.xyz;
+      gPW[r][s] = RATIONAL != 0u ? h.w : REAL(0);
+    }
   [[unroll]] for (uint r = 0; r < MU; ++r)
     [[unroll]] for (uint d = 0; d <= DU; ++d) gCu[r][d] = params[coefBaseU(i) + r * kCoefStride + d];
   [[unroll]] for (uint s = 0; s < MV; ++s)
@@ -57,9 +74,12 @@ void loadPatchRows(uint i, uint j) {
 // The row data of u = tu (see evalSample).
 void setupRow(REAL tu) {
   REAL3 T0[MV], T1[MV];  // Σ_r B_r(u) P[r][s], Σ_r B_r'(u) P[r][s]
+  REAL TW0[MV], TW1[MV];  // the same of the weights (rational)
   [[unroll]] for (uint s = 0; s < MV; ++s) {
     T0[s] = REAL3(0);
     T1[s] = REAL3(0);
+    TW0[s] = REAL(0);
+    TW1[s] = REAL(0);
   }
   [[unroll]] for (uint r = 0; r < MU; ++r) {
     REAL w0 = gCu[r][DU], dp = REAL(0), unused = REAL(0);
@@ -67,16 +87,27 @@ void setupRow(REAL tu) {
     [[unroll]] for (uint s = 0; s < MV; ++s) {
       T0[s] += w0 * gP[r][s];
       T1[s] += dp * gP[r][s];
+      if (RATIONAL != 0u) {
+        TW0[s] += w0 * gPW[r][s];
+        TW1[s] += dp * gPW[r][s];
+      }
     }
   }
   [[unroll]] for (uint d = 0; d <= DV; ++d) {
     REAL3 w0 = REAL3(0), w1 = REAL3(0);
+    REAL ww0 = REAL(0), ww1 = REAL(0);
     [[unroll]] for (uint s = 0; s < MV; ++s) {
       w0 += cv[s][d] * T0[s];
       w1 += cv[s][d] * T1[s];
+      if (RATIONAL != 0u) {
+        ww0 += cv[s][d] * TW0[s];
+        ww1 += cv[s][d] * TW1[s];
+      }
     }
     gW0[d] = w0;
     gW1[d] = w1;
+    gWW0[d] = ww0;
+    gWW1[d] = ww1;
   }
   if (kAEB) {
     BlendFactors fu = blendFactors(singularBlend(tu));

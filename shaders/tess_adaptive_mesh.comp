@@ -118,15 +118,20 @@ void corner(uint k) {
 // Column-wise evaluation (v = const, u varies), the transpose of patch_rows.glsl's setupRow /
 // evalSample on the patch loadPatchRows loaded: the v contraction once per column in the power
 // basis of u, X0[d] = Σ_r cu_r,d Σ_s B_s(v) P[r][s] and X1[d] likewise with B_s'(v); a sample is
-// one Horner pass in u. α-EB: the v factors once, the corner weights per sample.
+// one Horner pass in u. α-EB: the v factors once, the corner weights per sample. Rational: the
+// weights' sums alongside (gXW0, gXW1), then the quotient rule.
 REAL3 gX0[DU + 1u], gX1[DU + 1u];
+REAL gXW0[DU + 1u], gXW1[DU + 1u];
 BlendFactors gFv;
 
 void setupColumn(REAL tv) {
   REAL3 T0[MU], T1[MU];
+  REAL TW0[MU], TW1[MU];
   [[unroll]] for (uint r = 0; r < MU; ++r) {
     T0[r] = REAL3(0);
     T1[r] = REAL3(0);
+    TW0[r] = REAL(0);
+    TW1[r] = REAL(0);
   }
   [[unroll]] for (uint s = 0; s < MV; ++s) {
     REAL w0 = cv[s][DV], dp = REAL(0), unused = REAL(0);
@@ -134,16 +139,27 @@ void setupColumn(REAL tv) {
     [[unroll]] for (uint r = 0; r < MU; ++r) {
       T0[r] += w0 * gP[r][s];
       T1[r] += dp * gP[r][s];
+      if (RATIONAL != 0u) {
+        TW0[r] += w0 * gPW[r][s];
+        TW1[r] += dp * gPW[r][s];
+      }
     }
   }
   [[unroll]] for (uint d = 0; d <= DU; ++d) {
     REAL3 w0 = REAL3(0), w1 = REAL3(0);
+    REAL ww0 = REAL(0), ww1 = REAL(0);
     [[unroll]] for (uint r = 0; r < MU; ++r) {
       w0 += gCu[r][d] * T0[r];
       w1 += gCu[r][d] * T1[r];
+      if (RATIONAL != 0u) {
+        ww0 += gCu[r][d] * TW0[r];
+        ww1 += gCu[r][d] * TW1[r];
+      }
     }
     gX0[d] = w0;
     gX1[d] = w1;
+    gXW0[d] = ww0;
+    gXW1[d] = ww1;
   }
   if (kAEB) gFv = blendFactors(singularBlend(tv));
 }
@@ -153,9 +169,18 @@ void evalColumnSample(REAL t, out REAL3 p, out REAL3 du, out REAL3 dv) {
   du = REAL3(0);
   dv = gX1[DU];
   REAL3 unused0 = REAL3(0), unused1 = REAL3(0), unused2 = REAL3(0);
+  REAL w = gXW0[DU], wu = REAL(0), wv = gXW1[DU], unusedW = REAL(0);
   [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) {
     hornerStep(p, du, unused0, t, gX0[d]);
     hornerStep(dv, unused1, unused2, t, gX1[d]);
+    if (RATIONAL != 0u) {
+      hornerStep(w, wu, unusedW, t, gXW0[d]);
+      hornerStep(wv, unusedW, unusedW, t, gXW1[d]);
+    }
+  }
+  if (RATIONAL != 0u) {
+    REAL3 none = REAL3(0);  // the second partials: dead code
+    rationalSurface(p, du, dv, none, none, none, w, wu, wv, REAL(0), REAL(0), REAL(0));
   }
   if (kAEB) {
     BlendFactors fu = blendFactors(singularBlend(t));

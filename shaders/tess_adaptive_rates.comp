@@ -32,37 +32,50 @@ const uint DV = POLY_DEGREE_V;
 // Row-wise second derivatives (patch_rows.glsl's setupRow / evalSample with one order more): the
 // u contraction of a probe row in the power basis of v for B_r, B_r' and B_r'' (W0, W1, W2); a
 // probe is one Horner pass in v giving Q, Q_v, Q_vv (W0), Q_u, Q_uv (W1), Q_uu (W2); α-EB: all six
-// weights per probe (alphaEBWeights).
+// weights per probe (alphaEBWeights); rational: the same of the weights, then the quotient rule.
 REAL3 gR0[DV + 1u], gR1[DV + 1u], gR2[DV + 1u];
+REAL gRW0[DV + 1u], gRW1[DV + 1u], gRW2[DV + 1u];
 REAL3 gSu;  // singularBlend(u) of the row
 
 void setupProbeRow(REAL tu) {
   REAL3 T0[MV], T1[MV], T2[MV];
+  REAL TW0[MV], TW1[MV], TW2[MV];
   [[unroll]] for (uint s = 0; s < MV; ++s) {
     T0[s] = REAL3(0);
     T1[s] = REAL3(0);
     T2[s] = REAL3(0);
+    TW0[s] = REAL(0);
+    TW1[s] = REAL(0);
+    TW2[s] = REAL(0);
   }
   [[unroll]] for (uint r = 0; r < MU; ++r) {
     REAL w0 = gCu[r][DU], dp = REAL(0), hp = REAL(0);
     [[unroll]] for (int d = int(DU) - 1; d >= 0; --d) hornerStep(w0, dp, hp, tu, gCu[r][d]);
     REAL w2 = REAL(2) * hp;
     [[unroll]] for (uint s = 0; s < MV; ++s) {
-      T0[s] += w0 * gP[r][s];
-      T1[s] += dp * gP[r][s];
-      T2[s] += w2 * gP[r][s];
+      accumulate3(T0[s], T1[s], T2[s], w0, dp, w2, gP[r][s]);
+      if (RATIONAL != 0u) accumulate3(TW0[s], TW1[s], TW2[s], w0, dp, w2, gPW[r][s]);
     }
   }
   [[unroll]] for (uint d = 0; d <= DV; ++d) {
     REAL3 w0 = REAL3(0), w1 = REAL3(0), w2 = REAL3(0);
+    REAL ww0 = REAL(0), ww1 = REAL(0), ww2 = REAL(0);
     [[unroll]] for (uint s = 0; s < MV; ++s) {
       w0 += cv[s][d] * T0[s];
       w1 += cv[s][d] * T1[s];
       w2 += cv[s][d] * T2[s];
+      if (RATIONAL != 0u) {
+        ww0 += cv[s][d] * TW0[s];
+        ww1 += cv[s][d] * TW1[s];
+        ww2 += cv[s][d] * TW2[s];
+      }
     }
     gR0[d] = w0;
     gR1[d] = w1;
     gR2[d] = w2;
+    gRW0[d] = ww0;
+    gRW1[d] = ww1;
+    gRW2[d] = ww2;
   }
   if (kAEB) gSu = singularBlend(tu);
 }
@@ -76,12 +89,19 @@ PatchDerivs evalProbe(REAL t) {
   q.uv = REAL3(0);
   q.uu = gR2[DV];
   REAL3 unused0 = REAL3(0), unused1 = REAL3(0), unused2 = REAL3(0);
+  REAL w = gRW0[DV], wv = REAL(0), hwv = REAL(0), wu = gRW1[DV], wuv = REAL(0), wuu = gRW2[DV], unusedW = REAL(0);
   [[unroll]] for (int d = int(DV) - 1; d >= 0; --d) {
     hornerStep(q.p, q.v, hv, t, gR0[d]);
     hornerStep(q.u, q.uv, unused0, t, gR1[d]);
     hornerStep(q.uu, unused1, unused2, t, gR2[d]);
+    if (RATIONAL != 0u) {
+      hornerStep(w, wv, hwv, t, gRW0[d]);
+      hornerStep(wu, wuv, unusedW, t, gRW1[d]);
+      hornerStep(wuu, unusedW, unusedW, t, gRW2[d]);
+    }
   }
   q.vv = REAL(2) * hv;
+  if (RATIONAL != 0u) rationalSurface(q.p, q.u, q.v, q.uu, q.uv, q.vv, w, wu, wv, wuu, wuv, REAL(2) * hwv);
   if (kAEB) {
     AlphaEBWeights w = alphaEBWeights(gSu, singularBlend(t), gAl, gV);
     alphaEBBlendPatch(w, q.p, q.u, q.v, q.uu, q.uv, q.vv);

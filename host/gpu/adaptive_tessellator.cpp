@@ -61,10 +61,6 @@ struct AdaptiveTessellator::Impl {
 
 AdaptiveTessellator::AdaptiveTessellator(std::shared_ptr<vk::Context> ctx, GpuSurface& surface, AdaptiveOptions options)
     : ctx_(std::move(ctx)), surface_(surface), options_(options), impl_(std::make_unique<Impl>()) {
-  if (surface.knotVector() && surface.rational())
-    throw std::invalid_argument(
-        "AdaptiveTessellator: rational B-spline surfaces (weights) are not tessellated adaptively yet; use "
-        "SurfaceTessellator");
   checkOptions(options_);
   patchesU_ = int(surface.gridItemsU());  // knot vectors: the non-empty intervals (knot patches)
   patchesV_ = int(surface.gridItemsV());
@@ -130,7 +126,10 @@ void AdaptiveTessellator::record(VkCommandBuffer cmd, const AdaptiveView& view, 
   const bool aeb = surface_.alphaEB();
   SpecValues evalSpec = basisSpec(surface_.basisU(), surface_.basisV());
   evalSpec[layout::kSpecAlphaEB] = aeb ? 1u : 0u;
-  evalSpec[layout::kSpecKnotPatches] = surface_.knotVector() ? 1u : 0u;
+  if (surface_.knotVector()) {
+    evalSpec[layout::kSpecKnotPatches] = 1u;
+    evalSpec[layout::kSpecRational] = surface_.rational() ? 1u : 0u;
+  }
   // One pipeline per mode (tess_layout.h kSpecAdaptMode); the sets are made for the mode-0 ones
   // (same layouts).
   auto withMode = [](SpecValues spec, uint32_t mode) {

@@ -76,8 +76,8 @@ class AdaptiveTessellator {
  public:
   // The surface must outlive the tessellator and share its context (fp32 or fp64 evaluation;
   // vertices are fp32 either way). Knot-vector B-splines: the patches are the non-empty knot
-  // interval pairs (shaders/layout.h knot patches). Throws std::invalid_argument for a bad option
-  // (naming it and its rule) or a rational knot-vector surface, std::length_error when maxRate's
+  // interval pairs (shaders/layout.h knot patches), rational or not. Throws std::invalid_argument
+  // for a bad option (naming it and its rule), std::length_error when maxRate's
   // worst-case mesh exceeds the device's storage-buffer range or 2^32 indices.
   AdaptiveTessellator(std::shared_ptr<vk::Context> ctx, GpuSurface& surface, AdaptiveOptions options = {});
   ~AdaptiveTessellator();

@@ -88,15 +88,12 @@ GridPlan planGrid(const TessTopology& t) {
 }
 
 // Where the pack pass finds a sample: the grid pass's slot when the sample lies on its patch's
-// grid, else a new list-mode sample (an edge whose rate differs from the patch's). Rational
-// knot-vector surfaces have no grid pass: every sample is a list sample.
+// grid, else a new list-mode sample (an edge whose rate differs from the patch's).
 class SourceMap {
  public:
-  SourceMap(const TessTopology& t, const GridPlan& g, bool everySampleListed)
-      : topo_(t), plan_(g), everySampleListed_(everySampleListed) {}
+  SourceMap(const TessTopology& t, const GridPlan& g) : topo_(t), plan_(g) {}
 
   uint32_t operator()(const TessSample& s) {
-    if (everySampleListed_) return listed(s);
     const size_t p = size_t(s.a) * topo_.rates.patchesV + s.b;
     const uint32_t n = plan_.patches[4 * p], m = plan_.patches[4 * p + 1];
     // Grid points are i/n; any other edge point k/e is at least 1/e >= 1/4096 of a step away.
@@ -120,7 +117,6 @@ class SourceMap {
 
   const TessTopology& topo_;
   const GridPlan& plan_;
-  bool everySampleListed_;
 };
 
 }  // namespace
@@ -179,22 +175,19 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   for (uint32_t k = shared; k < topo.vertexCount; ++k)
     if (topo.extraCount[k] != 0) throw std::logic_error("SurfaceTessellator: an interior vertex has extra samples");
 
-  // Rational knot-vector surfaces: every vertex from the list pass, so the pack pass writes them all.
-  listOnly_ = surface_.knotVector() && surface_.rational();
-  const uint32_t packed = listOnly_ ? topo.vertexCount : shared;
   const TessPatches patches(surface_.surface());
 
   // Pack pass inputs: sources (canonical ones first, then the extras), extra ranges, uv.
-  SourceMap sourceOf(topo, plan, listOnly_);
-  std::vector<uint32_t> sources(packed), extra(2 * size_t(packed));
-  std::vector<float> uvs(2 * size_t(packed));
-  for (uint32_t k = 0; k < packed; ++k) {
+  SourceMap sourceOf(topo, plan);
+  std::vector<uint32_t> sources(shared), extra(2 * size_t(shared));
+  std::vector<float> uvs(2 * size_t(shared));
+  for (uint32_t k = 0; k < shared; ++k) {
     sources[k] = sourceOf(topo.samples[k]);
     const auto uv = patches.uv(surface_.surface(), topo.samples[k]);
     uvs[2 * k] = uv[0];
     uvs[2 * k + 1] = uv[1];
   }
-  for (uint32_t k = 0; k < packed; ++k) {
+  for (uint32_t k = 0; k < shared; ++k) {
     extra[2 * k] = uint32_t(sources.size());
     extra[2 * k + 1] = topo.extraCount[k];
     for (uint32_t e = 0; e < topo.extraCount[k]; ++e) sources.push_back(sourceOf(topo.samples[topo.extraFirst[k] + e]));
@@ -226,7 +219,7 @@ void SurfaceTessellator::setRates(const TessRates& rates) {
   ownVertices_ = vk::Buffer::create(ctx, std::max<VkDeviceSize>(VkDeviceSize(topo.vertexCount) * tl::kTessVertexStride, 64),
                                     kTessVertexBufferUsage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                     vk::MemoryUse::DeviceLocal, "tess.vertices");
-  boundaryVertexCount_ = packed;
+  boundaryVertexCount_ = shared;
   gridUniform_ = plan.uniform;
   gridPush_ = {};
   gridPush_.invocations = uint32_t(plan.rows.size() / 2);
@@ -253,17 +246,15 @@ SurfaceTessellator::TargetSets& SurfaceTessellator::targetSets(VkBuffer vertices
   if (it != impl_->targetSets.end()) return it->second;
   KernelSet& k = *kernels_;
   TargetSets sets;
-  if (!listOnly_) {
-    sets.grid = vk::DescriptorSet::create(*ctx_, gridPipeline());
-    for (uint32_t b = 0; b < kBindingCount; ++b) sets.grid.bind(b, k.dummy());
-    sets.grid.bind(layout::kBindingNet, surface_.netBuffer())
-        .bind(layout::kBindingParams, surface_.paramBuffer())
-        .bind(layout::kBindingVerts, surface_.vertexBuffer())
-        .bind(tl::kTessGridBindingPatches, patchRecords_)
-        .bind(tl::kTessGridBindingRows, rowItems_)
-        .bind(tl::kTessGridBindingBoundary, boundary_);
-    sets.grid.bindExternal(tl::kTessGridBindingVertices, vertices, offset, vertexBytes());
-  }
+  sets.grid = vk::DescriptorSet::create(*ctx_, gridPipeline());
+  for (uint32_t b = 0; b < kBindingCount; ++b) sets.grid.bind(b, k.dummy());
+  sets.grid.bind(layout::kBindingNet, surface_.netBuffer())
+      .bind(layout::kBindingParams, surface_.paramBuffer())
+      .bind(layout::kBindingVerts, surface_.vertexBuffer())
+      .bind(tl::kTessGridBindingPatches, patchRecords_)
+      .bind(tl::kTessGridBindingRows, rowItems_)
+      .bind(tl::kTessGridBindingBoundary, boundary_);
+  sets.grid.bindExternal(tl::kTessGridBindingVertices, vertices, offset, vertexBytes());
   sets.pack = vk::DescriptorSet::create(*ctx_, packPipeline());
   sets.pack.bind(0, k.dummy())
       .bind(1, k.dummy())
@@ -283,7 +274,10 @@ const vk::ComputePipeline& SurfaceTessellator::gridPipeline() {
   SpecValues spec = basisSpec(bu, bv);
   spec[layout::kSpecAlphaEB] = surface_.alphaEB() ? 1u : 0u;
   spec[layout::kSpecUniformRates] = gridUniform_ ? 1u : 0u;
-  spec[layout::kSpecKnotPatches] = surface_.knotVector() ? 1u : 0u;
+  if (surface_.knotVector()) {
+    spec[layout::kSpecKnotPatches] = 1u;
+    spec[layout::kSpecRational] = surface_.rational() ? 1u : 0u;
+  }
   return kernels_->pipeline(Kernel::TessellateGrid, spec);
 }
 
@@ -314,8 +308,8 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
   // recorded command buffer never depends on host-side dirty state).
   if (aeb) recordAlphaEBVertices(k, surface_, true, cmd, impl_->vertexPassSet);
 
-  // (2) Edge points that are not on their patch's grid (mixed edge rates), or every vertex of a
-  // rational knot-vector surface: list mode (knot vectors: bspline_surface_eval.comp).
+  // (2) Edge points that are not on their patch's grid (mixed edge rates): list mode (knot
+  // vectors: bspline_surface_eval.comp).
   if (listSampleCount_ > 0) {
     const bool knot = surface_.knotVector();
     const FieldMask mask = fieldBit(Field::Point) | fieldBit(Field::Normal);
@@ -356,9 +350,7 @@ void SurfaceTessellator::record(VkCommandBuffer cmd, const TessTargets& targets)
 
   // (3) Every patch's grid: interior vertices into the target, perimeter samples into boundary_.
   TargetSets& sets = targetSets(targets.vertexBuffer, targets.vertexOffset);
-  if (listOnly_) {
-    // No grid pass: the list pass above evaluated every vertex.
-  } else if (gridUniform_) {
+  if (gridUniform_) {
     const auto& grid = gridPipeline();
     grid.bind(cmd, sets.grid.handle());  // inner rows, then rows 0 and n (tess_layout.h TessGridPush)
     tl::TessGridPush inner = gridPush_, edges = gridPush_;

@@ -18,9 +18,8 @@
 // (5) the index copy into a target index buffer that has not received this configuration yet,
 // (6) a barrier: shader/transfer writes -> VERTEX_ATTRIBUTE_READ | INDEX_READ at VERTEX_INPUT.
 // Knot-vector surfaces: the grid pass evaluates interval pair (i, j) as patch (i, j) from its
-// power-basis coefficients (shaders/layout.h knot patches), pass (2) uses bspline_surface_eval.comp.
-// Rational ones skip (3): pass (2) evaluates every vertex (per point de Boor–Cox and the quotient
-// rule) and (4) packs them all. Vertex uv is the global parameter: patch index + local for uniform
+// power-basis coefficients (shaders/layout.h knot patches; rational ones from the homogeneous net
+// and the quotient rule), pass (2) uses bspline_surface_eval.comp. Vertex uv is the global parameter: patch index + local for uniform
 // families, the knot parameters here.
 // A λ / α / control-point change on the GpuSurface (setLambda, setAlpha(s), updateControlPoint)
 // therefore shows at the next record() without re-uploading the net.
@@ -127,7 +126,6 @@ class SurfaceTessellator {
   uint32_t boundaryVertexCount_ = 0, listSampleCount_ = 0;
   tess_layout::TessGridPush gridPush_{};
   bool gridUniform_ = false;
-  bool listOnly_ = false;  // rational knot-vector surfaces: every vertex from the list pass
   uint32_t gridPatchCount_ = 0;
   // Grid pass: patch and row records, perimeter scratch. Pack pass: sources, extra ranges, uv.
   // List pass (edge points off their patch's grid): samples and point/normal planes.

@@ -97,8 +97,6 @@ class FixedRateMesh final : public SurfaceMesh {
 
 std::unique_ptr<SurfaceMesh> makeSurfaceMesh(std::shared_ptr<vk::Context> ctx, gpu::GpuSurface& surface,
                                              float tolerancePx, bool triangleWireframe) {
-  // The adaptive tessellator's rate and mesh passes do not take rational patches yet.
-  if (surface.knotVector() && surface.rational()) return std::make_unique<FixedRateMesh>(ctx, surface, kFixedRate);
   gpu::AdaptiveOptions options;
   options.tolerancePx = tolerancePx;
   for (options.maxRate = kMaxRate; options.maxRate >= kMinAdaptiveRate; options.maxRate /= 2) {

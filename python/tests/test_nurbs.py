@@ -138,7 +138,7 @@ def test_rational_surface_derivatives_match_the_rational_reference(maybe_gpu):
 def test_torus_tessellates_onto_the_torus(maybe_gpu):
     """A rational surface with double knots (empty intervals, which get no patch) tessellates on
     every device: every vertex on the torus to fp32 precision, uv the knot parameters, and the GPU
-    mesh the CPU one."""
+    mesh the CPU one (uv within 2 fp32 ulps: an fp32 GPU forms t_i + u h_i in fp32)."""
     R, r = 3.0, 1.25
     P = [[((R + r * d[0]) * c[0], (R + r * d[0]) * c[1], r * d[1]) for d in CIRCLE] for c in CIRCLE]
     Wt = [[wi * wj for wj in CIRCLE_W] for wi in CIRCLE_W]
@@ -157,7 +157,7 @@ def test_torus_tessellates_onto_the_torus(maybe_gpu):
     vc, ic = meshes[("cpu", "double")]
     for (device, precision), (v, tri) in meshes.items():
         assert np.array_equal(tri, ic)
-        assert np.array_equal(v[:, 6:], vc[:, 6:])
+        assert np.abs(v[:, 6:] - vc[:, 6:]).max() <= 2 * np.finfo(np.float32).eps, (device, precision)
         assert np.abs(v[:, :3] - vc[:, :3]).max() <= 4 * FP32_REL * (R + r), (device, precision)
 
 

@@ -241,7 +241,8 @@ void expectVerticesOfSurface(const gpu::AdaptiveTessellator::Mesh& mesh, const T
 
 TEST_F(AdaptiveTessellatorTest, MeshIsTheTopologyOfItsRatesAndTheSurfacesVertices) {
   const std::pair<const char*, SurfaceModel> models[] = {
-      {"wave", waveSheet()}, {"torus", torus()}, {"tube", tube()}, {"knot sheet", knotSheet()}};
+      {"wave", waveSheet()}, {"torus", torus()}, {"tube", tube()}, {"knot sheet", knotSheet()},
+      {"nurbs torus", nurbsTorus(2.0, 0.5)}};
   for (const auto& [name, model] : models) {
     const Surface cpu = Surface::create(model);
     gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
@@ -317,7 +318,7 @@ ErrorReport screenError(const gpu::AdaptiveTessellator::Mesh& mesh, const Surfac
 
 TEST_F(AdaptiveTessellatorTest, ScreenSpaceErrorStaysBelowTheTolerance) {
   const std::pair<const char*, SurfaceModel> models[] = {
-      {"wave", waveSheet()}, {"torus", torus()}, {"knot sheet", knotSheet()}};
+      {"wave", waveSheet()}, {"torus", torus()}, {"knot sheet", knotSheet()}, {"nurbs torus", nurbsTorus(2.0, 0.5)}};
   for (const auto& [name, model] : models) {
     const Surface cpu = Surface::create(model);
     gpu::GpuSurface surf(ctx_, cpu, Precision::Float);
@@ -466,15 +467,6 @@ TEST_F(AdaptiveTessellatorTest, RefusesBadOptionsByName) {
   o = {};
   o.maxRate = 4096;  // 80 patches at 4096^2 exceed any storage-buffer range
   EXPECT_THROW(gpu::AdaptiveTessellator(ctx_, surf, o), std::length_error);
-  // Rational surfaces go to the fixed-rate tessellator for now, by name.
-  const Surface nurbs = Surface::create(nurbsTorus(2.0, 0.5));
-  gpu::GpuSurface rational(ctx_, nurbs, Precision::Float);
-  try {
-    gpu::AdaptiveTessellator t(ctx_, rational, {});
-    ADD_FAILURE() << "a rational surface was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("rational"), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

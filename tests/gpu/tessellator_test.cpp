@@ -456,8 +456,8 @@ SurfaceModel nonUniformKnotSurface() {
 }
 
 // Knot-vector surfaces (the grid pass on knot patches) and a rational one (the NURBS torus, whose
-// double knots leave empty intervals too; every vertex from the list pass): positions, uv (the knot
-// parameters) and interior normals against the CPU, every vertex of the torus on the torus.
+// double knots leave empty intervals too; its weights a fourth channel of the grid pass): positions,
+// uv (the knot parameters) and interior normals against the CPU, every vertex of the torus on the torus.
 TEST_P(TessellatorPrecisionTest, KnotVectorAndRationalSurfacesMatchCpu) {
   const Precision pr = GetParam().precision;
   if (pr == Precision::Double && !ctx().supportsFloat64()) GTEST_SKIP() << "no shaderFloat64";
