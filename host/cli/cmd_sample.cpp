@@ -199,7 +199,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                      "must be in [1, " + std::to_string(kMaxChunkPoints) + "] (0 = default)");
   }
 
-  io::Model model = loadModel(args.model);
+  io::Model model = loadModel(args.model, args.allowOutsideArrays);
   const bool isSurface = std::holds_alternative<SurfaceModel>(model);
   std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
 
@@ -484,6 +484,8 @@ void registerSample(CLI::App& app) {
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
+  sub->add_flag("--allow-outside-arrays", args->allowOutsideArrays,
+                "read .npy arrays the model references from outside its folder (absolute paths, .., links)");
   sub->footer(kExitCodeHelp);
   sub->callback([args, sub] {
     args->meshLayoutGiven = sub->count("--mesh-layout") > 0;

@@ -19,6 +19,7 @@ struct SampleArgs {
   int threads = 0;
   long long chunkPoints = 0;  // 0 = default (CPU sampler and GPU evaluator defaults)
   bool derivatives = false, normals = false, quiet = false, requireDevice = false;
+  bool allowOutsideArrays = false;  // the model's .npy arrays may lie outside its folder
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
 };
 

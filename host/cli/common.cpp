@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -22,7 +23,7 @@ namespace {
 constexpr size_t kMaxPathChars = 256;
 }  // namespace
 
-io::Model loadModel(const std::string& path) {
+io::Model loadModel(const std::string& path, bool allowOutsideArrays) {
   std::string text;
   try {
     text = io::readInputFile(path, "MODEL");
@@ -31,7 +32,9 @@ io::Model loadModel(const std::string& path) {
   } catch (const std::exception& e) {
     throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
-  return io::parseModelText(text);
+  // Array references ("points": {"npy": ...}) are resolved in the model file's folder.
+  const io::ArrayFiles arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays};
+  return io::parseModelText(text, &arrays);
 }
 
 nlohmann::json readJsonFile(const std::string& path, const std::string& field) {

@@ -9,6 +9,7 @@
 
 #include <shapespline/core/validate.h>
 #include <shapespline/io/input_file.h>
+#include <shapespline/io/npy_array.h>
 
 namespace shapespline::io {
 
@@ -18,6 +19,8 @@ using nlohmann::json;
 
 // Integers that any field can meaningfully hold; larger ones are rejected before conversion to int.
 constexpr double kMaxInteger = 1e6;
+// The largest extent of a referenced array (rows, columns or points): an int, with room.
+constexpr std::uint64_t kMaxArrayExtent = std::uint64_t{1} << 30;
 
 std::string shortDump(const json& j) { return shortValue(j); }
 
@@ -112,6 +115,69 @@ size_t readPoint(const json& p, const std::string& field, bool surface, glm::dve
   return p.size();
 }
 
+// ---- Array references: "points": {"npy": "net.npy"} -------------------------------------------
+
+bool isArrayReference(const json& v) { return v.is_object(); }
+
+// The file an array reference names, checked against `files` (folder, outside-ness).
+std::filesystem::path referencedFile(const json& ref, const std::string& key, const ArrayFiles* files) {
+  if (ref.size() != 1 || !ref.contains("npy") || !ref.at("npy").is_string())
+    failJson(key, ref, "an array reference is {\"npy\": \"FILE.npy\"}, a file name relative to the model file");
+  const std::string name = ref.at("npy").get<std::string>();
+  if (!files)
+    fail(key, shortText(name), "array files are read only for a model file (the name is relative to its folder)");
+  if (name.empty()) fail(key, "\"\"", "the .npy file name is empty");
+  const std::filesystem::path rel(name);
+  const std::filesystem::path file = files->folder / rel;
+  if (files->allowOutside) return file;
+  const std::string outside = " is outside the model file's folder (allow it with --allow-outside-arrays)";
+  if (rel.is_absolute()) fail(key, shortText(name), "an absolute path" + outside);
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::canonical(files->folder.empty() ? "." : files->folder, ec);
+  const std::filesystem::path real = std::filesystem::weakly_canonical(file, ec);
+  if (ec) fail(key, shortText(name), "cannot resolve the path: " + ec.message());
+  const std::filesystem::path up = real.lexically_relative(dir);
+  if (up.empty() || *up.begin() == "..") fail(key, shortText(name), "the file (after links)" + outside);
+  return file;
+}
+
+// The array a reference names, its shape one of `shapes` (0 = any extent) and every value finite.
+NpyArray referencedArray(const json& ref, const std::string& key, const ArrayFiles* files,
+                         const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule) {
+  const std::filesystem::path file = referencedFile(ref, key, files);
+  const std::string name = shortText(ref.at("npy").get<std::string>());
+  NpyArray a;
+  try {
+    a = readNpyArray(file, files->maxValueBytes);
+  } catch (const std::invalid_argument& e) {
+    fail(key, name, e.what());
+  } catch (const std::runtime_error& e) {
+    fail(key, name, e.what());
+  }
+  auto fits = [&](const std::vector<std::uint64_t>& want) {
+    if (want.size() != a.shape.size()) return false;
+    for (size_t d = 0; d < want.size(); ++d)
+      if (want[d] != 0 && want[d] != a.shape[d]) return false;
+    return true;
+  };
+  if (std::none_of(shapes.begin(), shapes.end(), fits)) {
+    std::string got = "(";
+    for (size_t d = 0; d < a.shape.size(); ++d) got += (d ? ", " : "") + std::to_string(a.shape[d]);
+    fail(key, name + " of shape " + got + (a.shape.size() == 1 ? ",)" : ")"), shapeRule);
+  }
+  for (std::uint64_t d : a.shape)
+    if (d > kMaxArrayExtent) fail(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
+  for (size_t k = 0; k < a.values.size(); ++k) {
+    if (std::isfinite(a.values[k])) continue;
+    std::vector<std::uint64_t> index(a.shape.size());
+    for (size_t d = a.shape.size(), rest = k; d-- > 0; rest /= a.shape[d]) index[d] = rest % a.shape[d];
+    std::string at;
+    for (std::uint64_t i : index) at.append(1, '[').append(std::to_string(i)).append(1, ']');
+    fail(key + at, name, "must be a finite number (the array holds " + std::to_string(a.values[k]) + ")");
+  }
+  return a;
+}
+
 void readCommon(const json& doc, FamilySpec& f, bool surface) {
   const Construction c = f.construction;
   const FamilyTraits& traits = familyOf(c);
@@ -135,13 +201,8 @@ std::optional<double> scalarAlpha(const json& a) {
   return v;
 }
 
-CurveModel readCurve(const json& doc, Construction c) {
-  CurveModel m;
-  m.family.construction = c;
-  readCommon(doc, m.family, false);
-  if (doc.contains("closed")) m.closed = getBool(doc.at("closed"), "closed");
-
-  const json& pts = doc.at("points");
+// A curve's points written out: [[x, y], ...] or [[x, y, z], ...], one dimension for all.
+void readCurvePoints(const json& pts, CurveModel& m) {
   if (!pts.is_array()) failJson("points", pts, "must be an array of points");
   size_t dim = 0;
   m.points.resize(pts.size());
@@ -153,11 +214,39 @@ CurveModel readCurve(const json& doc, Construction c) {
                "all points must share one dimension (points[0] has " + std::to_string(dim) + " coordinates)");
   }
   m.dimension = dim == 0 ? 2 : static_cast<int>(dim);
+}
+
+// One number per point of a curve (alpha, weights) from an array reference.
+std::vector<double> referencedPerPoint(const json& ref, const std::string& key, const ArrayFiles* files, size_t n) {
+  return referencedArray(ref, key, files, {{n}},
+                         key + " must be an array of one number per point, shape (" + std::to_string(n) + ",)")
+      .values;
+}
+
+CurveModel readCurve(const json& doc, Construction c, const ArrayFiles* files) {
+  CurveModel m;
+  m.family.construction = c;
+  readCommon(doc, m.family, false);
+  if (doc.contains("closed")) m.closed = getBool(doc.at("closed"), "closed");
+
+  const json& pts = doc.at("points");
+  if (isArrayReference(pts)) {
+    NpyArray a = referencedArray(pts, "points", files, {{0, 2}, {0, 3}}, "curve points must be an (n, 2) or (n, 3) array");
+    const size_t n = size_t(a.shape[0]), d = size_t(a.shape[1]);
+    m.points.assign(n, glm::dvec3(0.0));
+    for (size_t i = 0; i < n; ++i)
+      for (size_t k = 0; k < d; ++k) m.points[i][int(k)] = a.values[i * d + k];
+    m.dimension = int(d);
+  } else {
+    readCurvePoints(pts, m);
+  }
 
   if (doc.contains("alpha")) {
     const json& a = doc.at("alpha");
     if (auto v = scalarAlpha(a)) {
       m.alpha.assign(m.points.size(), *v);
+    } else if (isArrayReference(a)) {
+      m.alpha = referencedPerPoint(a, "alpha", files, m.points.size());
     } else {
       if (!a.is_array()) failJson("alpha", a, "alpha must be a number or an array of one number per point");
       if (a.size() != m.points.size())
@@ -169,10 +258,14 @@ CurveModel readCurve(const json& doc, Construction c) {
   if (doc.contains("knots")) m.knots = getNumberArray(doc.at("knots"), "knots", "numbers");
   if (doc.contains("weights")) {
     const json& w = doc.at("weights");
-    if (!w.is_array() || w.size() != m.points.size())
-      fail("weights", w.is_array() ? std::to_string(w.size()) + " values" : shortDump(w),
-           "weights must be an array of one number per point (" + std::to_string(m.points.size()) + ")");
-    m.weights = getNumberArray(w, "weights", "numbers");
+    if (isArrayReference(w)) {
+      m.weights = referencedPerPoint(w, "weights", files, m.points.size());
+    } else {
+      if (!w.is_array() || w.size() != m.points.size())
+        fail("weights", w.is_array() ? std::to_string(w.size()) + " values" : shortDump(w),
+             "weights must be an array of one number per point (" + std::to_string(m.points.size()) + ")");
+      m.weights = getNumberArray(w, "weights", "numbers");
+    }
   }
   return m;
 }
@@ -195,7 +288,38 @@ std::vector<double> readVertexRows(const json& a, const std::string& key, const 
   return out;
 }
 
-SurfaceModel readSurface(const json& doc, Construction c) {
+// A surface's points written out: rows of [x, y, z] points, all rows of one length.
+void readSurfacePoints(const json& pts, SurfaceModel& m) {
+  if (!pts.is_array()) failJson("points", pts, "must be an array of rows, each an array of [x, y, z] points");
+  m.rows = static_cast<int>(pts.size());
+  m.cols = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const json& row = pts[i];
+    const std::string rowField = idx("points", i);
+    if (!row.is_array()) failJson(rowField, row, "each row must be an array of [x, y, z] points");
+    if (i == 0) m.cols = static_cast<int>(row.size());
+    if (row.size() != static_cast<size_t>(m.cols))
+      fail(rowField, std::to_string(row.size()) + " points",
+           "all rows must have equal length (points[0] has " + std::to_string(m.cols) + ")");
+    for (size_t j = 0; j < row.size(); ++j) {
+      glm::dvec3 p;
+      readPoint(row[j], idx(rowField, j), true, p);
+      m.points.push_back(p);
+    }
+  }
+}
+
+// One number per vertex of a surface (alpha, weights), written out or from an array reference.
+std::vector<double> readPerVertex(const json& a, const std::string& key, const std::string& what, int rows, int cols,
+                                  const ArrayFiles* files) {
+  if (!isArrayReference(a)) return readVertexRows(a, key, what, rows, cols);
+  return referencedArray(a, key, files, {{std::uint64_t(rows), std::uint64_t(cols)}},
+                         key + " must be an array of one number per point, shape (" + std::to_string(rows) + ", " +
+                             std::to_string(cols) + ")")
+      .values;
+}
+
+SurfaceModel readSurface(const json& doc, Construction c, const ArrayFiles* files) {
   SurfaceModel m;
   m.family.construction = c;
   readCommon(doc, m.family, true);
@@ -220,22 +344,14 @@ SurfaceModel readSurface(const json& doc, Construction c) {
   }
 
   const json& pts = doc.at("points");
-  if (!pts.is_array()) failJson("points", pts, "must be an array of rows, each an array of [x, y, z] points");
-  m.rows = static_cast<int>(pts.size());
-  m.cols = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    const json& row = pts[i];
-    const std::string rowField = idx("points", i);
-    if (!row.is_array()) failJson(rowField, row, "each row must be an array of [x, y, z] points");
-    if (i == 0) m.cols = static_cast<int>(row.size());
-    if (row.size() != static_cast<size_t>(m.cols))
-      fail(rowField, std::to_string(row.size()) + " points",
-           "all rows must have equal length (points[0] has " + std::to_string(m.cols) + ")");
-    for (size_t j = 0; j < row.size(); ++j) {
-      glm::dvec3 p;
-      readPoint(row[j], idx(rowField, j), true, p);
-      m.points.push_back(p);
-    }
+  if (isArrayReference(pts)) {
+    NpyArray a = referencedArray(pts, "points", files, {{0, 0, 3}}, "surface points must be a (rows, cols, 3) array");
+    m.rows = int(a.shape[0]);
+    m.cols = int(a.shape[1]);
+    m.points.resize(a.values.size() / 3);
+    std::copy(a.values.begin(), a.values.end(), &m.points.data()->x);
+  } else {
+    readSurfacePoints(pts, m);
   }
 
   if (doc.contains("alpha")) {
@@ -243,7 +359,7 @@ SurfaceModel readSurface(const json& doc, Construction c) {
     if (auto v = scalarAlpha(a)) {
       m.alpha.assign(m.points.size(), *v);
     } else {
-      m.alpha = readVertexRows(a, "alpha", "alpha must be a number or an array", m.rows, m.cols);
+      m.alpha = readPerVertex(a, "alpha", "alpha must be a number or an array", m.rows, m.cols, files);
     }
   }
   if (doc.contains("knots")) {
@@ -253,13 +369,15 @@ SurfaceModel readSurface(const json& doc, Construction c) {
     m.knotsU = getNumberArray(k[0], "knots[0]", "numbers");
     m.knotsV = getNumberArray(k[1], "knots[1]", "numbers");
   }
-  if (doc.contains("weights")) m.weights = readVertexRows(doc.at("weights"), "weights", "weights must be an array", m.rows, m.cols);
+  if (doc.contains("weights"))
+    m.weights = readPerVertex(doc.at("weights"), "weights", "weights must be an array", m.rows, m.cols, files);
   return m;
 }
 
+
 }  // namespace
 
-Model parseModel(const json& doc) {
+Model parseModel(const json& doc, const ArrayFiles* arrays) {
   if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
 
   static const std::array<const char*, 13> kKnownKeys = {"kind",  "construction", "degree", "order",
@@ -303,18 +421,23 @@ Model parseModel(const json& doc) {
   require("points", true);
 
   if (surface) {
-    SurfaceModel m = readSurface(doc, c);
+    SurfaceModel m = readSurface(doc, c, arrays);
     validateSurface(m);
     return m;
   }
-  CurveModel m = readCurve(doc, c);
+  CurveModel m = readCurve(doc, c, arrays);
   validateCurve(m);
   return m;
 }
 
-Model parseModelText(std::string_view text) { return parseModel(parseJsonText(text, "(document)")); }
+Model parseModelText(std::string_view text, const ArrayFiles* arrays) {
+  return parseModel(parseJsonText(text, "(document)"), arrays);
+}
 
-Model loadModelFile(const std::filesystem::path& path) { return parseModelText(readInputFile(path, "(file)")); }
+Model loadModelFile(const std::filesystem::path& path, bool allowOutside, std::uint64_t maxValueBytes) {
+  const ArrayFiles arrays{path.parent_path(), allowOutside, maxValueBytes};
+  return parseModelText(readInputFile(path, "(file)"), &arrays);
+}
 
 json toJson(const CurveModel& m) {
   const FamilySpec& f = m.family;

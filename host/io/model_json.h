@@ -9,8 +9,15 @@
 // text is parsed within the limits of io/input_file.h (nesting depth, keys per object, array
 // length, no duplicate keys) and a file is read with io::readInputFile (a regular file of at most
 // kMaxInputFileBytes).
+//
+// `points`, `alpha` and `weights` may instead name a .npy array (io/npy_array.h) relative to the
+// model file's folder: "points": {"npy": "net.npy"} (docs/format.md "Arrays in .npy files"). The
+// array's shape must be the one the key's JSON form has (curve points (n, 2) or (n, 3), surface
+// points (rows, cols, 3), alpha / weights (n) or (rows, cols)) and every value finite; its float64
+// copy may take at most ArrayFiles::maxValueBytes. Errors name the key and the file.
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string_view>
 #include <variant>
@@ -21,14 +28,28 @@ namespace shapespline::io {
 
 using Model = std::variant<CurveModel, SurfaceModel>;
 
-// JSON value -> validated model. Throws ModelError.
-Model parseModel(const nlohmann::json& doc);
+// The default budget for the float64 values of one referenced array: 4 GiB (a 13,000² surface
+// net), far beyond what a JSON model can hold and within what a sampling machine has.
+inline constexpr std::uint64_t kDefaultArrayBudget = std::uint64_t{4} << 30;
+
+// Where array references are read from.
+struct ArrayFiles {
+  std::filesystem::path folder;  // relative names are resolved here (the model file's folder)
+  bool allowOutside = false;     // absolute names, "..", and symlinks that lead out of `folder`
+  std::uint64_t maxValueBytes = kDefaultArrayBudget;
+};
+
+// JSON value -> validated model. Throws ModelError. Without `arrays`, an array reference is refused
+// (a model that is not a file has no folder to resolve it in).
+Model parseModel(const nlohmann::json& doc, const ArrayFiles* arrays = nullptr);
 // JSON text -> validated model. Throws ModelError (field "(document)" for malformed text).
-Model parseModelText(std::string_view text);
-// File -> validated model. Throws ModelError for bad content, a file that is not a regular file or
-// is too large (field "(file)"), and std::runtime_error when the file cannot be opened or read (so
-// a caller can tell an I/O failure from an invalid model).
-Model loadModelFile(const std::filesystem::path& path);
+Model parseModelText(std::string_view text, const ArrayFiles* arrays = nullptr);
+// File -> validated model, array references resolved in its folder. Throws ModelError for bad
+// content, a file that is not a regular file or is too large (field "(file)"), and
+// std::runtime_error when the file cannot be opened or read (so a caller can tell an I/O failure
+// from an invalid model).
+Model loadModelFile(const std::filesystem::path& path, bool allowOutside = false,
+                    std::uint64_t maxValueBytes = kDefaultArrayBudget);
 
 // Model -> docs/format.md JSON: 2-D curves as [x, y], alpha as a per-vertex array, doubles written
 // round-trippably, so parseModel(toJson(m)) reproduces m exactly.

@@ -1,0 +1,225 @@
+#include <shapespline/io/npy_array.h>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace shapespline::io {
+
+// fp64 values are read straight into doubles: the file's little-endian bytes are the host's.
+static_assert(std::endian::native == std::endian::little, "the .npy reader assumes a little-endian host");
+
+namespace {
+
+[[noreturn]] void refuse(const std::string& rule) { throw std::invalid_argument(rule); }
+
+// The header dict, a Python literal as numpy writes it: {'descr': '<f8', 'fortran_order': False,
+// 'shape': (2048, 2048, 3), } then spaces and a newline. Parsed strictly: these three keys once
+// each, nothing else.
+class DictParser {
+ public:
+  explicit DictParser(std::string_view text) : s_(text) {}
+
+  NpyHeader parse() {
+    NpyHeader h;
+    std::optional<std::string> descr;
+    std::optional<bool> fortran;
+    std::optional<std::vector<std::uint64_t>> shape;
+    expect('{');
+    while (!peek('}')) {
+      const std::string key = quoted();
+      expect(':');
+      if (key == "descr") {
+        if (descr) refuse("the header gives 'descr' twice");
+        descr = quoted();
+      } else if (key == "fortran_order") {
+        if (fortran) refuse("the header gives 'fortran_order' twice");
+        fortran = boolean();
+      } else if (key == "shape") {
+        if (shape) refuse("the header gives 'shape' twice");
+        shape = tuple();
+      } else {
+        refuse("the header has the unknown key '" + key.substr(0, 32) + "' (a .npy header has descr, fortran_order and shape)");
+      }
+      if (!peek('}')) expect(',');
+    }
+    expect('}');
+    skipSpace();
+    if (pos_ != s_.size()) refuse("the header has text after its dict");
+    if (!descr || !fortran || !shape) refuse("the header lacks descr, fortran_order or shape");
+    if (*descr == "<f8") h.float64 = true;
+    else if (*descr == "<f4") h.float64 = false;
+    else refuse("dtype '" + descr->substr(0, 16) + "' is not float64 or float32 little-endian ('<f8', '<f4')");
+    if (*fortran) refuse("the array is in Fortran order; write it in C order (numpy.ascontiguousarray)");
+    h.shape = *shape;
+    return h;
+  }
+
+ private:
+  void skipSpace() {
+    while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\n' || s_[pos_] == '\t')) ++pos_;
+  }
+  bool peek(char c) {
+    skipSpace();
+    return pos_ < s_.size() && s_[pos_] == c;
+  }
+  void expect(char c) {
+    if (!peek(c)) refuse(std::string("the header dict is malformed (expected '") + c + "' at byte " + std::to_string(pos_) + ")");
+    ++pos_;
+  }
+  std::string quoted() {
+    skipSpace();
+    if (pos_ >= s_.size() || (s_[pos_] != '\'' && s_[pos_] != '"')) refuse("the header dict is malformed (expected a string at byte " + std::to_string(pos_) + ")");
+    const char q = s_[pos_++];
+    const size_t end = s_.find(q, pos_);
+    if (end == std::string_view::npos) refuse("the header dict is malformed (an unterminated string)");
+    std::string out(s_.substr(pos_, end - pos_));
+    pos_ = end + 1;
+    return out;
+  }
+  bool boolean() {
+    skipSpace();
+    for (const auto& [word, value] : {std::pair{std::string_view("True"), true}, std::pair{std::string_view("False"), false}})
+      if (s_.substr(pos_, word.size()) == word) {
+        pos_ += word.size();
+        return value;
+      }
+    refuse("fortran_order must be True or False");
+  }
+  std::vector<std::uint64_t> tuple() {
+    std::vector<std::uint64_t> dims;
+    expect('(');
+    while (!peek(')')) {
+      skipSpace();
+      std::uint64_t v = 0;
+      size_t digits = 0;
+      while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') {
+        if (v > (std::numeric_limits<std::uint64_t>::max() - 9) / 10) refuse("a shape entry is too large");
+        v = v * 10 + std::uint64_t(s_[pos_++] - '0');
+        ++digits;
+      }
+      if (pos_ < s_.size() && s_[pos_] == 'L') ++pos_;  // Python 2 long
+      if (digits == 0) refuse("the shape must be a tuple of non-negative integers");
+      if (dims.size() == 32) refuse("the shape has more than 32 dimensions");
+      dims.push_back(v);
+      if (!peek(')')) expect(',');
+    }
+    expect(')');
+    return dims;
+  }
+
+  std::string_view s_;
+  size_t pos_ = 0;
+};
+
+std::uint16_t le16(const char* p) {
+  return std::uint16_t(std::uint8_t(p[0]) | std::uint8_t(p[1]) << 8);
+}
+std::uint32_t le32(const char* p) {
+  return std::uint32_t(std::uint8_t(p[0])) | std::uint32_t(std::uint8_t(p[1])) << 8 |
+         std::uint32_t(std::uint8_t(p[2])) << 16 | std::uint32_t(std::uint8_t(p[3])) << 24;
+}
+
+struct Fd {
+  int fd = -1;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+// Reads exactly n bytes at the current offset, or fails naming the file as changed.
+void readExactly(int fd, char* dst, std::uint64_t n, const std::filesystem::path& path) {
+  while (n > 0) {
+    const ssize_t got = ::read(fd, dst, size_t(std::min<std::uint64_t>(n, std::uint64_t{1} << 30)));
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error("cannot read '" + path.string() + "': " + std::strerror(errno));
+    }
+    if (got == 0) refuse("the file ended early (it changed while being read)");
+    dst += got;
+    n -= std::uint64_t(got);
+  }
+}
+
+}  // namespace
+
+NpyHeader parseNpyHeader(std::string_view head, std::uint64_t fileBytes) {
+  static constexpr char kMagic[] = "\x93NUMPY";
+  if (head.size() < 10 || head.substr(0, 6) != std::string_view(kMagic, 6))
+    refuse("not a .npy file (it does not start with \\x93NUMPY)");
+  const int major = std::uint8_t(head[6]);
+  if (major < 1 || major > 3) refuse(".npy format version " + std::to_string(major) + " is not 1, 2 or 3");
+  const size_t lengthBytes = major == 1 ? 2 : 4;
+  if (head.size() < 8 + lengthBytes) refuse("the header is cut short");
+  const std::uint64_t dictBytes = major == 1 ? le16(head.data() + 8) : le32(head.data() + 8);
+  const std::uint64_t offset = 8 + lengthBytes + dictBytes;
+  if (offset > kMaxNpyHeaderBytes) refuse("the header is longer than " + std::to_string(kMaxNpyHeaderBytes) + " bytes");
+  if (offset > head.size() || offset > fileBytes) refuse("the header is cut short (the file ends inside it)");
+  NpyHeader h = DictParser(head.substr(8 + lengthBytes, dictBytes)).parse();
+  h.dataOffset = offset;
+  h.count = 1;
+  for (std::uint64_t d : h.shape) {
+    if (d != 0 && h.count > std::numeric_limits<std::uint64_t>::max() / 8 / d)
+      refuse("the shape's element count overflows");
+    h.count *= d;
+  }
+  const std::uint64_t item = h.float64 ? 8 : 4;
+  const std::uint64_t dataBytes = fileBytes - offset;
+  if (dataBytes != h.count * item)
+    refuse("the shape needs " + std::to_string(h.count * item) + " data bytes, the file has " +
+           std::to_string(dataBytes) + (dataBytes < h.count * item ? " (truncated)" : " (extra bytes at its end)"));
+  return h;
+}
+
+NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes) {
+  Fd f;
+  do {
+    f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  } while (f.fd < 0 && errno == EINTR);
+  if (f.fd < 0) throw std::runtime_error("cannot open '" + path.string() + "': " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(f.fd, &st) != 0) throw std::runtime_error("cannot stat '" + path.string() + "': " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) refuse("is not a regular file");
+  const std::uint64_t fileBytes = std::uint64_t(st.st_size);
+  std::string head(size_t(std::min<std::uint64_t>(fileBytes, kMaxNpyHeaderBytes)), '\0');
+  readExactly(f.fd, head.data(), head.size(), path);
+  const NpyHeader h = parseNpyHeader(head, fileBytes);
+  if (h.count > maxValueBytes / 8)
+    refuse("its " + std::to_string(h.count) + " values need " + std::to_string(h.count * 8) +
+           " bytes as float64, over the array budget of " + std::to_string(maxValueBytes) + " bytes");
+  if (::lseek(f.fd, off_t(h.dataOffset), SEEK_SET) < 0)
+    throw std::runtime_error("cannot seek in '" + path.string() + "': " + std::strerror(errno));
+  NpyArray out;
+  out.shape = h.shape;
+  out.values.resize(size_t(h.count));
+  if (h.float64) {
+    readExactly(f.fd, reinterpret_cast<char*>(out.values.data()), h.count * 8, path);
+  } else {
+    constexpr size_t kChunk = size_t{1} << 18;  // floats per read: 1 MiB
+    std::vector<float> buf(std::min<size_t>(kChunk, size_t(h.count)));
+    for (size_t done = 0; done < out.values.size();) {
+      const size_t n = std::min(buf.size(), out.values.size() - done);
+      readExactly(f.fd, reinterpret_cast<char*>(buf.data()), n * 4, path);
+      std::copy(buf.begin(), buf.begin() + std::ptrdiff_t(n), out.values.begin() + std::ptrdiff_t(done));
+      done += n;
+    }
+  }
+  char extra = 0;
+  ssize_t more = 0;
+  do {
+    more = ::read(f.fd, &extra, 1);
+  } while (more < 0 && errno == EINTR);
+  if (more != 0) refuse("the file grew while being read");
+  return out;
+}
+
+}  // namespace shapespline::io

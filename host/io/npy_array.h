@@ -1,0 +1,41 @@
+#pragma once
+// NumPy .npy arrays that a model file names instead of writing the numbers out
+// ("points": {"npy": "net.npy"}, docs/format.md "Arrays in .npy files"). Only what a control net
+// needs is accepted: little-endian float64 or float32 ('<f8', '<f4'), C order, format versions 1-3.
+// The header is checked in full before any value is read (dtype, order, shape, and the shape's
+// byte count against the file's length, so a header claiming 10^12 elements or a truncated file
+// is refused without allocating); the values are then read straight into the result (fp64) or
+// through a fixed 1 MiB buffer (fp32).
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+#include <vector>
+
+namespace shapespline::io {
+
+// The header block (magic, version, length, the dict text) is at most this long.
+inline constexpr std::uint64_t kMaxNpyHeaderBytes = std::uint64_t{1} << 16;
+
+struct NpyHeader {
+  bool float64 = true;                // '<f8'; false: '<f4'
+  std::vector<std::uint64_t> shape;   // () is a scalar: one value
+  std::uint64_t dataOffset = 0;       // bytes before the first value
+  std::uint64_t count = 1;            // values: the product of shape
+};
+
+// The header at the start of `head` (the file's first min(size, kMaxNpyHeaderBytes) bytes) of a
+// file of `fileBytes` bytes. Throws std::invalid_argument whose message is the rule broken.
+NpyHeader parseNpyHeader(std::string_view head, std::uint64_t fileBytes);
+
+struct NpyArray {
+  std::vector<std::uint64_t> shape;
+  std::vector<double> values;  // C order
+};
+
+// The array of the regular file `path` as doubles. Its values (8 bytes each, whatever the file's
+// dtype) may take at most `maxValueBytes`, checked on the header before reading. Throws
+// std::invalid_argument (the rule: not a regular file, a bad header, over the budget, a file that
+// changed while read) and std::runtime_error when the file cannot be opened or read.
+NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes);
+
+}  // namespace shapespline::io

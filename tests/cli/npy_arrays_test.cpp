@@ -1,0 +1,154 @@
+// Issue 31 (binary control nets): a model file may name its points, alpha and weights as .npy
+// arrays beside it. The arrays are written by numpy (Debian python3-numpy, the reader's reference),
+// never by us: a referenced net samples to exactly the bytes of the same net written out in JSON
+// (fp64 arrays; fp32 arrays as their float values), and every bad array is refused with exit 2,
+// an error naming the key and the file, and no output.
+#include "cli_runner.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace shapespline::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kPython = "/usr/bin/python3";
+
+// Writes the models and arrays of these tests into argv[1] (a model folder) and argv[2] (a
+// folder beside it, for the outside-the-folder cases).
+constexpr const char* kMakeArrays = R"PY(
+import json, os, sys
+import numpy as np
+d, outside = sys.argv[1], sys.argv[2]
+n = 10
+P = np.array([[(i, j, np.sin(0.7 * i) * np.cos(0.5 * j)) for j in range(n)] for i in range(n)], float)
+al = np.random.default_rng(3).uniform(0.1, 1.0, (n, n))
+def save(name, a, folder=d):
+    np.save(os.path.join(folder, name), a)
+save("net.npy", P)
+save("net32.npy", P.astype(np.float32))
+save("alpha.npy", al)
+surface = {"kind": "surface", "construction": "alpha_eb", "degree": 5, "lambda": 0.25}
+def model(name, **keys):
+    json.dump(dict(surface, **keys), open(os.path.join(d, name), "w"))
+model("inline.json", points=P.tolist(), alpha=al.tolist())
+model("inline32.json", points=P.astype(np.float32).astype(float).tolist(), alpha=al.tolist())
+model("ref.json", points={"npy": "net.npy"}, alpha={"npy": "alpha.npy"})
+model("ref32.json", points={"npy": "net32.npy"}, alpha={"npy": "alpha.npy"})
+# A rational curve: 2-D points and weights as arrays.
+C = np.array([(np.cos(t), np.sin(2 * t)) for t in np.linspace(0, 3, 8)])
+W = np.linspace(0.5, 2.0, 8)
+save("curve.npy", C)
+save("weights.npy", W)
+knots = [0, 0, 0, 0, 0.2, 0.3, 0.5, 0.8, 1, 1, 1, 1]
+curve = {"kind": "curve", "construction": "bspline", "order": 4, "knots": knots}
+json.dump(dict(curve, points=C.tolist(), weights=W.tolist()), open(os.path.join(d, "curve_inline.json"), "w"))
+json.dump(dict(curve, points={"npy": "curve.npy"}, weights={"npy": "weights.npy"}),
+          open(os.path.join(d, "curve_ref.json"), "w"))
+# Bad arrays, each in its own model (points unless named otherwise).
+save("int.npy", P.astype(np.int64))
+save("big_endian.npy", P.astype(">f8"))
+save("fortran.npy", np.asfortranarray(P))
+save("shape.npy", P[:, :, :2])
+nan = P.copy(); nan[3, 4, 1] = np.nan
+save("nan.npy", nan)
+raw = open(os.path.join(d, "net.npy"), "rb").read()
+open(os.path.join(d, "truncated.npy"), "wb").write(raw[:-8])
+# A header that claims 10^12 elements, on a file of a few hundred bytes.
+hdr = "{'descr': '<f8', 'fortran_order': False, 'shape': (1000000, 1000000, 3), }"
+hdr += " " * (117 - len(hdr)) + "\n"
+open(os.path.join(d, "huge.npy"), "wb").write(b"\x93NUMPY\x01\x00" + len(hdr).to_bytes(2, "little") + hdr.encode() + raw[128:])
+save("alpha_shape.npy", al[:, :5])
+save("net.npy", P, outside)
+os.symlink(os.path.join(outside, "net.npy"), os.path.join(d, "link.npy"))
+for name in ["int", "big_endian", "fortran", "shape", "nan", "truncated", "huge", "link", "missing"]:
+    model("bad_" + name + ".json", points={"npy": name + ".npy"}, alpha={"npy": "alpha.npy"})
+model("bad_alpha_shape.json", points={"npy": "net.npy"}, alpha={"npy": "alpha_shape.npy"})
+model("bad_dotdot.json", points={"npy": "../" + os.path.basename(outside) + "/net.npy"}, alpha={"npy": "alpha.npy"})
+model("bad_absolute.json", points={"npy": os.path.join(outside, "net.npy")}, alpha={"npy": "alpha.npy"})
+model("bad_reference.json", points={"npy": "net.npy", "mmap": True}, alpha={"npy": "alpha.npy"})
+)PY";
+
+class NpyArrays : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(kPython) || std::system((std::string(kPython) + " -c 'import numpy' >/dev/null 2>&1").c_str()) != 0)
+      GTEST_SKIP() << kPython << " with numpy is missing (scripts/setup.sh installs python3-numpy)";
+    fs::create_directories(models());
+    fs::create_directories(outside());
+    writeText(dir_ / "make.py", kMakeArrays);
+    ASSERT_EQ(std::system((std::string(kPython) + " " + quote((dir_ / "make.py").string()) + " " +
+                           quote(models().string()) + " " + quote(outside().string()))
+                              .c_str()),
+              0);
+  }
+  fs::path models() const { return dir_ / "models"; }
+  fs::path outside() const { return dir_ / "outside"; }
+
+  CliResult sample(const std::string& model, const std::string& out, const std::string& extra = "") {
+    return runCli("sample " + quote((models() / model).string()) + " -o " + quote((dir_ / out).string()) +
+                      (model.rfind("curve", 0) == 0 ? " --samples 9" : " --grid 4") + " --derivatives --device cpu -q " +
+                      extra,
+                  dir_.path());
+  }
+
+  ScratchDir dir_{"npy_arrays"};
+};
+
+TEST_F(NpyArrays, ReferencedArraysSampleExactlyAsTheSameNumbersInJson) {
+  for (const auto& [inlineModel, refModel] : {std::pair{"inline.json", "ref.json"}, std::pair{"inline32.json", "ref32.json"},
+                                              std::pair{"curve_inline.json", "curve_ref.json"}}) {
+    SCOPED_TRACE(refModel);
+    const CliResult a = sample(inlineModel, "a.f64"), b = sample(refModel, "b.f64");
+    ASSERT_EQ(a.rc, 0) << a.err;
+    ASSERT_EQ(b.rc, 0) << b.err;
+    const std::string inlineBytes = readText(dir_ / "a.f64"), refBytes = readText(dir_ / "b.f64");
+    EXPECT_GT(inlineBytes.size(), 1000u);
+    EXPECT_TRUE(inlineBytes == refBytes) << "the referenced arrays sample to other bytes";
+  }
+}
+
+TEST_F(NpyArrays, BadArraysNameTheKeyAndTheFileAndWriteNothing) {
+  struct Case {
+    const char* model;
+    const char* key;
+    const char* file;
+    const char* rule;  // a piece of the message
+  };
+  const Case cases[] = {
+      {"bad_int.json", "points", "int.npy", "not float64 or float32"},
+      {"bad_big_endian.json", "points", "big_endian.npy", "little-endian"},
+      {"bad_fortran.json", "points", "fortran.npy", "Fortran order"},
+      {"bad_shape.json", "points", "shape.npy", "(rows, cols, 3)"},
+      {"bad_nan.json", "points[3][4][1]", "nan.npy", "finite"},
+      {"bad_truncated.json", "points", "truncated.npy", "truncated"},
+      {"bad_huge.json", "points", "huge.npy", "data bytes"},
+      {"bad_link.json", "points", "link.npy", "outside the model file's folder"},
+      {"bad_dotdot.json", "points", "net.npy", "outside the model file's folder"},
+      {"bad_absolute.json", "points", "net.npy", "absolute path"},
+      {"bad_missing.json", "points", "missing.npy", "cannot open"},
+      {"bad_alpha_shape.json", "alpha", "alpha_shape.npy", "shape (10, 10)"},
+      {"bad_reference.json", "points", "mmap", "{\"npy\": \"FILE.npy\"}"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.model);
+    const CliResult r = sample(c.model, "out.f64");
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find(std::string("error: ") + c.key + ":"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.file), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.rule), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.f64")) << "partial output";
+  }
+  // The user may allow arrays outside the folder.
+  for (const char* model : {"bad_link.json", "bad_dotdot.json", "bad_absolute.json"}) {
+    const CliResult r = sample(model, "out.f64", "--allow-outside-arrays");
+    EXPECT_EQ(r.rc, 0) << model << ": " << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace shapespline::test
