@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include <algorithm>
+#include <array>
 #include <condition_variable>
 #include <exception>
 #include <iterator>
@@ -52,6 +53,10 @@ struct PlaneOut {
   double* plane[kFieldCount];
   explicit PlaneOut(const ChunkBuffer& buffer) {
     for (int f = 0; f < kFieldCount; ++f) plane[f] = buffer.plane(static_cast<Field>(f));
+  }
+  // The job's own planes (SamplerOptions::jobPlanes), from job point `first` on.
+  PlaneOut(const std::array<double*, kFieldCount>& planes, size_t first) {
+    for (int f = 0; f < kFieldCount; ++f) plane[f] = planes[f] ? planes[f] + first * 3 : nullptr;
   }
   void put(Field f, size_t point, const glm::dvec3& v) const { sampler::put(plane[static_cast<int>(f)], point, v); }
   void putRows(const double* const (*rows)[3], int n, size_t point) const {
@@ -164,6 +169,21 @@ inline GridChunk deliverable(const ChunkPlan& plan, const ChunkBuffer* buffer, s
   return out;
 }
 
+// The job point of chunk `chunk`'s first point (its offset in SamplerOptions::jobPlanes).
+inline size_t jobPointOf(const ChunkPlan& plan, size_t chunk) {
+  return (plan.rows(chunk).first - plan.firstItem * plan.rowsPerItem) * plan.pointsPerRow;
+}
+
+// Whether the workers write the job's planes: given for every sampled field (and only those).
+inline bool usesJobPlanes(const SamplerOptions& options, FieldMask fields) {
+  FieldMask given = 0;
+  for (int f = 0; f < kFieldCount; ++f)
+    if (options.jobPlanes[f]) given |= fieldBit(static_cast<Field>(f));
+  if (given == 0) return false;
+  if (given != fields) throw std::invalid_argument("jobPlanes must be given for exactly the sampled fields");
+  return true;
+}
+
 // The sink the workers encode records into, or nullptr: without one, or when one row of points
 // does not fit a block (then the slices carry the records, cut to the blocks' size).
 inline const RecordSink* usableSink(const SamplerOptions& options, FieldMask fields, size_t pointsPerRow) {
@@ -203,8 +223,21 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
   const size_t chunkCount = plan.chunkCount();
   const size_t maxRows = plan.itemsPerChunk ? plan.itemsPerChunk * plan.rowsPerItem : plan.rowsPerChunk;
   const size_t workers = std::min<size_t>(static_cast<size_t>(threads), maxRows);
+  // Without a record sink, the job's own planes when the caller gives them, else chunk buffers.
+  const bool direct = !sink && usesJobPlanes(options, fields);
   ChunkBuffer buffers[kChunkBuffers];
-  for (auto& b : buffers) b.allocate(fields, plan.capacityPoints());
+  if (!direct)
+    for (auto& b : buffers) b.allocate(fields, plan.capacityPoints());
+  auto planesOf = [&](size_t chunk) {
+    return direct ? PlaneOut(options.jobPlanes, jobPointOf(plan, chunk)) : PlaneOut(buffers[chunk % kChunkBuffers]);
+  };
+  auto delivered = [&](size_t chunk) {
+    if (!direct) return deliverable(plan, &buffers[chunk % kChunkBuffers], chunk);
+    GridChunk out = deliverable(plan, nullptr, chunk);
+    const PlaneOut at = planesOf(chunk);
+    for (int f = 0; f < kFieldCount; ++f) out.planes[f] = at.plane[f];
+    return out;
+  };
 
   // Shared state: slices finished per chunk, chunks consumed, and the first failure.
   std::mutex mutex;
@@ -250,11 +283,8 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
         if (b < e && sink) {
           encodeRows(chunk, b, e);
         } else if (b < e) {
-          compute(PlaneOut(buffers[chunk % kChunkBuffers]), b, e, (b - begin) * plan.pointsPerRow);
-          if (options.slice) {
-            options.slice(deliverable(plan, &buffers[chunk % kChunkBuffers], chunk), (b - begin) * plan.pointsPerRow,
-                          (e - b) * plan.pointsPerRow);
-          }
+          compute(planesOf(chunk), b, e, (b - begin) * plan.pointsPerRow);
+          if (options.slice) options.slice(delivered(chunk), (b - begin) * plan.pointsPerRow, (e - b) * plan.pointsPerRow);
         }
       } catch (...) {
         std::lock_guard lock(mutex);
@@ -289,7 +319,7 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
       changed.wait(lock, [&] { return failure || slicesDone[chunk] == workers; });
       if (failure) break;
     }
-    const GridChunk out = deliverable(plan, sink ? nullptr : &buffers[chunk % kChunkBuffers], chunk);
+    const GridChunk out = sink ? deliverable(plan, nullptr, chunk) : delivered(chunk);
     try {
       consumer(out);
     } catch (...) {

@@ -11,6 +11,7 @@
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/core/surface.h>
 
+#include <array>
 #include <vector>
 
 namespace shapespline {
@@ -29,6 +30,11 @@ struct SamplerOptions {
   // the points of a block that holds a value out of range are computed again into the planes and
   // handed to `slice`, which finds and reports it.
   RecordSink records = {};
+  // Optional: fp64 planes of the whole job (point p of the job at [3p, 3p + 3)), one for every
+  // sampled field, that the workers fill directly instead of chunk buffers: the caller's own
+  // arrays (Python's sample()), so no copy follows. `slice` and the consumer then see the chunks
+  // over these planes. Ignored when `records` takes the points.
+  std::array<double*, kFieldCount> jobPlanes{};
 };
 
 // The sampled items: span indices of a curve (for knot-vector B-splines only non-empty intervals).

@@ -68,6 +68,7 @@ SamplerOptions samplerOptions(const GridOptions& options) {
   s.maxChunkPoints = options.chunkPoints > 0 ? options.chunkPoints : kDefaultCpuChunkPoints;
   s.slice = options.slice;
   s.records = options.records;
+  s.jobPlanes = options.jobPlanes;
   return s;
 }
 
@@ -146,6 +147,7 @@ void sampleOnCpuFor(const Model& model, const Report& r, const GridSpec& g, Fiel
   SamplerOptions plain = samplerOptions(o);
   plain.slice = nullptr;
   plain.records = {};
+  plain.jobPlanes = {};  // the workers' values are scaled: `slice` copies the unscaled ones
   ChunkUnscaler unscale(r.netScaleExponent);
   const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
     sliceInParallel(o.slice, chunk);

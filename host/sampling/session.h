@@ -18,6 +18,7 @@
 #include <shapespline/sampling/report.h>
 #include <shapespline/vk/context.h>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -43,6 +44,9 @@ struct GridOptions {
   // Optional, CPU only (core/grid_sampler.h SamplerOptions::records): a file whose records the
   // CPU sampler's workers encode as they compute them; needs `slice`, which GPU chunks go through.
   RecordSink records = {};
+  // Optional, CPU only (SamplerOptions::jobPlanes): fp64 arrays of the whole job, one per sampled
+  // field, that the CPU sampler's workers fill directly; GPU chunks still go through `slice`.
+  std::array<double*, kFieldCount> jobPlanes{};
 };
 
 // One sample of a list: local (span, t) / (patch i, j, u, v) or, with `global`, the global

@@ -86,8 +86,11 @@ class Handle {
   // resident mirror. Chunks arrive on the calling thread in item order.
   // `slice` (optional): order-free per-slice work, on the CPU sampler's workers; GPU chunks are
   // handed to it whole, before the consumer.
+  // `jobPlanes` (optional): fp64 arrays of the whole job the CPU sampler fills directly
+  // (sampling::GridOptions::jobPlanes); `slice` then sees the chunks over them.
   sampling::Report sampleGrid(const sampling::DeviceRequest& request, const GridSpec& grid, FieldMask fields,
-                              const ChunkConsumer& consumer, size_t chunkPoints, const SliceConsumer& slice = {}) {
+                              const ChunkConsumer& consumer, size_t chunkPoints, const SliceConsumer& slice = {},
+                              const std::array<double*, kFieldCount>& jobPlanes = {}) {
     {
       std::shared_lock lock(mutex_);
       sampling::Report r = python::plan(model_, request);
@@ -95,6 +98,7 @@ class Handle {
         sampling::GridOptions o;
         o.chunkPoints = chunkPoints;
         o.slice = slice;
+        o.jobPlanes = jobPlanes;
         sampling::sampleOnCpu(model_, r, grid, fields, consumer, o);
         return r;
       }
@@ -103,7 +107,7 @@ class Handle {
     sampling::Report r = python::plan(model_, request);  // again: the model may have changed
     if (!r.gpu) {
       lock.unlock();
-      return sampleGrid(request, grid, fields, consumer, chunkPoints, slice);
+      return sampleGrid(request, grid, fields, consumer, chunkPoints, slice, jobPlanes);
     }
     try {
       Resident& res = resident(r, chunkPoints);

@@ -254,13 +254,17 @@ py::object sample(Handle<Model>& h, py::object grid, py::object samples, py::obj
   {
     py::gil_scoped_release release;
     const size_t ppi = g.pointsPerItem();
-    // The copy into the arrays is order-free: a slice consumer, run by the CPU sampler's workers
-    // as they finish their rows (while the values are in their caches), not one serial pass on this
-    // thread after each chunk.
+    // fp64 on the CPU: the sampler's workers write the arrays themselves. Otherwise the copy into
+    // the arrays is order-free: a slice consumer, run by the CPU sampler's workers as they finish
+    // their rows (while the values are in their caches) or on each GPU chunk.
+    std::array<double*, kFieldCount> jobPlanes{};
+    if (dbl)
+      for (int f = 0; f < kFieldCount; ++f) jobPlanes[size_t(f)] = static_cast<double*>(dst[size_t(f)]);
     const SliceConsumer copy = [&](const GridChunk& c, size_t first, size_t count) {
       const size_t offset = ((c.firstItem - g.firstItem) * ppi + c.firstItemPoint()) * 3;
       for (int f = 0; f < kFieldCount; ++f) {
         if (!dst[size_t(f)] || !c.planes[size_t(f)]) continue;
+        if (dbl && c.planes[size_t(f)] == static_cast<double*>(dst[size_t(f)]) + offset) continue;  // written there
         if (dbl) {
           copyPlane(c, Field(f), static_cast<double*>(dst[size_t(f)]) + offset, first, count);
         } else {
@@ -268,7 +272,7 @@ py::object sample(Handle<Model>& h, py::object grid, py::object samples, py::obj
         }
       }
     };
-    report = h.sampleGrid(request, g, mask, [](const GridChunk&) {}, static_cast<size_t>(chunkPoints), copy);
+    report = h.sampleGrid(request, g, mask, [](const GridChunk&) {}, static_cast<size_t>(chunkPoints), copy, jobPlanes);
   }
   if (withReport) return py::make_tuple(out, reportObject(report));
   return out;
