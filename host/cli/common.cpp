@@ -33,7 +33,7 @@ io::Model loadModel(const std::string& path, bool allowOutsideArrays) {
     throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
   // Array references ("points": {"npy": ...}) are resolved in the model file's folder.
-  const io::ArrayFiles arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays};
+  io::ModelArrays arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays, io::kDefaultArrayBudget, {}};
   return io::parseModelText(text, &arrays);
 }
 

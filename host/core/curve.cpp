@@ -62,12 +62,13 @@ void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::d
   out = c;
 }
 
-glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha, const std::string& field) {
+glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha,
+                         const std::function<std::string()>& field) {
   const glm::dvec3 v = pm::alphaEBVertex(p, node, alpha);
   if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
     const glm::dvec3 d = p - node;
     const double dist = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
-    throw ModelError(field, shortest(alpha),
+    throw ModelError(field(), shortest(alpha),
                      "alpha is so small that V = P + ((1-alpha)/alpha)(P - node) exceeds the fp64 range (|P - node| = " +
                          shortest(dist) +
                          "; docs/math.md section 4.2): alpha must be at least about |P - node| / 1.8e308");
@@ -156,7 +157,7 @@ Curve Curve::create(CurveModel model) {
       CurvePoint node;
       evalLocalSpan(nodeBasis, &c.spanPoints_[j], 0.0, 1.0, node);
       c.nodes_[j] = node.point;
-      c.v_[j] = alphaEBVertex(m.points[j], node.point, m.alpha[j], "alpha[" + std::to_string(j) + "]");
+      c.v_[j] = alphaEBVertex(m.points[j], node.point, m.alpha[j], [j] { return "alpha[" + std::to_string(j) + "]"; });
     }
   }
   return c;

@@ -17,6 +17,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <functional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -48,7 +50,9 @@ void evalAlphaEBSpan(const SpanBasis& basis, const glm::dvec3* pts, const glm::d
 // V_j = P_j + ((1-α_j)/α_j)(P_j - node_j) (docs/math.md §4.2, §5.2). Throws ModelError(field, α, ...)
 // when V_j is beyond the fp64 range (α so small that |P_j - node_j| / α overflows): every point of
 // the two spans at P_j depends on V_j, so such a model cannot be evaluated (it is refused, exit 2).
-glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha, const std::string& field);
+// `field` gives the field name ("alpha[3]"), called only then.
+glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alpha,
+                         const std::function<std::string()>& field);
 
 // ---- Typed curve --------------------------------------------------------------------------------
 

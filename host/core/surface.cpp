@@ -183,7 +183,7 @@ Surface Surface::create(SurfaceModel model) {
         const size_t k = static_cast<size_t>(i) * m.cols + j;
         s.nodes_[k] = c.p;
         s.v_[k] = alphaEBVertex(m.at(i, j), c.p, m.alpha[k],
-                                "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]");
+                                [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; });
       }
     }
   }

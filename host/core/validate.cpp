@@ -143,9 +143,12 @@ void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::s
   checkKnotRange(t, field);
 }
 
-void checkAlphaValue(double a, const std::string& field) {
+// The field names of the per-point checks are built only for a value that fails: a 4096^2 net
+// would otherwise format 16 million names it never shows.
+template <class FieldName>
+void checkAlphaValue(double a, FieldName field) {
   if (!std::isfinite(a) || a <= 0.0 || a > 1.0)
-    fail(field, num(a), a == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
+    fail(field(), num(a), a == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
 }
 
 }  // namespace
@@ -205,11 +208,12 @@ namespace {
 
 // docs/math.md §10.8: a positive finite weight, and w P finite (the homogeneous point the
 // evaluation sums).
-void checkWeight(double w, const glm::dvec3& p, const std::string& field) {
-  if (!std::isfinite(w) || !(w > 0.0)) fail(field, num(w), "a weight must be a positive finite number");
+template <class FieldName>
+void checkWeight(double w, const glm::dvec3& p, FieldName field) {
+  if (!std::isfinite(w) || !(w > 0.0)) fail(field(), num(w), "a weight must be a positive finite number");
   const glm::dvec3 h = w * p;
   if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
-    fail(field, num(w), "weight times point overflows fp64 (the homogeneous point w P must be finite)");
+    fail(field(), num(w), "weight times point overflows fp64 (the homogeneous point w P must be finite)");
 }
 
 // Weights belong to knot-vector B-splines only, one per point.
@@ -248,13 +252,14 @@ void validateCurve(const CurveModel& m) {
     if (m.alpha.size() != n)
       fail("alpha", std::to_string(m.alpha.size()) + " values",
            "alpha array length must equal the number of points (" + std::to_string(n) + ")");
-    for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], idx("alpha", i));
+    for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], [&] { return idx("alpha", i); });
   } else if (!m.alpha.empty()) {
     fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
 
   checkWeightsAllowed(m.weights, n, c, !m.knots.empty(), std::to_string(n));
-  for (size_t i = 0; i < m.weights.size(); ++i) checkWeight(m.weights[i], m.points[i], idx("weights", i));
+  for (size_t i = 0; i < m.weights.size(); ++i)
+    checkWeight(m.weights[i], m.points[i], [&] { return idx("weights", i); });
 
   if (m.knots.empty()) return;
   if (c == Construction::ExtendedBSpline || c == Construction::GB) {
@@ -308,7 +313,7 @@ void validateSurface(const SurfaceModel& m) {
     for (int i = 0; i < m.rows; ++i)
       for (int j = 0; j < m.cols; ++j)
         checkAlphaValue(m.alpha[static_cast<size_t>(i) * m.cols + j],
-                        idx(idx("alpha", static_cast<size_t>(i)), static_cast<size_t>(j)));
+                        [&] { return idx(idx("alpha", static_cast<size_t>(i)), static_cast<size_t>(j)); });
   } else if (!m.alpha.empty()) {
     fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
@@ -318,7 +323,7 @@ void validateSurface(const SurfaceModel& m) {
   for (int i = 0; i < m.rows && !m.weights.empty(); ++i)
     for (int j = 0; j < m.cols; ++j)
       checkWeight(m.weights[static_cast<size_t>(i) * m.cols + j], m.at(i, j),
-                  idx(idx("weights", static_cast<size_t>(i)), static_cast<size_t>(j)));
+                  [&] { return idx(idx("weights", static_cast<size_t>(i)), static_cast<size_t>(j)); });
   if (!hasKnots) return;
   if (c != Construction::BSpline)
     fail("knots", "present", "surfaces take knots only for bspline (span knots are for curves only)");

@@ -9,7 +9,6 @@
 
 #include <shapespline/core/validate.h>
 #include <shapespline/io/input_file.h>
-#include <shapespline/io/npy_array.h>
 
 namespace shapespline::io {
 
@@ -115,12 +114,12 @@ size_t readPoint(const json& p, const std::string& field, bool surface, glm::dve
   return p.size();
 }
 
-// ---- Array references: "points": {"npy": "net.npy"} -------------------------------------------
+// ---- Array references: "points": {"npy": "net.npy"} or, given in memory, {"array": "points"} ------
 
 bool isArrayReference(const json& v) { return v.is_object(); }
 
 // The file an array reference names, checked against `files` (folder, outside-ness).
-std::filesystem::path referencedFile(const json& ref, const std::string& key, const ArrayFiles* files) {
+std::filesystem::path referencedFile(const json& ref, const std::string& key, const ModelArrays* files) {
   if (ref.size() != 1 || !ref.contains("npy") || !ref.at("npy").is_string())
     failJson(key, ref, "an array reference is {\"npy\": \"FILE.npy\"}, a file name relative to the model file");
   const std::string name = ref.at("npy").get<std::string>();
@@ -141,19 +140,33 @@ std::filesystem::path referencedFile(const json& ref, const std::string& key, co
   return file;
 }
 
-// The array a reference names, its shape one of `shapes` (0 = any extent) and every value finite.
-NpyArray referencedArray(const json& ref, const std::string& key, const ArrayFiles* files,
-                         const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule) {
-  const std::filesystem::path file = referencedFile(ref, key, files);
-  const std::string name = shortText(ref.at("npy").get<std::string>());
-  NpyArray a;
+// The array a reference names (given in memory or read from its file) and, for messages, its name.
+NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays, std::string& name) {
+  if (ref.size() == 1 && ref.contains("array") && arrays) {
+    const auto it = arrays->given.find(key);
+    if (ref.at("array") == key && it != arrays->given.end()) {
+      name = "NumPy array";
+      NpyArray a = std::move(it->second);
+      arrays->given.erase(it);
+      return a;
+    }
+  }
+  const std::filesystem::path file = referencedFile(ref, key, arrays);
+  name = shortText(ref.at("npy").get<std::string>());
   try {
-    a = readNpyArray(file, files->maxValueBytes);
+    return readNpyArray(file, arrays->maxValueBytes);
   } catch (const std::invalid_argument& e) {
     fail(key, name, e.what());
   } catch (const std::runtime_error& e) {
     fail(key, name, e.what());
   }
+}
+
+// The array a reference names, its shape one of `shapes` (0 = any extent) and every value finite.
+NpyArray referencedArray(const json& ref, const std::string& key, ModelArrays* arrays,
+                         const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule) {
+  std::string name;
+  NpyArray a = takeArray(ref, key, arrays, name);
   auto fits = [&](const std::vector<std::uint64_t>& want) {
     if (want.size() != a.shape.size()) return false;
     for (size_t d = 0; d < want.size(); ++d)
@@ -217,13 +230,13 @@ void readCurvePoints(const json& pts, CurveModel& m) {
 }
 
 // One number per point of a curve (alpha, weights) from an array reference.
-std::vector<double> referencedPerPoint(const json& ref, const std::string& key, const ArrayFiles* files, size_t n) {
+std::vector<double> referencedPerPoint(const json& ref, const std::string& key, ModelArrays* files, size_t n) {
   return referencedArray(ref, key, files, {{n}},
                          key + " must be an array of one number per point, shape (" + std::to_string(n) + ",)")
       .values;
 }
 
-CurveModel readCurve(const json& doc, Construction c, const ArrayFiles* files) {
+CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
   CurveModel m;
   m.family.construction = c;
   readCommon(doc, m.family, false);
@@ -311,7 +324,7 @@ void readSurfacePoints(const json& pts, SurfaceModel& m) {
 
 // One number per vertex of a surface (alpha, weights), written out or from an array reference.
 std::vector<double> readPerVertex(const json& a, const std::string& key, const std::string& what, int rows, int cols,
-                                  const ArrayFiles* files) {
+                                  ModelArrays* files) {
   if (!isArrayReference(a)) return readVertexRows(a, key, what, rows, cols);
   return referencedArray(a, key, files, {{std::uint64_t(rows), std::uint64_t(cols)}},
                          key + " must be an array of one number per point, shape (" + std::to_string(rows) + ", " +
@@ -319,7 +332,7 @@ std::vector<double> readPerVertex(const json& a, const std::string& key, const s
       .values;
 }
 
-SurfaceModel readSurface(const json& doc, Construction c, const ArrayFiles* files) {
+SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
   SurfaceModel m;
   m.family.construction = c;
   readCommon(doc, m.family, true);
@@ -377,7 +390,7 @@ SurfaceModel readSurface(const json& doc, Construction c, const ArrayFiles* file
 
 }  // namespace
 
-Model parseModel(const json& doc, const ArrayFiles* arrays) {
+Model parseModel(const json& doc, ModelArrays* arrays) {
   if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
 
   static const std::array<const char*, 13> kKnownKeys = {"kind",  "construction", "degree", "order",
@@ -430,12 +443,12 @@ Model parseModel(const json& doc, const ArrayFiles* arrays) {
   return m;
 }
 
-Model parseModelText(std::string_view text, const ArrayFiles* arrays) {
+Model parseModelText(std::string_view text, ModelArrays* arrays) {
   return parseModel(parseJsonText(text, "(document)"), arrays);
 }
 
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside, std::uint64_t maxValueBytes) {
-  const ArrayFiles arrays{path.parent_path(), allowOutside, maxValueBytes};
+  ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}};
   return parseModelText(readInputFile(path, "(file)"), &arrays);
 }
 

@@ -14,15 +14,20 @@
 // model file's folder: "points": {"npy": "net.npy"} (docs/format.md "Arrays in .npy files"). The
 // array's shape must be the one the key's JSON form has (curve points (n, 2) or (n, 3), surface
 // points (rows, cols, 3), alpha / weights (n) or (rows, cols)) and every value finite; its float64
-// copy may take at most ArrayFiles::maxValueBytes. Errors name the key and the file.
+// copy may take at most ModelArrays::maxValueBytes. Errors name the key and the file. A caller
+// that holds the arrays in memory (the Python module) hands them over in ModelArrays::given, the
+// document naming them {"array": "points"}: the same rules and messages, no JSON numbers.
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <string>
 #include <string_view>
 #include <variant>
 
 #include <shapespline/core/model.h>
+#include <shapespline/io/npy_array.h>
 
 namespace shapespline::io {
 
@@ -32,18 +37,19 @@ using Model = std::variant<CurveModel, SurfaceModel>;
 // net), far beyond what a JSON model can hold and within what a sampling machine has.
 inline constexpr std::uint64_t kDefaultArrayBudget = std::uint64_t{4} << 30;
 
-// Where array references are read from.
-struct ArrayFiles {
+// Where array references are read from: .npy files in a folder, or arrays given in memory.
+struct ModelArrays {
   std::filesystem::path folder;  // relative names are resolved here (the model file's folder)
   bool allowOutside = false;     // absolute names, "..", and symlinks that lead out of `folder`
   std::uint64_t maxValueBytes = kDefaultArrayBudget;
+  std::map<std::string, NpyArray> given;  // by key; the parser moves each one it uses out
 };
 
 // JSON value -> validated model. Throws ModelError. Without `arrays`, an array reference is refused
 // (a model that is not a file has no folder to resolve it in).
-Model parseModel(const nlohmann::json& doc, const ArrayFiles* arrays = nullptr);
+Model parseModel(const nlohmann::json& doc, ModelArrays* arrays = nullptr);
 // JSON text -> validated model. Throws ModelError (field "(document)" for malformed text).
-Model parseModelText(std::string_view text, const ArrayFiles* arrays = nullptr);
+Model parseModelText(std::string_view text, ModelArrays* arrays = nullptr);
 // File -> validated model, array references resolved in its folder. Throws ModelError for bad
 // content, a file that is not a regular file or is too large (field "(file)"), and
 // std::runtime_error when the file cannot be opened or read (so a caller can tell an I/O failure

@@ -118,7 +118,7 @@ TEST(TinyKnots, KnotDifferencesBeyondFp64AreRefusedNamingTheKnot) {
 TEST(TinyAlpha, AVertexBeyondFp64IsRefusedNamingAlphaAndPEqualNodeStaysFinite) {
   const glm::dvec3 p(1, 2, 0), node(0.5, 1.5, 0);
   try {
-    alphaEBVertex(p, node, 1e-310, "alpha[3]");
+    alphaEBVertex(p, node, 1e-310, [] { return std::string("alpha[3]"); });
     ADD_FAILURE() << "accepted V beyond fp64";
   } catch (const ModelError& e) {
     EXPECT_EQ(e.field(), "alpha[3]");
@@ -126,10 +126,10 @@ TEST(TinyAlpha, AVertexBeyondFp64IsRefusedNamingAlphaAndPEqualNodeStaysFinite) {
     EXPECT_NE(e.rule().find("exceeds the fp64 range"), std::string::npos) << e.rule();
   }
   // (1 - α)/α overflows, but P = node makes V = P (it was 0 * inf = NaN).
-  const glm::dvec3 v = alphaEBVertex(p, p, 1e-310, "alpha[0]");
+  const glm::dvec3 v = alphaEBVertex(p, p, 1e-310, [] { return std::string("alpha[0]"); });
   EXPECT_EQ(v, p);
   // Tiny but with a finite V: the unchanged formula, bit for bit.
-  EXPECT_EQ(alphaEBVertex(p, node, 1e-300, "alpha[0]"), p + ((1.0 - 1e-300) / 1e-300) * (p - node));
+  EXPECT_EQ(alphaEBVertex(p, node, 1e-300, [] { return std::string("alpha[0]"); }), p + ((1.0 - 1e-300) / 1e-300) * (p - node));
 }
 
 }  // namespace
