@@ -11,7 +11,8 @@ set(SHAPESPLINE_PUBLIC_HEADERS
     core/bspline.h core/curve.h core/diagnostics.h core/extension.h core/family.h core/gb_tools.h
     core/grid_sampler.h core/model.h core/sample_grid.h core/span_basis.h core/surface.h
     core/tess_topology.h core/validate.h
-    io/atomic_file.h io/job_metadata.h io/model_json.h io/png_writer.h io/sample_writer.h io/svg_writer.h
+    io/atomic_file.h io/job_metadata.h io/model_json.h io/npy_array.h io/png_writer.h io/sample_writer.h
+    io/svg_writer.h
     vk/buffer.h vk/context.h vk/error.h vk/handle.h vk/pipeline.h vk/pipeline_cache.h vk/submit.h
     gpu/basis_table_evaluator.h gpu/curve_evaluator.h gpu/evaluator.h gpu/evaluator_options.h gpu/gpu_model.h
     gpu/surface_evaluator.h gpu/tessellator.h gpu/adaptive_tessellator.h
