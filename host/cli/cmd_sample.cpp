@@ -12,15 +12,19 @@
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/session.h>
 
+#include <algorithm>
 #include <atomic>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <set>
+#include <string_view>
 
 namespace shapespline::cli {
 namespace {
@@ -173,7 +177,7 @@ GridChunk withInjectedNan(const GridChunk& c, size_t points, std::vector<double>
 
 }  // namespace
 
-bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary) {
+bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary, sampling::Session* shared) {
   // --shard auto and a shard pattern in -o first (cli/shard_files.h): the rest sees K/N and a path.
   SampleArgs resolved = given;
   {
@@ -344,7 +348,8 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   // A shard (--shard given) also writes its record OUT.shard.json, last in the set (cli/shard_files.h).
   io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(io::shardRecordPath(args.out), "-o");
   const std::string extraRole = format == io::OutputFormat::Gltf ? "buffer" : "sidecar";
-  sampling::Session session;
+  std::optional<sampling::Session> own;
+  sampling::Session& session = shared ? *shared : own.emplace();
   const sampling::Report report = curve ? session.plan(*curve, request) : session.plan(*surface, request);
   printNotices(report, args.quiet);
   layout.device = report.device;
@@ -437,10 +442,13 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   return true;
 }
 
-void runSample(const SampleArgs& args) {
+namespace {
+
+// One job and its output set, committed (or discarded when a shard's record verified).
+void sampleAndCommit(const SampleArgs& args, sampling::Session* session) {
   io::OutputSet outputs;
   std::string summary;
-  if (!sampleInto(args, outputs, summary)) {
+  if (!sampleInto(args, outputs, summary, session)) {
     outputs.discard();
     return;
   }
@@ -448,10 +456,82 @@ void runSample(const SampleArgs& args) {
   if (!args.quiet) std::fprintf(stderr, "shapespline: %s\n", summary.c_str());
 }
 
+constexpr const char* kStem = "{stem}";
+
+// MODEL... with each folder replaced by its *.json files, in name order.
+std::vector<std::string> expandModels(const std::vector<std::string>& given) {
+  std::vector<std::string> models;
+  for (const std::string& m : given) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(m, ec)) {
+      models.push_back(m);
+      continue;
+    }
+    std::vector<std::string> inFolder;
+    for (const auto& entry : std::filesystem::directory_iterator(m, ec))
+      if (entry.path().extension() == ".json" && !entry.is_directory()) inFolder.push_back(entry.path().string());
+    if (ec) throw InputError("MODEL", m, "cannot list the folder: " + ec.message());
+    if (inFolder.empty()) throw InputError("MODEL", m, "the folder holds no .json model");
+    std::sort(inFolder.begin(), inFolder.end());
+    models.insert(models.end(), inFolder.begin(), inFolder.end());
+  }
+  return models;
+}
+
+std::string withStem(std::string pattern, const std::string& stem) {
+  for (size_t at = pattern.find(kStem); at != std::string::npos; at = pattern.find(kStem, at + stem.size()))
+    pattern.replace(at, std::string_view(kStem).size(), stem);
+  return pattern;
+}
+
+// Several models on one session: its device is set up and each pipeline compiled once.
+void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) {
+  if (args.out.find(kStem) == std::string::npos)
+    throw InputError("-o", args.out, "several models need {stem} in the output name (e.g. out/{stem}.npy)");
+  if (!args.shard.empty()) throw InputError("--shard", args.shard, "does not apply to several models");
+  std::set<std::string> outs;
+  for (const std::string& m : models)
+    if (!outs.insert(withStem(args.out, std::filesystem::path(m).stem().string())).second)
+      throw InputError("MODEL", m, "another model has the same file stem: their outputs would be one file");
+  sampling::Session session;
+  size_t failed = 0;
+  for (const std::string& m : models) {
+    SampleArgs one = args;
+    one.model = m;
+    one.models = {m};
+    one.out = withStem(args.out, std::filesystem::path(m).stem().string());
+    try {
+      sampleAndCommit(one, &session);
+    } catch (const std::exception& e) {
+      if (args.failFast) throw;
+      ++failed;
+      std::fprintf(stderr, "shapespline: error: %s: %s\n", m.c_str(), e.what());
+    }
+  }
+  if (failed)
+    throw BatchFailure(std::to_string(failed) + " of " + std::to_string(models.size()) +
+                       " models failed (each reported above); the others were written");
+}
+
+}  // namespace
+
+void runSample(const SampleArgs& args) {
+  const std::vector<std::string> models = expandModels(args.models);
+  // A folder, several files, or {stem} in -o: the batch form, even for one model.
+  const bool several = models != args.models || models.size() > 1 || args.out.find(kStem) != std::string::npos;
+  if (several) return sampleMany(args, models);
+  SampleArgs one = args;
+  one.model = models[0];
+  sampleAndCommit(one, nullptr);
+}
+
 void registerSample(CLI::App& app) {
   auto args = std::make_shared<SampleArgs>();
   CLI::App* sub = app.add_subcommand("sample", "Sample a model on a regular grid per span/patch and write a file.");
-  sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
+  sub->add_option("MODEL", args->models,
+                  "model file (docs/format.md); several, or a folder of .json models, are sampled in one process "
+                  "with -o naming each output by {stem} (the model's file name without .json)")
+      ->required();
   sub->add_option("-o,--output", args->out,
                   "output file; format from the extension: .obj .ply .csv .svg .glb .gltf (+ OUT.bin) .f32 .f64 .npy "
                   "(each + OUT.json sidecar); a shard pattern names each shard: out-{shard:05d}-of-{count:05d}.f32")
@@ -484,6 +564,8 @@ void registerSample(CLI::App& app) {
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
+  sub->add_flag("--fail-fast", args->failFast,
+                "several models: stop at the first that fails (else each failure is reported, the rest written, exit 1)");
   sub->add_flag("--allow-outside-arrays", args->allowOutsideArrays,
                 "read .npy arrays the model references from outside its folder (absolute paths, .., links)");
   sub->footer(kExitCodeHelp);

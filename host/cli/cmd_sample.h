@@ -1,15 +1,20 @@
 #pragma once
 // The `sample` command's arguments and entry point, also used by `demo`.
 #include <string>
+#include <vector>
 
 namespace shapespline::io {
 class OutputSet;
+}
+namespace shapespline::sampling {
+class Session;
 }
 
 namespace shapespline::cli {
 
 struct SampleArgs {
-  std::string model;
+  std::vector<std::string> models;  // MODEL... as given (files, or folders of *.json)
+  std::string model;                // the one model of a job
   std::string modelName;  // the model's path as the outputs record it ("" = model); see demo
   std::string out, grid, device = "auto", precision = "double", shard;
   std::string samples;  // --samples as given ("" = not given: the default)
@@ -20,15 +25,22 @@ struct SampleArgs {
   long long chunkPoints = 0;  // 0 = default (CPU sampler and GPU evaluator defaults)
   bool derivatives = false, normals = false, quiet = false, requireDevice = false;
   bool allowOutsideArrays = false;  // the model's .npy arrays may lie outside its folder
+  bool failFast = false;            // several models: stop at the first that fails
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
 };
 
-// Samples one job and commits its files (data, sidecar, shard record) as one output set.
+// Samples one job and commits its files (data, sidecar, shard record) as one output set; with
+// several models (or a folder, or {stem} in -o), one job per model on one session: each model's
+// set is committed on its own, a model that fails is reported and the rest still run, and the
+// command then fails with BatchFailure (exit 1), or at the first failure with --fail-fast.
 void runSample(const SampleArgs& args);
 
 // The same job with its files added to `outputs`, which the caller commits (demo commits every job
 // of its folder as one set). Returns false when nothing was sampled because a shard's record
 // verified (resume: the caller discards the set); `summary` receives the "wrote ..." line.
-bool sampleInto(const SampleArgs& args, io::OutputSet& outputs, std::string& summary);
+// `session`: the one to sample with (a batch keeps one: one device, pipelines compiled once), or
+// nullptr for a new one.
+bool sampleInto(const SampleArgs& args, io::OutputSet& outputs, std::string& summary,
+                sampling::Session* session = nullptr);
 
 }  // namespace shapespline::cli

@@ -7,12 +7,14 @@
 namespace shapespline::cli {
 
 inline constexpr int kExitSuccess = 0;
+inline constexpr int kExitSomeFailed = 1;  // `sample` of several models: some failed (each reported), the rest written
 inline constexpr int kExitBadInput = 2;   // bad model, bad arguments, unusable input/output path
 inline constexpr int kExitRuntime = 3;    // Vulkan/device failure, I/O failure while writing, internal error
 
 inline constexpr const char* kExitCodeHelp =
-    "Exit codes: 0 success; 2 bad input (model file, arguments, output path); "
-    "3 device or runtime error (Vulkan, I/O while writing, internal).";
+    "Exit codes: 0 success; 1 some of several models failed (each reported, the others written); "
+    "2 bad input (model file, arguments, output path); 3 device or runtime error (Vulkan, I/O while writing, "
+    "internal).";
 
 // A user-facing error naming a field, the offending value and the rule, on top of the standard
 // exception `Base` that decides its exit code. Printed as "shapespline: error: <field>: <rule>
@@ -31,6 +33,12 @@ class FieldError : public Base {
 
  private:
   std::string field_, value_, rule_;
+};
+
+// `sample` of several models where some failed (each was reported as it failed): exit code 1.
+class BatchFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // A command-line argument or input file that breaks a rule: exit code 2.

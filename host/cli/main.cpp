@@ -106,6 +106,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     return reportParseError(e);  // "shapespline: error: <option>: <reason>" and a usage hint
+  } catch (const BatchFailure& e) {
+    return report("MODEL", e.what(), kExitSomeFailed);
   } catch (const ModelError& e) {
     return report(e.field(), ruleAndValue(e), kExitBadInput);
   } catch (const InputError& e) {

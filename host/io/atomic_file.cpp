@@ -24,7 +24,6 @@ namespace shapespline::io {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr size_t kBufferSize = size_t{1} << 20;
 constexpr size_t kMaxTempPath = 4096;       // bytes of one registry entry, NUL included
 constexpr size_t kMaxNameInTemp = 200;      // `.NAME.tmp-XXXXXXXXXXXXXXXX` stays below NAME_MAX
 // SIGPIPE too: `shapespline gb-fit ... -o X | head` must not leave X's temporary file behind when
@@ -290,7 +289,7 @@ AtomicFile::AtomicFile(fs::path target, std::string option) : target_(std::move(
                           "cannot create a file in folder '" + folder.string() + "': " + errnoText(err));
   }
   slot_ = registerTemp(fs::absolute(temp_, ec).string());
-  buffer_.resize(kBufferSize);
+  buffer_ = std::make_unique_for_overwrite<char[]>(kBufferBytes);
 }
 
 AtomicFile::AtomicFile(AtomicFile&& other) noexcept
@@ -333,7 +332,7 @@ void AtomicFile::fail(const std::string& what, int err) {
 void AtomicFile::flush() {
   size_t done = 0;
   while (done < used_) {
-    const ssize_t n = ::write(fd_, buffer_.data() + done, used_ - done);
+    const ssize_t n = ::write(fd_, buffer_.get() + done, used_ - done);
     if (n < 0) {
       if (errno == EINTR) continue;
       fail("write", errno);
@@ -362,9 +361,9 @@ void AtomicFile::writeAt(uint64_t offset, const void* data, size_t size) {
 void AtomicFile::write(const void* data, size_t size) {
   const char* p = static_cast<const char*>(data);
   while (size > 0) {
-    if (used_ == buffer_.size()) flush();
-    const size_t n = std::min(size, buffer_.size() - used_);
-    std::memcpy(buffer_.data() + used_, p, n);
+    if (used_ == kBufferBytes) flush();
+    const size_t n = std::min(size, kBufferBytes - used_);
+    std::memcpy(buffer_.get() + used_, p, n);
     used_ += n;
     p += n;
     size -= n;

@@ -26,6 +26,8 @@ std::vector<Field> recordFields(FieldMask mask) {
 }
 
 // 1 MiB blocks, four per core: enough for the workers to fill blocks while one is being written.
+// A smaller job gets blocks of its own size (one of a batch of small models allocated and faulted
+// in 8 MiB for 300 KB of records).
 constexpr size_t kBlockBytes = size_t{1} << 20;
 
 void PlacedRecords::begin(AtomicFile& out, const SampleLayout& layout, const std::vector<Field>& fields, bool float64,
@@ -36,7 +38,9 @@ void PlacedRecords::begin(AtomicFile& out, const SampleLayout& layout, const std
   base_ = base;
   recordBytes_ = recordBytes(fields.size(), float64);
   const size_t blocks = 4 * static_cast<size_t>(availableCores());
-  writer_ = std::make_unique<BlockWriter>(out, std::max(kBlockBytes, recordBytes_), blocks);
+  const uint64_t jobBytes = layout.pointCount() * recordBytes_;
+  const size_t blockBytes = static_cast<size_t>(std::min<uint64_t>(kBlockBytes, jobBytes));
+  writer_ = std::make_unique<BlockWriter>(out, std::max(blockBytes, recordBytes_), blocks);
   written_ = false;
 }
 

@@ -12,6 +12,7 @@
 #include <exception>
 #include <optional>
 #include <thread>
+#include <type_traits>
 #include <vector>
 #include <utility>
 
@@ -37,7 +38,7 @@ namespace {
 
 // Runs a GPU job; every Vulkan failure leaves as DeviceError.
 template <class Job>
-auto onDevice(Job&& job) {
+decltype(auto) onDevice(Job&& job) {
   try {
     return job();
   } catch (const vk::VulkanError& e) {
@@ -181,6 +182,22 @@ const std::shared_ptr<vk::Context>& Session::context(Precision precision) {
   return ctx_;
 }
 
+gpu::CurveEvaluator& Session::curveEvaluator(Precision precision, size_t maxPlaneBytes) {
+  auto& e = curveEvaluators_[{precision, maxPlaneBytes}];
+  gpu::EvaluatorOptions options;
+  options.maxPlaneBytes = maxPlaneBytes;
+  if (!e) e = std::make_unique<gpu::CurveEvaluator>(ctx_, precision, options);
+  return *e;
+}
+
+gpu::SurfaceEvaluator& Session::surfaceEvaluator(Precision precision, size_t maxPlaneBytes) {
+  auto& e = surfaceEvaluators_[{precision, maxPlaneBytes}];
+  gpu::EvaluatorOptions options;
+  options.maxPlaneBytes = maxPlaneBytes;
+  if (!e) e = std::make_unique<gpu::SurfaceEvaluator>(ctx_, precision, options);
+  return *e;
+}
+
 template <class Model>
 Report Session::planFor(const Model& model, const DeviceRequest& request) {
   Report r;
@@ -214,8 +231,9 @@ Report Session::plan(const Surface& surface, const DeviceRequest& request) { ret
 namespace {
 
 template <class Model>
-void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model, const Report& r, const GridSpec& grid,
-                 FieldMask fields, const ChunkConsumer& consumer, const GridOptions& options) {
+void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, typename Gpu<Model>::Evaluator& evaluator, const Model& model,
+                 const Report& r, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
+                 const GridOptions& options) {
   ChunkUnscaler unscale(r.netScaleExponent);
   const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
     sliceInParallel(options.slice, chunk);
@@ -224,7 +242,6 @@ void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model, co
   const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, options.slice ? sliceThenConsume : consumer); };
   onDevice([&] {
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
-    typename Gpu<Model>::Evaluator evaluator(ctx, r.computedPrecision, evaluatorOptions(options, r.computedPrecision));
     typename Gpu<Model>::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
     evaluator.evaluateGrid(mirror, grid, fields, deliver);
     return 0;
@@ -295,7 +312,15 @@ Report Session::sampleGridFor(const Model& model, const DeviceRequest& request, 
                               FieldMask fields, const ChunkConsumer& consumer, const GridOptions& options) {
   const Report r = planFor(model, request);
   if (r.gpu) {
-    sampleOnGpu(ctx_, model, r, grid, fields, consumer, options);
+    const size_t planeBytes = evaluatorOptions(options, r.computedPrecision).maxPlaneBytes;
+    auto& evaluator = onDevice([&]() -> typename Gpu<Model>::Evaluator& {
+      if constexpr (std::is_same_v<Model, Curve>) {
+        return curveEvaluator(r.computedPrecision, planeBytes);
+      } else {
+        return surfaceEvaluator(r.computedPrecision, planeBytes);
+      }
+    });
+    sampleOnGpu(ctx_, evaluator, model, r, grid, fields, consumer, options);
   } else {
     sampleOnCpu(model, r, grid, fields, consumer, options);
   }

@@ -19,12 +19,18 @@
 #include <shapespline/vk/context.h>
 
 #include <array>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace shapespline::gpu {
+class CurveEvaluator;
+class SurfaceEvaluator;
+}  // namespace shapespline::gpu
 
 namespace shapespline::sampling {
 
@@ -134,10 +140,16 @@ class Session {
   auto evaluateFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries);
   // The context, created on first call; nullptr (and noDevice_ set) when there is no device.
   const std::shared_ptr<vk::Context>& context(Precision precision);
+  // The grid evaluator of this precision and plane size, made on first use and kept: a session
+  // that samples many models (`sample A.json B.json ...`) compiles each pipeline once.
+  gpu::CurveEvaluator& curveEvaluator(Precision precision, size_t maxPlaneBytes);
+  gpu::SurfaceEvaluator& surfaceEvaluator(Precision precision, size_t maxPlaneBytes);
 
   vk::ContextOptions options_;
   std::shared_ptr<vk::Context> ctx_;
   std::optional<std::string> noDevice_;  // why creating the context failed
+  std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::CurveEvaluator>> curveEvaluators_;
+  std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::SurfaceEvaluator>> surfaceEvaluators_;
 };
 
 }  // namespace shapespline::sampling
