@@ -156,7 +156,12 @@ TEST(InputLimits, FifoInputsAreRefusedWithoutBlocking) {
 TEST(InputLimits, DirectoryModelIsRefused) {
   ScratchDir dir("limits_dir");
   fs::create_directories(dir / "sub");
-  expectShortError(runBounded("sample sub -o out.ply --device cpu", dir.path()), "MODEL",
+  // `sample` reads a folder's .json models (several models, one process); an empty one is refused,
+  // and so is a folder where one model file is expected.
+  expectShortError(runBounded("sample sub -o '{stem}.ply' --device cpu", dir.path()), "MODEL",
+                   "the folder holds no .json model");
+  fs::create_directories(dir / "sub" / "m.json");
+  expectShortError(runBounded("render sub/m.json -o out.png", dir.path()), "MODEL",
                    "is not a regular file (it is a directory)");
 }
 
