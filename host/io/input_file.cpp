@@ -41,13 +41,6 @@ std::string tooLarge(std::uint64_t maxBytes) {
          " bytes)";
 }
 
-struct Fd {
-  int fd = -1;
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 // Control characters of the input shown as '?', so a message stays one printable line.
 std::string printable(std::string_view s) {
   std::string out(s);
@@ -183,21 +176,32 @@ void appendShort(std::string& out, const json& v, std::size_t budget, int depth)
 
 }  // namespace
 
-std::string readInputFile(const std::filesystem::path& path, const std::string& field, std::uint64_t maxBytes) {
-  Fd f;
+InputFd::InputFd(const std::filesystem::path& path, const std::string& field) {
   do {
-    f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  } while (f.fd < 0 && errno == EINTR);
-  if (f.fd < 0) throw std::runtime_error("cannot open '" + path.string() + "': " + std::strerror(errno));
+    fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  } while (fd_ < 0 && errno == EINTR);
+  if (fd_ < 0) throw std::runtime_error("cannot open '" + path.string() + "': " + std::strerror(errno));
   struct stat st {};
-  if (::fstat(f.fd, &st) != 0) throw std::runtime_error("cannot stat '" + path.string() + "': " + std::strerror(errno));
-  if (!S_ISREG(st.st_mode))
+  if (::fstat(fd_, &st) != 0) {
+    const int err = errno;
+    ::close(fd_);
+    throw std::runtime_error("cannot stat '" + path.string() + "': " + std::strerror(err));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd_);
     fail(field, shortText(path.string()), std::string("is not a regular file (it is ") + fileKind(st.st_mode) + ")");
-  if (st.st_size < 0 || static_cast<std::uint64_t>(st.st_size) > maxBytes)
-    fail(field, std::to_string(st.st_size) + " bytes", tooLarge(maxBytes));
+  }
+  size_ = st.st_size < 0 ? 0 : static_cast<std::uint64_t>(st.st_size);
+}
+
+InputFd::~InputFd() { ::close(fd_); }
+
+std::string readInputFile(const std::filesystem::path& path, const std::string& field, std::uint64_t maxBytes) {
+  const InputFd f(path, field);
+  if (f.size() > maxBytes) fail(field, std::to_string(f.size()) + " bytes", tooLarge(maxBytes));
 
   // One byte more than fstat reports, so that the read meeting end of file needs no reallocation.
-  std::string bytes(static_cast<std::size_t>(st.st_size) + 1, '\0');
+  std::string bytes(static_cast<std::size_t>(f.size()) + 1, '\0');
   std::size_t used = 0;
   for (;;) {
     if (used == bytes.size()) {
@@ -206,7 +210,7 @@ std::string readInputFile(const std::filesystem::path& path, const std::string& 
       bytes.resize(static_cast<std::size_t>(std::min<std::uint64_t>(maxBytes + 1, used + (std::size_t{1} << 16))));
       if (used == bytes.size()) fail(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
     }
-    const ssize_t n = ::read(f.fd, bytes.data() + used, bytes.size() - used);
+    const ssize_t n = ::read(f.get(), bytes.data() + used, bytes.size() - used);
     if (n < 0) {
       if (errno == EINTR) continue;
       throw std::runtime_error("cannot read '" + path.string() + "': " + std::strerror(errno));

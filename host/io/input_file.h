@@ -26,6 +26,24 @@ inline constexpr std::size_t kMaxJsonObjectKeys = 1024;
 inline constexpr std::size_t kMaxJsonArrayLength = std::size_t{1} << 22;  // 4,194,304 elements
 inline constexpr std::size_t kMaxValueChars = 60;                         // a value shown in a message
 
+// A regular file opened for reading as readInputFile opens it (O_NONBLOCK: a FIFO never blocks the
+// open), with its size; the descriptor closes with the object. Throws ModelError naming `field`
+// and the path when it is not a regular file ("is not a regular file (it is a FIFO)"), and
+// std::runtime_error when it cannot be opened or examined.
+class InputFd {
+ public:
+  InputFd(const std::filesystem::path& path, const std::string& field);
+  ~InputFd();
+  InputFd(const InputFd&) = delete;
+  InputFd& operator=(const InputFd&) = delete;
+  int get() const { return fd_; }
+  std::uint64_t size() const { return size_; }
+
+ private:
+  int fd_ = -1;
+  std::uint64_t size_ = 0;
+};
+
 // The whole file as bytes. `field` names the file in errors ("MODEL", "--at"). Throws ModelError
 // when it is not a regular file or larger than `maxBytes`, std::runtime_error when it cannot be
 // opened or read.

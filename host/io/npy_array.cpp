@@ -1,7 +1,8 @@
 #include <shapespline/io/npy_array.h>
 
-#include <fcntl.h>
-#include <sys/stat.h>
+#include <shapespline/core/model.h>
+#include <shapespline/io/input_file.h>
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -129,13 +130,6 @@ std::uint32_t le32(const char* p) {
          std::uint32_t(std::uint8_t(p[2])) << 16 | std::uint32_t(std::uint8_t(p[3])) << 24;
 }
 
-struct Fd {
-  int fd = -1;
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 // Reads exactly n bytes at the current offset, or fails naming the file as changed.
 void readExactly(int fd, char* dst, std::uint64_t n, const std::filesystem::path& path) {
   while (n > 0) {
@@ -181,34 +175,33 @@ NpyHeader parseNpyHeader(std::string_view head, std::uint64_t fileBytes) {
 }
 
 NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes) {
-  Fd f;
-  do {
-    f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  } while (f.fd < 0 && errno == EINTR);
-  if (f.fd < 0) throw std::runtime_error("cannot open '" + path.string() + "': " + std::strerror(errno));
-  struct stat st {};
-  if (::fstat(f.fd, &st) != 0) throw std::runtime_error("cannot stat '" + path.string() + "': " + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) refuse("is not a regular file");
-  const std::uint64_t fileBytes = std::uint64_t(st.st_size);
+  std::optional<InputFd> file;
+  try {
+    file.emplace(path, "");
+  } catch (const ModelError& e) {
+    refuse(e.rule());  // not a regular file: the caller names the key and the file
+  }
+  const int fd = file->get();
+  const std::uint64_t fileBytes = file->size();
   std::string head(size_t(std::min<std::uint64_t>(fileBytes, kMaxNpyHeaderBytes)), '\0');
-  readExactly(f.fd, head.data(), head.size(), path);
+  readExactly(fd, head.data(), head.size(), path);
   const NpyHeader h = parseNpyHeader(head, fileBytes);
   if (h.count > maxValueBytes / 8)
     refuse("its " + std::to_string(h.count) + " values need " + std::to_string(h.count * 8) +
            " bytes as float64, over the array budget of " + std::to_string(maxValueBytes) + " bytes");
-  if (::lseek(f.fd, off_t(h.dataOffset), SEEK_SET) < 0)
+  if (::lseek(fd, off_t(h.dataOffset), SEEK_SET) < 0)
     throw std::runtime_error("cannot seek in '" + path.string() + "': " + std::strerror(errno));
   NpyArray out;
   out.shape = h.shape;
   out.values.resize(size_t(h.count));
   if (h.float64) {
-    readExactly(f.fd, reinterpret_cast<char*>(out.values.data()), h.count * 8, path);
+    readExactly(fd, reinterpret_cast<char*>(out.values.data()), h.count * 8, path);
   } else {
     constexpr size_t kChunk = size_t{1} << 18;  // floats per read: 1 MiB
     std::vector<float> buf(std::min<size_t>(kChunk, size_t(h.count)));
     for (size_t done = 0; done < out.values.size();) {
       const size_t n = std::min(buf.size(), out.values.size() - done);
-      readExactly(f.fd, reinterpret_cast<char*>(buf.data()), n * 4, path);
+      readExactly(fd, reinterpret_cast<char*>(buf.data()), n * 4, path);
       std::copy(buf.begin(), buf.begin() + std::ptrdiff_t(n), out.values.begin() + std::ptrdiff_t(done));
       done += n;
     }
@@ -216,7 +209,7 @@ NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueB
   char extra = 0;
   ssize_t more = 0;
   do {
-    more = ::read(f.fd, &extra, 1);
+    more = ::read(fd, &extra, 1);
   } while (more < 0 && errno == EINTR);
   if (more != 0) refuse("the file grew while being read");
   return out;

@@ -182,20 +182,28 @@ const std::shared_ptr<vk::Context>& Session::context(Precision precision) {
   return ctx_;
 }
 
-gpu::CurveEvaluator& Session::curveEvaluator(Precision precision, size_t maxPlaneBytes) {
-  auto& e = curveEvaluators_[{precision, maxPlaneBytes}];
-  gpu::EvaluatorOptions options;
-  options.maxPlaneBytes = maxPlaneBytes;
-  if (!e) e = std::make_unique<gpu::CurveEvaluator>(ctx_, precision, options);
+namespace {
+
+// The evaluator of `cache` for this precision and plane size, made on first use.
+template <class Evaluator>
+Evaluator& cachedEvaluator(std::map<std::pair<Precision, size_t>, std::unique_ptr<Evaluator>>& cache,
+                           const std::shared_ptr<vk::Context>& ctx, Precision precision, size_t maxPlaneBytes) {
+  auto& e = cache[{precision, maxPlaneBytes}];
+  if (!e) {
+    gpu::EvaluatorOptions options;
+    options.maxPlaneBytes = maxPlaneBytes;
+    e = std::make_unique<Evaluator>(ctx, precision, options);
+  }
   return *e;
 }
 
+}  // namespace
+
+gpu::CurveEvaluator& Session::curveEvaluator(Precision precision, size_t maxPlaneBytes) {
+  return cachedEvaluator(curveEvaluators_, ctx_, precision, maxPlaneBytes);
+}
 gpu::SurfaceEvaluator& Session::surfaceEvaluator(Precision precision, size_t maxPlaneBytes) {
-  auto& e = surfaceEvaluators_[{precision, maxPlaneBytes}];
-  gpu::EvaluatorOptions options;
-  options.maxPlaneBytes = maxPlaneBytes;
-  if (!e) e = std::make_unique<gpu::SurfaceEvaluator>(ctx_, precision, options);
-  return *e;
+  return cachedEvaluator(surfaceEvaluators_, ctx_, precision, maxPlaneBytes);
 }
 
 template <class Model>
