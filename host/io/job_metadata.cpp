@@ -1,6 +1,7 @@
 #include <shapespline/io/job_metadata.h>
 
 #include <shapespline/core/family.h>
+#include <shapespline/io/model_json.h>
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/shard_info.h>
 #include <shapespline/version.h>
@@ -379,14 +380,16 @@ std::string sha256Of(std::string_view bytes) {
   return h.hex();
 }
 
-std::string sha256OfFile(const std::filesystem::path& path) {
+namespace {
+
+// Feeds a regular file's bytes to `h`, read in 64 KiB pieces.
+void hashFile(Sha256& h, const std::filesystem::path& path) {
   // O_NONBLOCK: a FIFO put in the file's place never blocks the open (it is refused below).
   Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
   if (fd.get() < 0) throw std::runtime_error(std::string("cannot open: ") + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd.get(), &st) != 0) throw std::runtime_error(std::string("cannot stat: ") + std::strerror(errno));
   if (!S_ISREG(st.st_mode)) throw std::runtime_error("not a regular file");
-  Sha256 h;
   std::vector<char> buffer(size_t{64} << 10);
   while (true) {
     const ssize_t n = ::read(fd.get(), buffer.data(), buffer.size());
@@ -397,6 +400,13 @@ std::string sha256OfFile(const std::filesystem::path& path) {
     if (n == 0) break;
     h.update(buffer.data(), static_cast<size_t>(n));
   }
+}
+
+}  // namespace
+
+std::string sha256OfFile(const std::filesystem::path& path) {
+  Sha256 h;
+  hashFile(h, path);
   return h.hex();
 }
 
@@ -408,7 +418,12 @@ JobMetadata common(const FamilySpec& f, const std::string& modelPath, std::strin
   m.toolVersion = SHAPESPLINE_VERSION_STRING;
   m.toolCommit = SHAPESPLINE_GIT_COMMIT;
   m.modelFile = modelPath;
-  m.modelSha256 = sha256OfFile(modelPath);
+  // The model file's bytes, then those of each .npy array it names: shards sampled from changed
+  // arrays differ here (merge compares it); a model without arrays hashes as sha256sum does.
+  Sha256 h;
+  hashFile(h, modelPath);
+  for (const std::filesystem::path& array : arrayFilesOf(modelPath)) hashFile(h, array);
+  m.modelSha256 = h.hex();
   // Only what the family uses, so that metadataFromJson(metadataJson(m)) == m.
   const FamilyTraits& t = familyOf(f.construction);
   m.construction = f.construction;

@@ -447,6 +447,19 @@ Model parseModelText(std::string_view text, ModelArrays* arrays) {
   return parseModel(parseJsonText(text, "(document)"), arrays);
 }
 
+std::vector<std::filesystem::path> arrayFilesOf(const std::filesystem::path& path) {
+  const json doc = parseJsonText(readInputFile(path, "(file)"), "(document)");
+  std::vector<std::filesystem::path> files;
+  if (!doc.is_object()) return files;
+  for (const char* key : {"points", "alpha", "weights"}) {
+    if (!doc.contains(key)) continue;
+    const json& v = doc.at(key);
+    if (v.is_object() && v.contains("npy") && v.at("npy").is_string())
+      files.push_back(path.parent_path() / v.at("npy").get<std::string>());
+  }
+  return files;
+}
+
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside, std::uint64_t maxValueBytes) {
   ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}};
   return parseModelText(readInputFile(path, "(file)"), &arrays);

@@ -25,6 +25,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include <shapespline/core/model.h>
 #include <shapespline/io/npy_array.h>
@@ -56,6 +57,10 @@ Model parseModelText(std::string_view text, ModelArrays* arrays = nullptr);
 // from an invalid model).
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside = false,
                     std::uint64_t maxValueBytes = kDefaultArrayBudget);
+
+// The .npy files the model file `path` names, in key order (points, alpha, weights), resolved as
+// loadModelFile resolves them (the job metadata hashes them with the file). Reads only the JSON.
+std::vector<std::filesystem::path> arrayFilesOf(const std::filesystem::path& path);
 
 // Model -> docs/format.md JSON: 2-D curves as [x, y], alpha as a per-vertex array, doubles written
 // round-trippably, so parseModel(toJson(m)) reproduces m exactly.

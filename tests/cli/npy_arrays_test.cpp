@@ -150,5 +150,44 @@ TEST_F(NpyArrays, BadArraysNameTheKeyAndTheFileAndWriteNothing) {
   }
 }
 
+// The job metadata's model_sha256 covers the arrays too (the JSON alone stays the same), and merge
+// refuses shards sampled before and after an array changed; shards of the same arrays merge to the
+// unsharded file.
+TEST_F(NpyArrays, ShardsOfChangedArraysDoNotMerge) {
+  const std::string model = quote((models() / "ref.json").string());
+  auto shard = [&](int k) {
+    return runCli("sample " + model + " -o " + quote((dir_ / ("s" + std::to_string(k) + ".f64")).string()) +
+                      " --grid 4 --device cpu -q --shard " + std::to_string(k) + "/2",
+                  dir_.path());
+  };
+  ASSERT_EQ(shard(1).rc, 0);
+  ASSERT_EQ(shard(2).rc, 0);
+  const std::string mergeArgs = "merge -o " + quote((dir_ / "whole.f64").string()) + " " +
+                                quote((dir_ / "s1.f64").string()) + " " + quote((dir_ / "s2.f64").string());
+  const CliResult same = runCli(mergeArgs, dir_.path());
+  ASSERT_EQ(same.rc, 0) << same.err;
+  const CliResult whole = runCli("sample " + model + " -o " + quote((dir_ / "one.f64").string()) + " --grid 4 --device cpu -q",
+                                 dir_.path());
+  ASSERT_EQ(whole.rc, 0) << whole.err;
+  EXPECT_TRUE(readText(dir_ / "whole.f64") == readText(dir_ / "one.f64"));
+
+  // The same JSON, another net: shard 2 again from the changed array.
+  fs::copy_file(models() / "net32.npy", models() / "net.npy", fs::copy_options::overwrite_existing);
+  writeText(models() / "ref.json", readText(models() / "ref.json"));  // the JSON bytes stay the same
+  const auto sha = [&](const std::string& sidecar) {
+    const std::string text = readText(dir_ / sidecar), key = "\"model_sha256\":\"";
+    const size_t at = text.find(key);
+    return at == std::string::npos ? std::string() : text.substr(at + key.size(), 64);
+  };
+  const std::string before = sha("s2.f64.json");
+  ASSERT_EQ(before.size(), 64u);
+  ASSERT_EQ(shard(2).rc, 0);
+  EXPECT_NE(sha("s2.f64.json"), before) << "model_sha256 does not see the changed array";
+  fs::remove(dir_ / "whole.f64");
+  const CliResult changed = runCli(mergeArgs, dir_.path());
+  EXPECT_EQ(changed.rc, 2) << changed.err;
+  EXPECT_NE(changed.err.find("belongs to another job"), std::string::npos) << changed.err;  // its id hashes model_sha256
+}
+
 }  // namespace
 }  // namespace shapespline::test
