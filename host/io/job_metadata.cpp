@@ -153,12 +153,64 @@ void parseGrid(const std::string& g, JobMetadata& m) {
   m.samplesV = m.surface ? count(std::string_view(g).substr(x + 1)) : 1;
 }
 
+// The summary form of "alpha" and "singular_vertices" (more than kMetadataAlphaListMax values).
+void readAlphaSummary(const json& a, const json& singular, JobMetadata& m) {
+  auto nonNegative = [](const json& n) { return n.is_number_integer() && (n.is_number_unsigned() || n.get<int64_t>() >= 0); };
+  auto count = [&](const json& j, const char* key, const std::string& name) {
+    if (!j.contains(key) || !nonNegative(j[key])) bad(name, "must be a count");
+    return j[key].get<uint64_t>();
+  };
+  if (a.size() != 4) bad("alpha", "must be {\"values\", \"shape\", \"min\", \"max\"}");
+  JobMetadata::AlphaSummary& s = m.alphaSummary;
+  s.count = count(a, "values", "alpha.values");
+  const json& shape = member(a, "shape");
+  if (!shape.is_array() || shape.size() != (m.surface ? 2u : 1u)) bad("alpha.shape", m.surface ? "must be [rows, cols]" : "must be [count]");
+  for (const json& n : shape) {
+    if (!nonNegative(n) || n.get<uint64_t>() == 0 || n.get<uint64_t>() > std::numeric_limits<int>::max()) {
+      bad("alpha.shape", "must hold positive integers");
+    }
+  }
+  if (m.surface) {
+    m.rows = shape[0].get<int>();
+    m.cols = shape[1].get<int>();
+  }
+  const uint64_t shapeCount = m.surface ? static_cast<uint64_t>(m.rows) * static_cast<uint64_t>(m.cols) : shape[0].get<uint64_t>();
+  if (s.count != shapeCount || s.count <= kMetadataAlphaListMax) {
+    bad("alpha.values", "must be the shape's count and more than " + std::to_string(kMetadataAlphaListMax));
+  }
+  s.min = real(member(a, "min"), "alpha.min");
+  s.max = real(member(a, "max"), "alpha.max");
+  if (!(s.min <= s.max)) bad("alpha", "min must not exceed max");
+  if (!singular.is_object() || singular.size() != 1) bad("singular_vertices", "must be {\"count\": K} with a summarised alpha");
+  s.singular = count(singular, "count", "singular_vertices.count");
+  // What the range allows: no α = 1 unless 1 is in it, every vertex when the range is just 1.
+  const bool oneInRange = s.min <= 1.0 && 1.0 <= s.max;
+  if (s.singular > s.count || (!oneInRange && s.singular) || (s.min == 1.0 && s.max == 1.0 && s.singular != s.count)) {
+    bad("singular_vertices.count", "must count the vertices whose alpha is 1");
+  }
+}
+
 }  // namespace
 
 bool JobMetadata::usesAlpha() const { return familyOf(construction).usesAlpha; }
 
 std::string JobMetadata::grid() const {
   return surface ? std::to_string(samplesU) + "x" + std::to_string(samplesV) : std::to_string(samplesU);
+}
+
+void JobMetadata::setAlpha(const std::vector<double>& values, int netRows, int netCols) {
+  rows = netRows;
+  cols = netCols;
+  alphaSummary = {};
+  alphaSummary.count = values.size();
+  if (!values.empty()) {
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    alphaSummary.min = *lo;
+    alphaSummary.max = *hi;
+  }
+  alphaSummary.singular = static_cast<uint64_t>(std::count(values.begin(), values.end(), 1.0));
+  if (alphaListed()) alpha = values;
+  else alpha.clear();
 }
 
 std::vector<std::pair<int, int>> JobMetadata::singularVertices() const {
@@ -198,7 +250,7 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix) 
   if (f.usesMu) line("mu", listText(m.mu, number));
   if (f.usesAlpha) {
     const std::string shape = m.surface ? " (" + std::to_string(m.rows) + "x" + std::to_string(m.cols) + ")" : "";
-    if (m.alpha.size() <= kMetadataCommentListMax) {
+    if (m.alphaSummary.count <= kMetadataCommentListMax) {
       if (m.surface && m.cols > 0) {
         std::string rows = "[";
         for (size_t r = 0; r * static_cast<size_t>(m.cols) < m.alpha.size(); ++r) {
@@ -211,12 +263,11 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix) 
         line("alpha", listText(m.alpha, number));
       }
     } else {
-      const auto [lo, hi] = std::minmax_element(m.alpha.begin(), m.alpha.end());
-      line("alpha", std::to_string(m.alpha.size()) + " values" + shape + ", min " + number(*lo) + ", max " +
-                        number(*hi));
+      line("alpha", std::to_string(m.alphaSummary.count) + " values" + shape + ", min " + number(m.alphaSummary.min) +
+                        ", max " + number(m.alphaSummary.max));
     }
     const auto singular = m.singularVertices();
-    if (singular.size() <= kMetadataCommentListMax) {
+    if (m.alphaListed() && singular.size() <= kMetadataCommentListMax) {
       // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string.
       line("singular_vertices", listText(singular, [&](const std::pair<int, int>& v) {
              std::string t;
@@ -230,7 +281,7 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix) 
              return t;
            }));
     } else {
-      line("singular_vertices", std::to_string(singular.size()) + " vertices with alpha = 1");
+      line("singular_vertices", std::to_string(m.alphaSummary.singular) + " vertices with alpha = 1");
     }
   }
   line("device", escapeText(m.device));
@@ -255,7 +306,13 @@ json metadataJson(const JobMetadata& m) {
   if (m.rational) j["rational"] = true;
   if (f.usesLambda) j["lambda"] = m.lambda;
   if (f.usesMu) j["mu"] = m.mu;
-  if (f.usesAlpha) {
+  if (f.usesAlpha && !m.alphaListed()) {
+    j["alpha"] = {{"values", m.alphaSummary.count},
+                  {"shape", m.surface ? json::array({m.rows, m.cols}) : json::array({m.alphaSummary.count})},
+                  {"min", m.alphaSummary.min},
+                  {"max", m.alphaSummary.max}};
+    j["singular_vertices"] = {{"count", m.alphaSummary.singular}};
+  } else if (f.usesAlpha) {
     if (m.surface) {
       json rows = json::array();
       const size_t c = m.cols > 0 ? static_cast<size_t>(m.cols) : 1;
@@ -328,21 +385,31 @@ JobMetadata metadataFromJson(const json& j) {
   if (f->usesAlpha) {
     keys += 2;
     const json& a = member(j, "alpha");
-    if (!a.is_array()) bad("alpha", "must be an array");
-    if (m.surface) {
-      m.rows = static_cast<int>(std::min<size_t>(a.size(), std::numeric_limits<int>::max()));
-      for (const json& row : a) {
-        const std::vector<double> r = reals(row, "alpha");
-        if (&row == &a.front()) m.cols = static_cast<int>(std::min<size_t>(r.size(), std::numeric_limits<int>::max()));
-        if (r.size() != static_cast<size_t>(m.cols) || r.empty()) bad("alpha", "rows must be equally long, not empty");
-        m.alpha.insert(m.alpha.end(), r.begin(), r.end());
-      }
+    if (a.is_object()) {
+      readAlphaSummary(a, member(j, "singular_vertices"), m);
     } else {
-      m.alpha = reals(a, "alpha");
-    }
-    // The singular vertices follow from α; a list that does not is not what this tool wrote.
-    if (metadataJson(m)["singular_vertices"] != member(j, "singular_vertices")) {
-      bad("singular_vertices", "must list the vertices whose alpha is 1");
+      if (!a.is_array()) bad("alpha", "must be an array");
+      std::vector<double> values;
+      int rows = 0, cols = 0;
+      if (m.surface) {
+        rows = static_cast<int>(std::min<size_t>(a.size(), std::numeric_limits<int>::max()));
+        for (const json& row : a) {
+          const std::vector<double> r = reals(row, "alpha");
+          if (&row == &a.front()) cols = static_cast<int>(std::min<size_t>(r.size(), std::numeric_limits<int>::max()));
+          if (r.size() != static_cast<size_t>(cols) || r.empty()) bad("alpha", "rows must be equally long, not empty");
+          values.insert(values.end(), r.begin(), r.end());
+        }
+      } else {
+        values = reals(a, "alpha");
+      }
+      if (values.size() > kMetadataAlphaListMax) {
+        bad("alpha", "lists more than " + std::to_string(kMetadataAlphaListMax) + " values (larger nets are summarised)");
+      }
+      m.setAlpha(values, rows, cols);
+      // The singular vertices follow from α; a list that does not is not what this tool wrote.
+      if (metadataJson(m)["singular_vertices"] != member(j, "singular_vertices")) {
+        bad("singular_vertices", "must list the vertices whose alpha is 1");
+      }
     }
   }
   m.device = text(j, "device");
@@ -366,7 +433,7 @@ std::string metadataDifference(const JobMetadata& a, const JobMetadata& b) {
   // Bitwise: -0 and 0 are different models' values; NaN cannot occur (validated models).
   if (std::memcmp(&a.lambda, &b.lambda, sizeof a.lambda) != 0) return "lambda";
   if (a.mu != b.mu) return "mu";
-  if (a.alpha != b.alpha || a.rows != b.rows || a.cols != b.cols) return "alpha";
+  if (a.alpha != b.alpha || a.alphaSummary != b.alphaSummary || a.rows != b.rows || a.cols != b.cols) return "alpha";
   if (a.device != b.device) return "device";
   if (a.computedPrecision != b.computedPrecision) return "computed_precision";
   if (a.outputPrecision != b.outputPrecision) return "output_precision";
@@ -444,7 +511,7 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
   JobMetadata m = common(model.family, modelPath, device, computedPrecision, outputPrecision);
   m.surface = false;
   m.rational = !model.weights.empty();
-  if (m.usesAlpha()) m.alpha = model.alpha;
+  if (m.usesAlpha()) m.setAlpha(model.alpha, 0, 0);
   m.samplesU = samplesU;
   m.samplesV = 1;
   return m;
@@ -456,11 +523,7 @@ JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPat
   m.surface = true;
   m.rational = !model.weights.empty();
   if (twoOrders(m)) m.orderV = model.orderV;
-  if (m.usesAlpha()) {
-    m.alpha = model.alpha;
-    m.rows = model.rows;
-    m.cols = model.cols;
-  }
+  if (m.usesAlpha()) m.setAlpha(model.alpha, model.rows, model.cols);
   m.samplesU = samplesU;
   m.samplesV = samplesV;
   return m;

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,9 @@
 #include <vector>
 
 namespace shapespline::io {
+
+// The JSON lists α (and the singular vertices) up to this many values; beyond it, a summary.
+inline constexpr uint64_t kMetadataAlphaListMax = 4096;
 
 struct JobMetadata {
   std::string toolVersion;            // SHAPESPLINE_VERSION_STRING of the writer
@@ -37,25 +41,38 @@ struct JobMetadata {
   bool rational = false;              // a B-spline with weights (NURBS): "rational": true; else absent
   double lambda = 0.0;                // written when it uses λ
   std::vector<double> mu;             // written when it uses μ
-  // α per vertex when the family uses α (curves: one per point; surfaces: rows x cols, row-major).
+  // α per vertex when the family uses α (curves: one per point; surfaces: rows x cols, row-major),
+  // listed when there are at most kMetadataAlphaListMax values, else empty: a 4096 x 4096 net's
+  // 16.8 million values would make every sidecar 67 MB (the model_sha256 pins them anyway).
   std::vector<double> alpha;
-  int rows = 0, cols = 0;             // surfaces: the net's shape (alpha.size() == rows * cols)
+  int rows = 0, cols = 0;             // surfaces: the net's shape (rows * cols values of α)
+  // Always set when the family uses α (from the values as setAlpha saw them).
+  struct AlphaSummary {
+    uint64_t count = 0;               // vertices
+    double min = 0.0, max = 0.0;
+    uint64_t singular = 0;            // vertices with α == 1
+    friend bool operator==(const AlphaSummary&, const AlphaSummary&) = default;
+  } alphaSummary;
   std::string device = "cpu";         // "cpu" or the Vulkan device's name; unescaped
   Precision computedPrecision = Precision::Double;
   Precision outputPrecision = Precision::Double;  // what the file stores
   int samplesU = 2, samplesV = 1;     // grid per span (curves: samplesV = 1) or patch
 
   bool usesAlpha() const;
+  // Sets alphaSummary from `values` and lists them in `alpha` when there are at most
+  // kMetadataAlphaListMax (surfaces: rows x cols, row-major; curves: rows = cols = 0).
+  void setAlpha(const std::vector<double>& values, int rows, int cols);
+  bool alphaListed() const { return alphaSummary.count <= kMetadataAlphaListMax; }
   // "UxV" (surfaces) or "S" (curves).
   std::string grid() const;
-  // The vertices with α == 1, in index order: curves (i, 0), surfaces (i, j).
+  // The vertices with α == 1, in index order: curves (i, 0), surfaces (i, j); empty unless listed.
   std::vector<std::pair<int, int>> singularVertices() const;
 
   friend bool operator==(const JobMetadata&, const JobMetadata&) = default;
 };
 
 // Comment lines show α and the singular vertices in full up to this many values; beyond it, α as
-// count/min/max and the singular vertices as a count (the JSON always lists both in full).
+// count/min/max and the singular vertices as a count (the JSON up to kMetadataAlphaListMax).
 inline constexpr size_t kMetadataCommentListMax = 64;
 
 // One line per key, "<linePrefix><key>: <value>\n", in a fixed order: tool_version, model_file,
@@ -68,7 +85,9 @@ std::string metadataComments(const JobMetadata& m, std::string_view linePrefix);
 // The JSON object: "tool" ("shapespline"), "tool_version", "tool_commit", "model_file",
 // "model_sha256", "kind", "construction", ["degree"], ["order"] (an [u, v] pair for two-order
 // surfaces), ["rational"] (true, for a B-spline with weights), ["lambda"], ["mu"], ["alpha"] (curves: a list; surfaces: rows of lists, as in model
-// files), ["singular_vertices"] (curves: [i, ...]; surfaces: [[i, j], ...]; present with "alpha"),
+// files; more than kMetadataAlphaListMax values: {"values": N, "shape": [R, C] or [N], "min": a,
+// "max": b}), ["singular_vertices"] (curves: [i, ...]; surfaces: [[i, j], ...]; with a summarised
+// α: {"count": K}; present with "alpha"),
 // "device", "computed_precision", "output_precision" ("float" | "double"), "grid" ("UxV" | "S").
 nlohmann::json metadataJson(const JobMetadata& m);
 

@@ -174,6 +174,51 @@ TEST(MetadataOutput, ShardsMergeWithTheMetadataIntact) {
   }
 }
 
+// A net of more than 4096 vertices (here 70 x 70 from a .npy) is summarised in the metadata, not
+// listed: count, shape, range and the number of α = 1 vertices, as numpy counts them; its shards
+// merge into the unsharded file with the same sidecar.
+constexpr const char* kWriteBigNet = R"PY(
+import json, numpy as np
+n = 70
+u, v = np.meshgrid(np.arange(n, dtype=float), np.arange(n, dtype=float), indexing="ij")
+np.save("net.npy", np.stack([u, v, np.sin(u / 7) * np.cos(v / 5)], axis=-1))
+alpha = np.full((n, n), 0.5)
+alpha[3, 4] = alpha[60, 2] = alpha[69, 69] = 1.0
+alpha[10, 11] = 0.125
+np.save("alpha.npy", alpha)
+json.dump({"kind": "surface", "construction": "alpha_eb", "degree": 5, "lambda": 0.25,
+           "points": {"npy": "net.npy"}, "alpha": {"npy": "alpha.npy"}}, open("big.json", "w"))
+print("OK")
+)PY";
+constexpr const char* kBigSidecarCheck = R"PY(
+import json, sys, numpy as np
+m = json.load(open(sys.argv[1]))["metadata"]
+alpha = np.load("alpha.npy")
+want = {"values": int(alpha.size), "shape": list(alpha.shape), "min": float(alpha.min()), "max": float(alpha.max())}
+assert m["alpha"] == want, (m["alpha"], want)
+assert m["singular_vertices"] == {"count": int((alpha == 1).sum())}, m["singular_vertices"]
+print("OK")
+)PY";
+
+TEST(MetadataOutput, LargeNetsSummariseAlpha) {
+  REQUIRE_PYTHON();
+  ScratchDir dir("metadata_big_alpha");
+  expectPythonOk(dir, kWriteBigNet, {});
+  const std::string opts = "--grid 2x2 --device cpu";
+  sampleOk(dir, "big.json", "whole.f64", opts);
+  expectPythonOk(dir, kBigSidecarCheck, {"whole.f64.json"});
+  EXPECT_LT(fs::file_size(dir / "whole.f64.json"), 8192u) << "the sidecar stays small";
+  std::vector<std::string> shards;
+  for (int k = 1; k <= 2; ++k) {
+    shards.push_back("part" + std::to_string(k) + ".f64");
+    sampleOk(dir, "big.json", shards.back(), opts + " --shard " + std::to_string(k) + "/2");
+  }
+  const CliResult r = merge(dir, "merged.f64", shards);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_EQ(readText(dir / "merged.f64"), readText(dir / "whole.f64"));
+  expectSidecarOfWhole(dir, "merged.f64", "whole.f64");
+}
+
 TEST(MetadataOutput, ShardsWithOtherMetadataAreRefusedByKey) {
   ScratchDir dir("metadata_refused");
   writeModels(dir);

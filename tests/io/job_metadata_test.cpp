@@ -33,7 +33,7 @@ JobMetadata curveMetadata() {
   m.construction = Construction::AlphaEB;
   m.degree = 5;
   m.lambda = -2.5;
-  m.alpha = {0.5, 1.0, 0.25, 1.0};
+  m.setAlpha({0.5, 1.0, 0.25, 1.0}, 0, 0);
   m.device = "cpu";
   m.computedPrecision = Precision::Double;
   m.outputPrecision = Precision::Float;
@@ -44,9 +44,7 @@ JobMetadata curveMetadata() {
 JobMetadata surfaceMetadata(int rows, int cols) {
   JobMetadata m = curveMetadata();
   m.surface = true;
-  m.rows = rows;
-  m.cols = cols;
-  m.alpha.assign(static_cast<size_t>(rows) * static_cast<size_t>(cols), 0.5);
+  m.setAlpha(std::vector<double>(static_cast<size_t>(rows) * static_cast<size_t>(cols), 0.5), rows, cols);
   m.samplesU = 3;
   m.samplesV = 4;
   return m;
@@ -175,12 +173,14 @@ TEST(JobMetadata, SingularVerticesAreTheAlphaOneVertices) {
   JobMetadata c = curveMetadata();
   EXPECT_EQ(c.singularVertices(), (std::vector<std::pair<int, int>>{{1, 0}, {3, 0}}));
   EXPECT_EQ(metadataJson(c)["singular_vertices"], json::array({1, 3}));
-  c.alpha = {0.999999999, 1.0000000001};  // only exactly 1
+  c.setAlpha({0.999999999, 1.0000000001}, 0, 0);  // only exactly 1
   EXPECT_TRUE(c.singularVertices().empty());
 
   JobMetadata s = surfaceMetadata(3, 4);
-  s.alpha[1 * 4 + 2] = 1.0;
-  s.alpha[2 * 4 + 0] = 1.0;
+  std::vector<double> a = s.alpha;
+  a[1 * 4 + 2] = 1.0;
+  a[2 * 4 + 0] = 1.0;
+  s.setAlpha(a, 3, 4);
   const json j = metadataJson(s);
   EXPECT_EQ(j["singular_vertices"], json::parse("[[1, 2], [2, 0]]"));
   ASSERT_EQ(j["alpha"].size(), 3u);  // rows of the net, as in model files
@@ -191,7 +191,7 @@ TEST(JobMetadata, SingularVerticesAreTheAlphaOneVertices) {
   // A family without α has neither key.
   JobMetadata g = curveMetadata();
   g.construction = Construction::GB;
-  g.alpha = {1.0};
+  g.setAlpha({1.0}, 0, 0);
   EXPECT_FALSE(metadataJson(g).contains("singular_vertices"));
   EXPECT_EQ(commentValue(metadataComments(g, "# "), "# ", "alpha"), "(missing)");
 }
@@ -247,32 +247,88 @@ TEST(JobMetadata, TextValuesAreEscapedOntoOneLine) {
   EXPECT_EQ(commentValue(metadataComments(m, "# "), "# ", "model_file"), "bad\\ufffd\\ufffd.json");
 }
 
-TEST(JobMetadata, CommentAlphaListIsCappedTheJsonIsNot) {
+TEST(JobMetadata, CommentAlphaListIsCappedTheJsonLater) {
   JobMetadata m = curveMetadata();
-  m.alpha.assign(kMetadataCommentListMax, 0.5);
-  m.alpha[3] = 1.0;
+  std::vector<double> a(kMetadataCommentListMax, 0.5);
+  a[3] = 1.0;
+  m.setAlpha(a, 0, 0);
   std::string listed = commentValue(metadataComments(m, "# "), "# ", "alpha");
   EXPECT_EQ(std::count(listed.begin(), listed.end(), ','), static_cast<long>(kMetadataCommentListMax - 1)) << listed;
 
-  m.alpha.assign(kMetadataCommentListMax + 1, 0.5);
-  m.alpha[7] = 0.125;
-  m.alpha[9] = 1.0;
+  a.assign(kMetadataCommentListMax + 1, 0.5);
+  a[7] = 0.125;
+  a[9] = 1.0;
+  m.setAlpha(a, 0, 0);
   EXPECT_EQ(commentValue(metadataComments(m, "# "), "# ", "alpha"), "65 values, min 0.125, max 1");
   EXPECT_EQ(commentValue(metadataComments(m, "# "), "# ", "singular_vertices"), "[9]");
   EXPECT_EQ(metadataJson(m)["alpha"].size(), kMetadataCommentListMax + 1);
 
   // A surface: rows while they fit, then count (rows x cols), min, max; the singular list capped too.
   JobMetadata s = surfaceMetadata(2, 3);
-  s.alpha = {0.5, 1, 0.25, 1, 0.5, 0.75};
+  s.setAlpha({0.5, 1, 0.25, 1, 0.5, 0.75}, 2, 3);
   EXPECT_EQ(commentValue(metadataComments(s, "# "), "# ", "alpha"), "[[0.5, 1, 0.25], [1, 0.5, 0.75]]");
   JobMetadata big = surfaceMetadata(10, 10);
-  big.alpha.assign(100, 1.0);
-  big.alpha[0] = 0.5;
+  a.assign(100, 1.0);
+  a[0] = 0.5;
+  big.setAlpha(a, 10, 10);
   const std::string bt = metadataComments(big, "# ");
   EXPECT_EQ(commentValue(bt, "# ", "alpha"), "100 values (10x10), min 0.5, max 1");
   EXPECT_EQ(commentValue(bt, "# ", "singular_vertices"), "99 vertices with alpha = 1");
   EXPECT_EQ(metadataJson(big)["singular_vertices"].size(), 99u);
   EXPECT_LT(bt.size(), 2000u);
+}
+
+TEST(JobMetadata, LargeAlphaIsSummarisedNotListed) {
+  // A 4096 x 4096 net would list 16.8 million values in every sidecar; past kMetadataAlphaListMax
+  // the JSON holds count, shape, range and the number of α = 1 vertices.
+  JobMetadata s = surfaceMetadata(64, 64);  // exactly the limit: still listed
+  EXPECT_TRUE(metadataJson(s)["alpha"].is_array());
+  std::vector<double> a(65 * 64, 0.5);
+  a[5] = 1.0;
+  a[70] = 1.0;
+  a[100] = 0.25;
+  s.setAlpha(a, 65, 64);
+  EXPECT_TRUE(s.alpha.empty());
+  const json j = metadataJson(s);
+  EXPECT_EQ(j["alpha"], json::parse(R"({"values": 4160, "shape": [65, 64], "min": 0.25, "max": 1.0})"));
+  EXPECT_EQ(j["singular_vertices"], json::parse(R"({"count": 2})"));
+  EXPECT_EQ(metadataFromJson(json::parse(j.dump())), s);
+  EXPECT_EQ(commentValue(metadataComments(s, "# "), "# ", "alpha"), "4160 values (65x64), min 0.25, max 1");
+  EXPECT_EQ(commentValue(metadataComments(s, "# "), "# ", "singular_vertices"), "2 vertices with alpha = 1");
+  JobMetadata other = s;
+  a[71] = 1.0;
+  other.setAlpha(a, 65, 64);
+  EXPECT_EQ(metadataDifference(s, other), "alpha");
+
+  JobMetadata c = curveMetadata();
+  c.setAlpha(std::vector<double>(5000, 1.0), 0, 0);
+  EXPECT_EQ(metadataJson(c)["alpha"]["shape"], json::array({5000}));
+  EXPECT_EQ(metadataFromJson(metadataJson(c)), c);
+
+  auto refused = [&](const std::function<void(json&)>& change) {
+    json bad = j;
+    change(bad);
+    try {
+      (void)metadataFromJson(bad);
+    } catch (const MetadataError& e) {
+      return e.key();
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_EQ(refused([](json&) {}), "(accepted)");
+  EXPECT_EQ(refused([](json& b) { b["alpha"]["values"] = 4159; }), "metadata.alpha.values");
+  EXPECT_EQ(refused([](json& b) { b["alpha"]["shape"] = json::array({4160}); }), "metadata.alpha.shape");
+  EXPECT_EQ(refused([](json& b) { b["alpha"]["min"] = 2.0; }), "metadata.alpha");
+  EXPECT_EQ(refused([](json& b) { b["alpha"]["max"] = 0.75; }), "metadata.singular_vertices.count");
+  EXPECT_EQ(refused([](json& b) { b["singular_vertices"] = json::array(); }), "metadata.singular_vertices");
+  EXPECT_EQ(refused([](json& b) { b["singular_vertices"]["count"] = 4161; }), "metadata.singular_vertices.count");
+  EXPECT_EQ(refused([](json& b) { b["alpha"]["extra"] = 1; }), "metadata.alpha");
+  // A short net summarised, or a long one listed, is not what this tool writes.
+  json small = metadataJson(surfaceMetadata(2, 2));
+  small["alpha"] = j["alpha"];
+  small["alpha"]["values"] = 4;
+  small["alpha"]["shape"] = json::array({2, 2});
+  EXPECT_THROW((void)metadataFromJson(small), MetadataError);
 }
 
 TEST(JobMetadata, JsonRoundTripsAndRefusesOthers) {
@@ -314,7 +370,7 @@ TEST(JobMetadata, DifferenceNamesTheFirstKey) {
   const JobMetadata a = curveMetadata();
   EXPECT_EQ(metadataDifference(a, a), "");
   JobMetadata b = a;
-  b.alpha[2] = 0.75;
+  b.setAlpha({0.5, 1.0, 0.75, 1.0}, 0, 0);
   EXPECT_EQ(metadataDifference(a, b), "alpha");
   b = a;
   b.modelSha256 = std::string(64, 'b');
