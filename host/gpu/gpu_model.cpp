@@ -43,7 +43,53 @@ std::vector<double> inverseSpanLengths(const Curve& c) {
   return invH;
 }
 
+// VERTS: V then the nodes, one REAL4 each per α-EB vertex; a placeholder otherwise.
+uint64_t vertexBufferBytes(bool alphaEB, uint64_t vertices, Precision precision) {
+  return alphaEB ? 2 * vertices * 4 * realSize(precision) : 256;
+}
+
+// PARAMS values a knot direction appends (addKnotDirection): the knots, 4 per non-empty interval,
+// and with knot patches a record per non-empty interval.
+uint64_t knotParamCount(int order, const std::vector<double>& knots, int count, bool patches) {
+  uint64_t intervals = 0;
+  for (int j = order - 1; j < count; ++j) intervals += knots[j] < knots[j + 1] ? 1 : 0;
+  return knots.size() + intervals * (4 + (patches ? layout::kKnotPatchStride : 0));
+}
+
 }  // namespace
+
+ModelBufferBytes modelBufferBytes(const Curve& c, Precision precision) {
+  const CurveModel& m = c.model();
+  const uint64_t rs = realSize(precision);
+  ModelBufferBytes b;
+  b.net = (c.usesKnotVector() ? m.points.size() : c.spanPoints().size()) * 4 * rs;
+  uint64_t params = layout::kParamHeader;
+  if (c.usesKnotVector()) {
+    params += knotParamCount(m.family.order, m.knots, int(m.points.size()), false);
+  } else {
+    params += m.alpha.size() + inverseSpanLengths(c).size();
+  }
+  b.params = params * rs;
+  b.verts = vertexBufferBytes(c.parameterization() == Parameterization::AlphaEB, m.points.size(), precision);
+  return b;
+}
+
+ModelBufferBytes modelBufferBytes(const Surface& s, Precision precision) {
+  const SurfaceModel& m = s.model();
+  const uint64_t rs = realSize(precision);
+  ModelBufferBytes b;
+  b.net = (s.usesKnotVector() ? m.points.size() : s.patchNet().size()) * 4 * rs;
+  uint64_t params = layout::kParamHeader;
+  if (s.usesKnotVector()) {
+    const BSplineSurfaceData& k = s.knotData();
+    params += knotParamCount(k.orderU, m.knotsU, m.rows, true) + knotParamCount(k.orderV, m.knotsV, m.cols, true);
+  } else {
+    params += m.alpha.size();
+  }
+  b.params = params * rs;
+  b.verts = vertexBufferBytes(s.parameterization() == Parameterization::AlphaEB, uint64_t(m.rows) * m.cols, precision);
+  return b;
+}
 
 GpuModel::GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision, Parameterization parameterization)
     : ctx_(std::move(ctx)), precision_(precision), parameterization_(parameterization) {
@@ -110,7 +156,7 @@ void GpuModel::createBuffers(std::span<const glm::dvec4> net, std::span<const do
   stats_.netBytes += bytes.size();
   ++stats_.netWrites;
   params_ = vk::Buffer::create(*ctx_, params.size() * rs, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.params");
-  const size_t vertBytes = alphaEB() ? 2 * size_t(rows_) * cols_ * 4 * rs : 256;
+  const size_t vertBytes = vertexBufferBytes(alphaEB(), uint64_t(rows_) * cols_, precision_);
   verts_ = vk::Buffer::create(*ctx_, vertBytes, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.verts");
   writeParams(params);
 }

@@ -12,6 +12,7 @@
 
 #include <glm/vec4.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -26,6 +27,16 @@ struct UploadStats {
   uint64_t paramBytes = 0, paramWrites = 0;
   uint64_t vertexPasses = 0;  // alpha_eb_vertices dispatches run for this model
 };
+
+// The bytes of the storage buffers a GpuCurve / GpuSurface of a model creates (NET, PARAMS, VERTS),
+// known before any is made: the sampling layer hands a model whose largest buffer exceeds the
+// device's maxStorageBufferRange to the CPU with that reason instead of failing at the bind.
+struct ModelBufferBytes {
+  uint64_t net = 0, params = 0, verts = 0;
+  uint64_t largest() const { return std::max({net, params, verts}); }
+};
+ModelBufferBytes modelBufferBytes(const Curve& curve, Precision precision);
+ModelBufferBytes modelBufferBytes(const Surface& surface, Precision precision);
 
 // Buffers shared by GpuCurve and GpuSurface. Every parameterization fact comes from the core
 // Curve/Surface the mirror holds; this class only lays it out in NET, PARAMS and VERTS.

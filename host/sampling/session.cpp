@@ -226,6 +226,15 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
     return fallBack("Vulkan device '" + ctx->deviceName() + "' has no shaderFloat64 (use --precision float for the GPU)");
   }
   if (auto why = gpuLimitation(model, request.precision)) return fallBack(*why);
+  // Nets are not yet split into tiles of patches (issue 31, part 3): one that does not fit one
+  // storage binding goes to the CPU with the sizes, rather than failing at the bind.
+  const uint64_t largest = gpu::modelBufferBytes(model, request.precision).largest();
+  const uint64_t range = ctx->limits().maxStorageBufferRange;
+  if (largest > range) {
+    return fallBack("the model needs a " + std::to_string(largest) + "-byte device buffer in " +
+                    (request.precision == Precision::Double ? "fp64" : "fp32") + ", over the " + std::to_string(range) +
+                    "-byte maxStorageBufferRange of Vulkan device '" + ctx->deviceName() + "'");
+  }
   r.gpu = true;
   r.device = ctx->deviceName();
   r.computedPrecision = request.precision;

@@ -146,6 +146,39 @@ CurveModel aebCurve() {
   return m;
 }
 
+// modelBufferBytes, which the sampling layer compares with maxStorageBufferRange before a mirror
+// exists, is what the mirrors then create, for every parameterization and both precisions.
+TEST_F(GpuModelSyncTest, BufferSizesAreKnownBeforeTheBuffers) {
+  auto expectSizes = [](const gpu::GpuModel& mirror, const gpu::ModelBufferBytes& predicted, const std::string& what) {
+    EXPECT_EQ(mirror.netBuffer().size(), predicted.net) << what;
+    EXPECT_EQ(mirror.paramBuffer().size(), predicted.params) << what;
+    EXPECT_EQ(mirror.vertexBuffer().size(), predicted.verts) << what;
+  };
+  FamilySpec xuWang;
+  xuWang.construction = Construction::ExtendedBSpline;
+  xuWang.degree = 5;
+  xuWang.lambda = 0.5;
+  const std::vector<std::pair<std::string, SurfaceModel>> surfaces = {
+      {"alpha_eb", aebSurface()}, {"nurbs torus", nurbsTorus(3.0, 1.0)}, {"xu-wang", wavyNet(xuWang, 7, false)}};
+  CurveModel plain = aebCurve();
+  plain.family = xuWang;
+  plain.alpha.clear();
+  const std::vector<std::pair<std::string, CurveModel>> curves = {
+      {"alpha_eb", aebCurve()}, {"nurbs circle", nurbsCircle(2.0)}, {"xu-wang", plain}};
+  std::vector<Precision> precisions = {Precision::Float};
+  if (ctx().supportsFloat64()) precisions.push_back(Precision::Double);
+  for (Precision p : precisions) {
+    for (const auto& [name, m] : surfaces) {
+      const Surface s = Surface::create(m);
+      expectSizes(gpu::GpuSurface(ctx_, s, p), gpu::modelBufferBytes(s, p), "surface " + name);
+    }
+    for (const auto& [name, m] : curves) {
+      const Curve c = Curve::create(m);
+      expectSizes(gpu::GpuCurve(ctx_, c, p), gpu::modelBufferBytes(c, p), "curve " + name);
+    }
+  }
+}
+
 TEST_F(GpuModelSyncTest, SurfaceSettersKeepCoreAndGpuEqual) {
   SurfaceModel model = aebSurface();
   gpu::GpuSurface state(ctx_, Surface::create(model), precision());

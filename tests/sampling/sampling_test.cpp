@@ -19,6 +19,7 @@
 #include <shapespline/core/curve.h>
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
+#include <shapespline/gpu/gpu_model.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/sampling/gpu_limits.h>
 #include <shapespline/sampling/net_scale.h>
@@ -165,6 +166,43 @@ TEST_F(SamplingGpu, ModelBeyondTheKernelsFallsBackWithItsReason) {
   EXPECT_NE(r.fallbacks[0].find("alpha = 1e-31 is below 1e-30"), std::string::npos) << r.fallbacks[0];
   EXPECT_THROW(session.plan(c, {DeviceKind::Vulkan, Precision::Float, true}), sampling::DeviceError);
   EXPECT_TRUE(session.plan(c, {DeviceKind::Vulkan, Precision::Double, true}).gpu);  // fp64 represents it
+}
+
+// A model whose largest device buffer exceeds one storage binding (maxStorageBufferRange: 128 MiB
+// on lavapipe) goes to the CPU with the sizes in the reason, and is refused when the device is
+// required; one vertex fewer than the limit allows stays on the GPU. An α-EB curve, the cheapest
+// such model: its VERTS holds 2 REAL4 per vertex.
+TEST_F(SamplingGpu, ModelBeyondOneStorageBindingFallsBackWithTheSizes) {
+  const uint64_t range = ctx().limits().maxStorageBufferRange;
+  const Precision p = Precision::Float;
+  const uint64_t perVertex = 2 * 4 * 4;
+  if (range / perVertex > (uint64_t{1} << 24)) GTEST_SKIP() << "maxStorageBufferRange " << range << " needs too large a model";
+  CurveModel m;
+  m.family.construction = Construction::AlphaEB;
+  m.family.degree = 5;
+  m.dimension = 2;
+  const size_t fits = static_cast<size_t>(range / perVertex);
+  m.points.resize(fits + 1);
+  for (size_t i = 0; i < m.points.size(); ++i) m.points[i] = {double(i), std::sin(0.01 * double(i)), 0.0};
+  m.alpha.assign(m.points.size(), 0.5);
+  sampling::Session session(ctx_);
+  {
+    const Curve c = Curve::create(m);
+    ASSERT_GT(gpu::modelBufferBytes(c, p).largest(), range);
+    const sampling::Report r = session.plan(c, {DeviceKind::Auto, p, false});
+    EXPECT_FALSE(r.gpu);
+    ASSERT_EQ(r.fallbacks.size(), 1u);
+    EXPECT_NE(r.fallbacks[0].find("-byte device buffer in fp32, over the " + std::to_string(range) +
+                                  "-byte maxStorageBufferRange of Vulkan device"),
+              std::string::npos)
+        << r.fallbacks[0];
+    EXPECT_THROW(session.plan(c, {DeviceKind::Vulkan, p, true}), sampling::DeviceError);
+  }
+  m.points.resize(fits);
+  m.alpha.resize(fits);
+  const Curve c = Curve::create(m);
+  EXPECT_LE(gpu::modelBufferBytes(c, p).largest(), range);
+  EXPECT_TRUE(session.plan(c, {DeviceKind::Auto, p, false}).gpu);
 }
 
 // More knots than fp32 PARAMS indices address exactly: the fp32 GPU path falls back, naming them;
