@@ -266,16 +266,11 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   layout.welded = meshFormat && args.meshLayout == "welded";
   if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
-    const auto items = surfaceGridItems(*surface);
-    for (const auto& [i, j] : items) {
-      if (layout.spanU.empty() || layout.spanU.back() != i) layout.spanU.push_back(i);
-      if (layout.spanU.size() == 1) layout.spanV.push_back(j);
-    }
-    layout.itemsV = layout.spanV.size();
+    SurfaceGridItems items = surfaceGridItems(*surface);
     layout.totalItems = items.size();
-    if (layout.spanU.size() * layout.spanV.size() != items.size()) {
-      throw std::logic_error("surface items do not form a grid");
-    }
+    layout.spanU = std::move(items.u);
+    layout.spanV = std::move(items.v);
+    layout.itemsV = layout.spanV.size();
     const auto& sm = surface->model();
     layout.closedU = sm.closedU;
     layout.closedV = sm.closedV;

@@ -134,16 +134,15 @@ std::vector<int> curveGridItems(const Curve& curve) {
   return items;
 }
 
-std::vector<std::pair<int, int>> surfaceGridItems(const Surface& surface) {
-  std::vector<std::pair<int, int>> items;
+SurfaceGridItems surfaceGridItems(const Surface& surface) {
+  SurfaceGridItems items;
   const PatchRange r = surface.patches();
   const auto& m = surface.model();
   for (int i = r.u.first; i <= r.u.last; ++i) {
-    if (surface.usesKnotVector() && !(m.knotsU[i] < m.knotsU[i + 1])) continue;
-    for (int j = r.v.first; j <= r.v.last; ++j) {
-      if (surface.usesKnotVector() && !(m.knotsV[j] < m.knotsV[j + 1])) continue;
-      items.emplace_back(i, j);
-    }
+    if (!surface.usesKnotVector() || m.knotsU[i] < m.knotsU[i + 1]) items.u.push_back(i);
+  }
+  for (int j = r.v.first; j <= r.v.last; ++j) {
+    if (!surface.usesKnotVector() || m.knotsV[j] < m.knotsV[j + 1]) items.v.push_back(j);
   }
   return items;
 }

@@ -39,8 +39,32 @@ struct SamplerOptions {
 
 // The sampled items: span indices of a curve (for knot-vector B-splines only non-empty intervals).
 std::vector<int> curveGridItems(const Curve& curve);
-// Patches (i, j) of a surface, row-major (i outer); knot-vector B-splines: non-empty intervals only.
-std::vector<std::pair<int, int>> surfaceGridItems(const Surface& surface);
+// Patches (i, j) of a surface, row-major (i outer): every pair of a u index and a v index, so the
+// list is held as its two factors (a 4096 x 4096 net has 16.8 million patches).
+struct SurfaceGridItems {
+  std::vector<int> u, v;  // patch indices per direction; knot-vector B-splines: non-empty intervals
+  size_t size() const { return u.size() * v.size(); }
+  bool empty() const { return size() == 0; }
+  std::pair<int, int> operator[](size_t k) const { return {u[k / v.size()], v[k % v.size()]}; }
+
+  class Iterator {
+   public:
+    Iterator(const SurfaceGridItems* items, size_t k) : items_(items), k_(k) {}
+    std::pair<int, int> operator*() const { return (*items_)[k_]; }
+    Iterator& operator++() {
+      ++k_;
+      return *this;
+    }
+    bool operator==(const Iterator& o) const { return k_ == o.k_; }
+
+   private:
+    const SurfaceGridItems* items_;
+    size_t k_;
+  };
+  Iterator begin() const { return {this, 0}; }
+  Iterator end() const { return {this, size()}; }
+};
+SurfaceGridItems surfaceGridItems(const Surface& surface);
 
 // Fields allowed: Point, D1, D2 (curves); Point, Du, Dv, Duu, Duv, Dvv, Normal (surfaces).
 // Throws std::invalid_argument for another field, fewer than 2 samples, or an item range outside

@@ -153,7 +153,9 @@ Surface Surface::create(SurfaceModel model) {
       extendedIndices(m.cols, m.closedV, s.alphaEB(), s.basisV_.count, s.basisV_.centre, s.offV_);
   s.netRows_ = static_cast<int>(eu.size());
   s.netCols_ = static_cast<int>(ev.size());
-  s.net_.resize(eu.size() * ev.size());
+  // Appended rather than resized first: zero-filling a large net (a 4096² one is 400 MB) only to
+  // overwrite it costs as much as writing it.
+  s.net_.reserve(eu.size() * ev.size());
   for (int a = 0; a < s.netRows_; ++a) {
     for (int b = 0; b < s.netCols_; ++b) {
       const ExtendedIndex& x = eu[a];
@@ -162,32 +164,50 @@ Surface Surface::create(SurfaceModel model) {
       auto rowPoint = [&](int i) {
         return y.w1 == 0.0 ? m.at(i, y.i0) : y.w0 * m.at(i, y.i0) + y.w1 * m.at(i, y.i1);
       };
-      s.net_[static_cast<size_t>(a) * s.netCols_ + b] =
-          x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1);
+      s.net_.push_back(x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1));
     }
   }
 
   if (s.alphaEB()) {
-    const size_t count = static_cast<size_t>(m.rows) * m.cols;
-    s.nodes_.resize(count);
-    s.v_.resize(count);
     // At (0,0) only b_0..b_2 are nonzero in each direction (b_3(0) = 0, §2.3), so node_ij reads the
     // 3 x 3 block around P_ij: a 4 x 4 block would read past the extended net for the last row of an
     // open direction (and into the next row for the last column).
-    SpanBasis nodeU = s.basisU_, nodeV = s.basisV_;
-    nodeU.count = nodeV.count = 3;
+    double d1[kMaxBasisCount], d2[kMaxBasisCount], u0[kMaxBasisCount], v0[kMaxBasisCount];
+    evalSpanBasis(s.basisU_, 0.0, u0, d1, d2);
+    evalSpanBasis(s.basisV_, 0.0, v0, d1, d2);
+    std::copy(u0, u0 + 3, s.nodeWeightU_);
+    std::copy(v0, v0 + 3, s.nodeWeightV_);
+    s.v_.reserve(static_cast<size_t>(m.rows) * m.cols);
     for (int i = 0; i < m.rows; ++i) {
       for (int j = 0; j < m.cols; ++j) {
-        PatchDerivs c;
-        evalTensorPatch(nodeU, nodeV, &s.net_[static_cast<size_t>(i) * s.netCols_ + j], s.netCols_, 0.0, 0.0, c);
         const size_t k = static_cast<size_t>(i) * m.cols + j;
-        s.nodes_[k] = c.p;
-        s.v_[k] = alphaEBVertex(m.at(i, j), c.p, m.alpha[k],
-                                [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; });
+        s.v_.push_back(alphaEBVertex(m.at(i, j), s.alphaNode(i, j), m.alpha[k],
+                                [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; }));
       }
     }
   }
   return s;
+}
+
+glm::dvec3 Surface::alphaNode(int i, int j) const {
+  // C_ij(0,0) as evalTensorPatch sums it (rows contracted along v first), so the bits are the same.
+  const glm::dvec3* net = &net_[static_cast<size_t>(i) * netCols_ + j];
+  glm::dvec3 p(0.0);
+  for (int r = 0; r < 3; ++r) {
+    glm::dvec3 row(0.0);
+    for (int s = 0; s < 3; ++s) row += nodeWeightV_[s] * net[static_cast<size_t>(r) * netCols_ + s];
+    p += nodeWeightU_[r] * row;
+  }
+  return p;
+}
+
+std::vector<glm::dvec3> Surface::alphaNodes() const {
+  std::vector<glm::dvec3> nodes;
+  if (!alphaEB()) return nodes;
+  nodes.reserve(static_cast<size_t>(model_.rows) * model_.cols);
+  for (int i = 0; i < model_.rows; ++i)
+    for (int j = 0; j < model_.cols; ++j) nodes.push_back(alphaNode(i, j));
+  return nodes;
 }
 
 std::pair<double, double> Surface::parameterRangeU() const {
@@ -248,7 +268,7 @@ bool Surface::cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const {
   if (model_.alpha[kv] != 1.0) return false;
   const size_t ku = static_cast<size_t>(pn) * cols + q, kw = static_cast<size_t>(p) * cols + qn;
   const glm::dvec3& P = model_.at(p, q);
-  const glm::dvec3 c = alphaEBCornerNormal(P, nodes_[kv], v_[ku], model_.alpha[ku], v_[kw], model_.alpha[kw],
+  const glm::dvec3 c = alphaEBCornerNormal(P, alphaNode(p, q), v_[ku], model_.alpha[ku], v_[kw], model_.alpha[kw],
                                            cu == 0 ? 1.0 : -1.0, cv == 0 ? 1.0 : -1.0);
   // Scaled before the length so that |c|^2 neither overflows nor underflows for extreme nets.
   const glm::dvec3 s = unitScaled(c);

@@ -133,7 +133,10 @@ class Surface {
   // alphas() are R x C row-major (node_ij = C_ij(0,0), V_ij, α_ij); patch (i,j) uses entries
   // (i, j), (i, j+1), (i+1, j), (i+1, j+1), wrapped in closed directions.
   const std::vector<glm::dvec3>& extendedNet() const { return alphaEB() ? net_ : emptyPoints_; }
-  const std::vector<glm::dvec3>& alphaNodes() const { return nodes_; }
+  // The nodes are not kept (a 4096² net's would take 400 MB): each is 9 products of the extended
+  // net, computed when asked for. alphaNodes() computes all of them.
+  glm::dvec3 alphaNode(int i, int j) const;
+  std::vector<glm::dvec3> alphaNodes() const;
   const std::vector<glm::dvec3>& alphaV() const { return v_; }
   const std::vector<double>& alphas() const { return model_.alpha; }
 
@@ -153,7 +156,9 @@ class Surface {
   Parameterization parameterization_ = Parameterization::LocalSpans;
   std::vector<glm::dvec3> net_;
   int netRows_ = 0, netCols_ = 0, offU_ = 0, offV_ = 0;
-  std::vector<glm::dvec3> nodes_, v_;
+  std::vector<glm::dvec3> v_;
+  // The span bases at 0 (b_0..b_2; b_3(0) = 0, §2.3): node_ij's weights, α-EB only.
+  double nodeWeightU_[3] = {}, nodeWeightV_[3] = {};
   std::vector<glm::dvec3> emptyPoints_;
   BSplineSurfaceData bspline_;  // knot-vector B-splines only
 };

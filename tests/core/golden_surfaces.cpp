@@ -118,7 +118,7 @@ void checkSurface(CaseReport& r) {
       for (int j = 0; j < model->cols && j < static_cast<int>(nodes[i].size()) && j < static_cast<int>(vs[i].size());
            ++j) {
         const size_t k = static_cast<size_t>(i) * model->cols + j;
-        r.compare(at("base_nodes", i, j), nodes[i][j], surface.alphaNodes()[k], 3, tolNode);
+        r.compare(at("base_nodes", i, j), nodes[i][j], surface.alphaNode(i, j), 3, tolNode);
         r.compare(at("V", i, j), vs[i][j], surface.alphaV()[k], 3, tolV);
       }
     }

@@ -60,7 +60,7 @@ TEST(FuzzRegression, OpenAlphaEBSurfaceLastNodesStayInsideTheExtendedNet) {
   glm::dvec3 rows[3];
   for (int a = 0; a < 3; ++a) rows[a] = spanStart(k, lambda, P(r - 1 + a, c - 1), P(r - 1 + a, c), P(r - 1 + a, c + 1));
   const glm::dvec3 expected = spanStart(k, lambda, rows[0], rows[1], rows[2]);
-  const glm::dvec3 got = surface.alphaNodes()[static_cast<size_t>(r) * m.cols + c];
+  const glm::dvec3 got = surface.alphaNode(r, c);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(got[a], expected[a], 1e-13) << "axis " << a;
   for (const auto& v : surface.alphaV()) EXPECT_TRUE(finite(v));
 }
