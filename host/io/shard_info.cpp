@@ -31,16 +31,25 @@ class Fnv1a {
     u64(s.size());
     bytes(s.data(), s.size());
   }
+  // Arrays (a net can hold 10^8 values) go a word at a time, 8 times faster than byte-wise FNV:
+  // each word is xored in, multiplied, and its high half folded down so that the next multiply
+  // carries every bit of it (a multiply alone moves bits only upwards).
   void f64s(const std::vector<double>& v) {
     u64(v.size());
-    for (double x : v) f64(x);
+    words(reinterpret_cast<const unsigned char*>(v.data()), v.size());
   }
   void points(const std::vector<glm::dvec3>& v) {
+    static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
     u64(v.size());
-    for (const auto& p : v) {
-      f64(p.x);
-      f64(p.y);
-      f64(p.z);
+    words(reinterpret_cast<const unsigned char*>(v.data()), 3 * v.size());
+  }
+  void words(const unsigned char* data, size_t count) {
+    for (size_t i = 0; i < count; ++i) {
+      uint64_t w;
+      std::memcpy(&w, data + 8 * i, 8);
+      h_ ^= w;
+      h_ *= 1099511628211ull;
+      h_ ^= h_ >> 32;
     }
   }
   std::string hex() const {
