@@ -12,6 +12,7 @@ NumPy (no per-point Python objects).
 """
 from typing import Any, Iterator, Literal, Optional, Sequence, Tuple, Union, overload
 
+import os
 import numpy as np
 import numpy.typing as npt
 
@@ -284,6 +285,15 @@ def load(path: str) -> Union[Curve, Surface]:
 
 def from_dict(model: dict[str, Any]) -> Union[Curve, Surface]:
     """A model from a dict with the keys of a model file."""
+
+def sample_many(models: Sequence[Union[Curve, Surface, dict[str, Any], str, "os.PathLike[str]"]],
+                grid: Union[int, Tuple[int, int], None] = None, *, fields: Fields = None, device: str = "auto",
+                precision: str = "double", require: bool = False, errors: str = "raise",
+                report: bool = False) -> list[Any]:
+    """Each model sampled whole, as its sample() would, through one device and its compiled pipelines:
+    a list of sample() dicts ((dict, Report) pairs with report=True). A failing model's exception
+    carries the note 'sample_many: models[k]'; errors='keep' puts it in the model's place and
+    samples the others."""
 
 def devices() -> str:
     """The Vulkan devices, the one a job would use, fp64 support and limits (as `shapespline info`)."""

@@ -266,6 +266,46 @@ std::vector<py::ssize_t> itemShape(const GridSpec& g) {
   }
 }
 
+// The result arrays of a grid job, allocated once and written straight from each chunk (the GIL
+// released). `run(slice, jobPlanes)` runs the job, through a handle's resident model or the
+// session, and returns its report.
+template <class Model, class Run>
+py::dict sampleIntoArrays(const GridSpec& g, FieldMask mask, Precision precision, sampling::Report& report, Run&& run) {
+  const size_t points = g.itemCount * g.pointsPerItem();
+  if (points > (size_t{1} << 40) / 24) argumentError("grid", "the job is too large for arrays in memory; use sample_chunks");
+  py::dict out;
+  std::array<void*, kFieldCount> dst{};
+  const bool dbl = precision == Precision::Double;
+  for (const auto& f : fieldNames<Model>()) {
+    if (!(mask & fieldBit(f.field))) continue;
+    py::array a = dbl ? py::array(py::array_t<double>(itemShape<Model>(g))) : py::array(py::array_t<float>(itemShape<Model>(g)));
+    dst[size_t(f.field)] = a.mutable_data();
+    out[f.name] = a;
+  }
+  py::gil_scoped_release release;
+  const size_t ppi = g.pointsPerItem();
+  // fp64 on the CPU: the sampler's workers write the arrays themselves. Otherwise the copy into
+  // the arrays is order-free: a slice consumer, run by the CPU sampler's workers as they finish
+  // their rows (while the values are in their caches) or on each GPU chunk.
+  std::array<double*, kFieldCount> jobPlanes{};
+  if (dbl)
+    for (int f = 0; f < kFieldCount; ++f) jobPlanes[size_t(f)] = static_cast<double*>(dst[size_t(f)]);
+  const SliceConsumer copy = [&](const GridChunk& c, size_t first, size_t count) {
+    const size_t offset = ((c.firstItem - g.firstItem) * ppi + c.firstItemPoint()) * 3;
+    for (int f = 0; f < kFieldCount; ++f) {
+      if (!dst[size_t(f)] || !c.planes[size_t(f)]) continue;
+      if (dbl && c.planes[size_t(f)] == static_cast<double*>(dst[size_t(f)]) + offset) continue;  // written there
+      if (dbl) {
+        copyPlane(c, Field(f), static_cast<double*>(dst[size_t(f)]) + offset, first, count);
+      } else {
+        copyPlane(c, Field(f), static_cast<float*>(dst[size_t(f)]) + offset, first, count);
+      }
+    }
+  };
+  report = run(copy, jobPlanes);
+  return out;
+}
+
 template <class Model>
 py::object sample(Handle<Model>& h, py::object grid, py::object samples, py::object fields, const std::string& device,
                   const std::string& precision, bool require, long long firstItem, long long itemCount,
@@ -274,42 +314,11 @@ py::object sample(Handle<Model>& h, py::object grid, py::object samples, py::obj
   const sampling::DeviceRequest request = deviceRequest(device, precision, require);
   if (chunkPoints < 0) argumentError("chunk_points", "must be >= 0", std::to_string(chunkPoints));
   const GridSpec g = jobGrid(h, parseGrid<Model>(grid, samples), firstItem, itemCount);
-  const size_t points = g.itemCount * g.pointsPerItem();
-  if (points > (size_t{1} << 40) / 24) argumentError("grid", "the job is too large for arrays in memory; use sample_chunks");
-  // The arrays are allocated here and written by the consumer straight from each chunk.
-  py::dict out;
-  std::array<void*, kFieldCount> dst{};
-  const bool dbl = request.precision == Precision::Double;
-  for (const auto& f : fieldNames<Model>()) {
-    if (!(mask & fieldBit(f.field))) continue;
-    py::array a = dbl ? py::array(py::array_t<double>(itemShape<Model>(g))) : py::array(py::array_t<float>(itemShape<Model>(g)));
-    dst[size_t(f.field)] = a.mutable_data();
-    out[f.name] = a;
-  }
   sampling::Report report;
-  {
-    py::gil_scoped_release release;
-    const size_t ppi = g.pointsPerItem();
-    // fp64 on the CPU: the sampler's workers write the arrays themselves. Otherwise the copy into
-    // the arrays is order-free: a slice consumer, run by the CPU sampler's workers as they finish
-    // their rows (while the values are in their caches) or on each GPU chunk.
-    std::array<double*, kFieldCount> jobPlanes{};
-    if (dbl)
-      for (int f = 0; f < kFieldCount; ++f) jobPlanes[size_t(f)] = static_cast<double*>(dst[size_t(f)]);
-    const SliceConsumer copy = [&](const GridChunk& c, size_t first, size_t count) {
-      const size_t offset = ((c.firstItem - g.firstItem) * ppi + c.firstItemPoint()) * 3;
-      for (int f = 0; f < kFieldCount; ++f) {
-        if (!dst[size_t(f)] || !c.planes[size_t(f)]) continue;
-        if (dbl && c.planes[size_t(f)] == static_cast<double*>(dst[size_t(f)]) + offset) continue;  // written there
-        if (dbl) {
-          copyPlane(c, Field(f), static_cast<double*>(dst[size_t(f)]) + offset, first, count);
-        } else {
-          copyPlane(c, Field(f), static_cast<float*>(dst[size_t(f)]) + offset, first, count);
-        }
-      }
-    };
-    report = h.sampleGrid(request, g, mask, [](const GridChunk&) {}, static_cast<size_t>(chunkPoints), copy, jobPlanes);
-  }
+  py::dict out = sampleIntoArrays<Model>(g, mask, request.precision, report,
+                                         [&](const SliceConsumer& copy, const std::array<double*, kFieldCount>& planes) {
+    return h.sampleGrid(request, g, mask, [](const GridChunk&) {}, static_cast<size_t>(chunkPoints), copy, planes);
+  });
   if (withReport) return py::make_tuple(out, reportObject(report));
   return out;
 }
@@ -360,6 +369,92 @@ py::object chunkDict(ChunkData&& d, FieldMask mask, Precision precision) {
 }
 
 // ---- Lists -------------------------------------------------------------------------------------
+
+// ---- Many models ---------------------------------------------------------------------------------
+
+// One model of sample_many, sampled whole through the module's Session: its device and evaluators
+// (compiled pipelines) serve every model, and no resident mirror is built for a model sampled once.
+template <class Model>
+py::object sampleSnapshot(const Model& model, py::object grid, py::object fields, const sampling::DeviceRequest& request,
+                          bool withReport) {
+  const FieldMask mask = parseFields<Model>(fields);
+  GridSpec g = parseGrid<Model>(grid, py::none());
+  g.itemCount = gridItems(model);
+  {
+    py::gil_scoped_release release;
+    python::plan(model, request);  // creates the session's context once; DeviceError when required
+  }
+  sampling::Report report;
+  py::dict out = sampleIntoArrays<Model>(g, mask, request.precision, report,
+                                         [&](const SliceConsumer& copy, const std::array<double*, kFieldCount>& planes) {
+    sampling::GridOptions o;
+    o.slice = copy;
+    o.jobPlanes = planes;
+    return session().sampleGrid(model, request, g, mask, [](const GridChunk&) {}, o);
+  });
+  if (withReport) return py::make_tuple(out, reportObject(report));
+  return out;
+}
+
+py::object sampleModelData(io::Model m, py::object grid, py::object fields, const sampling::DeviceRequest& request,
+                           bool withReport) {
+  if (auto* c = std::get_if<CurveModel>(&m)) {
+    const Curve curve = [&] {
+      py::gil_scoped_release release;
+      return Curve::create(std::move(*c));
+    }();
+    return sampleSnapshot(curve, grid, fields, request, withReport);
+  }
+  const Surface surface = [&] {
+    py::gil_scoped_release release;
+    return Surface::create(std::get<SurfaceModel>(std::move(m)));
+  }();
+  return sampleSnapshot(surface, grid, fields, request, withReport);
+}
+
+// A Curve, a Surface, a model dict, or a model file's path (str or os.PathLike).
+py::object sampleAnyModel(py::object item, py::object grid, py::object fields, const sampling::DeviceRequest& request,
+                          bool withReport) {
+  if (py::isinstance<CurveHandle>(item)) {
+    return sampleSnapshot(item.cast<CurveHandle&>().model(), grid, fields, request, withReport);
+  }
+  if (py::isinstance<SurfaceHandle>(item)) {
+    return sampleSnapshot(item.cast<SurfaceHandle&>().model(), grid, fields, request, withReport);
+  }
+  if (py::isinstance<py::dict>(item)) return sampleModelData(parseDict(item.cast<py::dict>()), grid, fields, request, withReport);
+  if (py::isinstance<py::str>(item) || py::hasattr(item, "__fspath__")) {
+    const std::string path = py::str(py::module_::import("os").attr("fspath")(item));
+    return sampleModelData(loadPath(path), grid, fields, request, withReport);
+  }
+  PyErr_SetString(PyExc_TypeError, ("a model must be a Curve, a Surface, a dict or a path (got " +
+                                    std::string(py::str(py::type::of(item).attr("__name__"))) + ")").c_str());
+  throw py::error_already_set();
+}
+
+// sample_many: each model in turn; a failing model's exception names it (a note "models[k]"), and
+// is raised (errors="raise") or put in its place in the list (errors="keep") while the others are
+// still sampled.
+py::list sampleMany(py::sequence models, py::object grid, py::object fields, const std::string& device,
+                    const std::string& precision, bool require, const std::string& errors, bool withReport) {
+  if (errors != "raise" && errors != "keep") argumentError("errors", "must be 'raise' or 'keep'", errors);
+  const sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  // Called as a Python function, so that every C++ exception arrives translated (ModelError,
+  // DeviceError, ...) as the exception object the caller would see.
+  py::cpp_function one([&](py::object item) { return sampleAnyModel(item, grid, fields, request, withReport); });
+  py::list out;
+  const size_t n = py::len(models);
+  for (size_t k = 0; k < n; ++k) {
+    try {
+      out.append(one(models[k]));
+    } catch (py::error_already_set& e) {
+      const std::string note = "sample_many: models[" + std::to_string(k) + "]";
+      if (py::hasattr(e.value(), "add_note")) e.value().attr("add_note")(note);
+      if (errors == "raise") throw;
+      out.append(e.value());
+    }
+  }
+  return out;
+}
 
 template <class Model, class Point>
 py::dict pointDict(const std::vector<Point>& pts, Precision precision) {
@@ -983,6 +1078,12 @@ PYBIND11_MODULE(shapespline, m) {
         "A Curve or Surface from a model file (docs/format.md).");
   m.def("from_dict", [](py::dict d) { return wrap(parseDict(d)); }, py::arg("model"),
         "A Curve or Surface from a dict with the keys of a model file.");
+  m.def("sample_many", &sampleMany, py::arg("models"), py::arg("grid") = py::none(), py::kw_only(),
+        py::arg("fields") = py::none(), py::arg("device") = "auto", py::arg("precision") = "double",
+        py::arg("require") = false, py::arg("errors") = "raise", py::arg("report") = false,
+        "sample_many(models, grid=None, *, fields, device, precision, require, errors='raise', report=False) -> list "
+        "of sample() dicts, one per model (a Curve, Surface, dict or model file path), all through one device and its "
+        "compiled pipelines. errors='keep' puts a failing model's exception in its place and samples the others.");
   m.def("devices", [] {
     py::gil_scoped_release release;
     return sampling::describeDevices();
