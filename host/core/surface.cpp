@@ -189,6 +189,54 @@ Surface Surface::create(SurfaceModel model) {
   return s;
 }
 
+Surface Surface::patchRows(int first, int last) const {
+  if (knotVector() || first < patches_.u.first || last > patches_.u.last || first > last) {
+    throw std::invalid_argument("Surface::patchRows: rows " + std::to_string(first) + ".." + std::to_string(last) +
+                                " are not patch rows of a uniform-span surface");
+  }
+  const int count = last - first + 1;
+  Surface b;
+  b.parameterization_ = parameterization_;
+  b.basisU_ = basisU_;
+  b.basisV_ = basisV_;
+  b.patches_ = {{0, count - 1}, patches_.v};
+  // Patch i reads net rows i + offU_ .. i + offU_ + m - 1 (m = basisU_.count).
+  const size_t netFirst = static_cast<size_t>(first + offU_), netRows = static_cast<size_t>(count + basisU_.count - 1);
+  b.netRows_ = static_cast<int>(netRows);
+  b.netCols_ = netCols_;
+  b.offU_ = 0;
+  b.offV_ = offV_;
+  b.net_.assign(net_.begin() + static_cast<std::ptrdiff_t>(netFirst * netCols_),
+                net_.begin() + static_cast<std::ptrdiff_t>((netFirst + netRows) * netCols_));
+  SurfaceModel& m = b.model_;
+  m.family = model_.family;
+  m.orderV = model_.orderV;
+  m.closedU = false;
+  m.closedV = model_.closedV;
+  m.cols = model_.cols;
+  if (!alphaEB()) {
+    // Only the net is evaluated; it stands for the points too (what a GPU mirror uploads).
+    m.rows = static_cast<int>(netRows);
+    m.points = b.net_;
+    return b;
+  }
+  // α-EB: vertex rows first..last+1 (the last one wrapped in a closed u direction) with their V
+  // and α; the net rows are those the nodes read (alphaNode: rows i..i+2).
+  std::copy(nodeWeightU_, nodeWeightU_ + 3, b.nodeWeightU_);
+  std::copy(nodeWeightV_, nodeWeightV_ + 3, b.nodeWeightV_);
+  m.rows = count + 1;
+  const size_t cols = static_cast<size_t>(model_.cols);
+  for (int k = 0; k <= count; ++k) {
+    const size_t row = static_cast<size_t>((first + k) % model_.rows) * cols;
+    m.points.insert(m.points.end(), model_.points.begin() + static_cast<std::ptrdiff_t>(row),
+                    model_.points.begin() + static_cast<std::ptrdiff_t>(row + cols));
+    m.alpha.insert(m.alpha.end(), model_.alpha.begin() + static_cast<std::ptrdiff_t>(row),
+                   model_.alpha.begin() + static_cast<std::ptrdiff_t>(row + cols));
+    b.v_.insert(b.v_.end(), v_.begin() + static_cast<std::ptrdiff_t>(row), v_.begin() + static_cast<std::ptrdiff_t>(row + cols));
+  }
+  return b;
+}
+
 glm::dvec3 Surface::alphaNode(int i, int j) const {
   // C_ij(0,0) as evalTensorPatch sums it (rows contracted along v first), so the bits are the same.
   const glm::dvec3* net = &net_[static_cast<size_t>(i) * netCols_ + j];

@@ -115,6 +115,13 @@ class Surface {
   // core/bspline.h findKnotSpan. The one lookup that CPU and GPU parameter lists share.
   void patchAt(double U, double V, int& i, int& j, double& u, double& v) const;
 
+  // The patches of rows first..last (patch indices in u) as a surface of their own, open in u:
+  // its patch (i, j) is patch (first + i, j) here and evaluates to the same bits (the same net
+  // rows, V, α and bases, copied). The GPU path samples a net too large for one device buffer in
+  // such bands. Not for knot-vector B-splines; throws std::invalid_argument for rows outside
+  // patches().u.
+  Surface patchRows(int first, int last) const;
+
   // Unit diagonal-limit normal of the α = 1 vertex at corner (cornerU, cornerV) ∈ {0,1}^2 of patch
   // (i,j), as used by evaluate() at that corner (§5.3). Throws std::logic_error when the surface is
   // not α-EB or that vertex has α != 1. Falls back like evaluate() if the limit itself degenerates.
