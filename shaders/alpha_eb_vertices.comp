@@ -14,7 +14,9 @@ layout(push_constant) uniform PushBlock { VertexPush pc; };
 const uint kNodePoints = 3u;
 
 void main() {
-  uint idx = gl_GlobalInvocationID.x;
+  // KernelSet::dispatch folds more than maxComputeWorkGroupCount[0] groups into y (a 2048² α-EB
+  // net has 4.2 million vertices: 65,536 groups of 64).
+  uint idx = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   uint count = pc.rows * pc.cols;
   if (idx >= count) return;
   uint i = idx / pc.cols, j = idx - i * pc.cols;

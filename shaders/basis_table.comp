@@ -11,7 +11,9 @@ layout(std430, binding = kBindingSamples) readonly buffer SampleBuf { ListSample
 layout(push_constant) uniform PushBlock { TablePush pc; };
 
 void main() {
-  uint a = gl_GlobalInvocationID.x;
+  // KernelSet::dispatch folds more than maxComputeWorkGroupCount[0] groups into y (a 2048² α-EB
+  // net has 4.2 million vertices: 65,536 groups of 64).
+  uint a = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   if (a >= pc.sampleCount) return;
   REAL t;
   if (pc.listMode != 0u) t = samples[a].u;
