@@ -179,6 +179,34 @@ TEST_F(GpuModelSyncTest, BufferSizesAreKnownBeforeTheBuffers) {
   }
 }
 
+// The α-EB vertex pass runs one invocation per vertex; past maxComputeWorkGroupCount[0] groups
+// of them the dispatch folds into y, and every vertex must still be computed (a 2048² net has
+// 4.2 million vertices: 65,536 groups of 64, one more than lavapipe's x limit; the last 64 V were
+// left unwritten). An α-EB curve just past that count, its last spans against the CPU.
+TEST_F(GpuModelSyncTest, VertexPassCoversEveryVertexPastTheGroupLimit) {
+  const uint64_t groupsX = ctx().limits().maxComputeWorkGroupCount[0];
+  const uint64_t n = groupsX * 64 + 60;  // 64: KernelSet's workgroup size
+  const Precision p = Precision::Float;
+  if (n * 2 * 4 * 4 > ctx().limits().maxStorageBufferRange || n > (uint64_t{1} << 23)) {
+    GTEST_SKIP() << "maxComputeWorkGroupCount[0] " << groupsX << ": too many vertices for this test";
+  }
+  CurveModel m = aebCurve();
+  m.points.resize(n);
+  for (size_t i = 0; i < n; ++i) m.points[i] = {double(i % 1000), std::sin(0.37 * double(i)), 0.0};
+  m.alpha.assign(n, 0.75);
+  const Curve cpu = Curve::create(m);
+  gpu::GpuCurve mirror(ctx_, cpu, p);
+  gpu::CurveEvaluator evaluator(ctx_, p);
+  std::vector<gpu::CurveSample> samples;
+  for (int s = cpu.spans().last - 70; s <= cpu.spans().last; ++s) samples.push_back({s, 0.5});
+  const auto got = evaluator.evaluateList(mirror, samples);
+  const double tol = kFp32Rel * boxDiagonal(m.points) / 0.75;  // support/tolerances.h, over α
+  for (size_t k = 0; k < samples.size(); ++k) {
+    const CurvePoint e = cpu.evaluate(samples[k].span, samples[k].t);
+    for (int a = 0; a < 2; ++a) EXPECT_NEAR(got[k].point[a], e.point[a], tol) << "span " << samples[k].span;
+  }
+}
+
 TEST_F(GpuModelSyncTest, SurfaceSettersKeepCoreAndGpuEqual) {
   SurfaceModel model = aebSurface();
   gpu::GpuSurface state(ctx_, Surface::create(model), precision());
