@@ -187,7 +187,8 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   }
   const SampleArgs& args = resolved;
   const io::OutputFormat format = io::outputFormatFromPath(args.out, "-o");
-  const sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
+  sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
+  request.grid = true;  // the report before output is that of the grid job (bands of a large net)
   const Precision precision = request.precision;
   const auto [shardK, shardN] = parseShard(args.shard);
   if (io::isGltf(format) && shardN > 1) {

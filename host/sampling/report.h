@@ -17,6 +17,10 @@ struct DeviceRequest {
   DeviceKind device = DeviceKind::Auto;
   Precision precision = Precision::Double;  // of the results handed to the sink
   bool require = false;
+  // A grid job (Session::sampleGrid sets it; so does a front end that plans one): a surface net
+  // too large for one device buffer is then sampled on the GPU in bands of patch rows instead of
+  // falling back to the CPU. List evaluation needs the whole net on the device.
+  bool grid = false;
 };
 
 struct Report {
@@ -26,6 +30,7 @@ struct Report {
   Precision outputPrecision = Precision::Double;
   std::vector<std::string> fallbacks;              // why the GPU was not used, in the order found
   int netScaleExponent = 0;                        // the job evaluates 2^k * net (net_scale.h), on either path
+  int bandRows = 0;                                // GPU grid in bands of this many patch rows; 0: the whole net
 };
 
 // A Vulkan failure (with a hint what to change), or a fallback refused because the request

@@ -206,6 +206,35 @@ gpu::SurfaceEvaluator& Session::surfaceEvaluator(Precision precision, size_t max
   return cachedEvaluator(surfaceEvaluators_, ctx_, precision, maxPlaneBytes);
 }
 
+namespace {
+
+// Patch rows per band so that every buffer of a band's mirror fits `limit`; 0 when the model is
+// not split (curves, knot-vector surfaces) or not even one row fits. The bytes grow linearly with
+// the rows, so bands of one and two rows give the slope.
+int patchRowsPerBand(const Curve&, Precision, uint64_t) { return 0; }
+int patchRowsPerBand(const Surface& s, Precision precision, uint64_t limit) {
+  if (s.usesKnotVector()) return 0;
+  const PatchRange r = s.patches();
+  const int rows = r.u.last - r.u.first + 1;
+  const gpu::ModelBufferBytes one = gpu::modelBufferBytes(s.patchRows(r.u.first, r.u.first), precision);
+  if (one.largest() > limit) return 0;
+  if (rows == 1) return 1;
+  const gpu::ModelBufferBytes two = gpu::modelBufferBytes(s.patchRows(r.u.first, r.u.first + 1), precision);
+  uint64_t n = static_cast<uint64_t>(rows);
+  for (const auto& [a, b] : {std::pair{one.net, two.net}, {one.params, two.params}, {one.verts, two.verts}}) {
+    if (b > a) n = std::min(n, 1 + (limit - a) / (b - a));
+  }
+  return static_cast<int>(n);
+}
+
+}  // namespace
+
+uint64_t Session::bufferLimit(const vk::Context& ctx) const {
+  uint64_t limit = ctx.limits().maxStorageBufferRange;
+  if (ctx.limits().maxMemoryAllocationSize) limit = std::min<uint64_t>(limit, ctx.limits().maxMemoryAllocationSize);
+  return maxBufferBytes_ ? std::min(limit, maxBufferBytes_) : limit;
+}
+
 template <class Model>
 Report Session::planFor(const Model& model, const DeviceRequest& request) {
   Report r;
@@ -226,14 +255,20 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
     return fallBack("Vulkan device '" + ctx->deviceName() + "' has no shaderFloat64 (use --precision float for the GPU)");
   }
   if (auto why = gpuLimitation(model, request.precision)) return fallBack(*why);
-  // Nets are not yet split into tiles of patches (issue 31, part 3): one that does not fit one
-  // storage binding goes to the CPU with the sizes, rather than failing at the bind.
+  // A net that does not fit one device buffer: a grid job samples it in bands of patch rows that
+  // do; anything else goes to the CPU with the sizes, rather than failing at the bind.
   const uint64_t largest = gpu::modelBufferBytes(model, request.precision).largest();
-  const uint64_t range = ctx->limits().maxStorageBufferRange;
-  if (largest > range) {
-    return fallBack("the model needs a " + std::to_string(largest) + "-byte device buffer in " +
-                    (request.precision == Precision::Double ? "fp64" : "fp32") + ", over the " + std::to_string(range) +
-                    "-byte maxStorageBufferRange of Vulkan device '" + ctx->deviceName() + "'");
+  const uint64_t limit = bufferLimit(*ctx);
+  if (largest > limit) {
+    r.bandRows = request.grid ? patchRowsPerBand(model, request.precision, limit) : 0;
+    if (r.bandRows == 0) {
+      return fallBack("the model needs a " + std::to_string(largest) + "-byte device buffer in " +
+                      (request.precision == Precision::Double ? "fp64" : "fp32") + ", over the " +
+                      std::to_string(limit) + "-byte limit of Vulkan device '" + ctx->deviceName() +
+                      "' (maxStorageBufferRange " + std::to_string(ctx->limits().maxStorageBufferRange) +
+                      (request.grid ? "; knot-vector nets and curves are not split into bands"
+                                    : "; only grid jobs are split into bands") + ")");
+    }
   }
   r.gpu = true;
   r.device = ctx->deviceName();
@@ -261,6 +296,43 @@ void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, typename Gpu<Model>::E
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     typename Gpu<Model>::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
     evaluator.evaluateGrid(mirror, grid, fields, deliver);
+    return 0;
+  });
+}
+
+// A grid on a net too large for one device buffer (Report::bandRows > 0): each band of patch rows
+// the job touches gets its own mirror (the same bits as the whole surface's patches,
+// Surface::patchRows), evaluated in turn; chunks carry the whole surface's item numbers.
+void sampleOnGpuInBands(const std::shared_ptr<vk::Context>& ctx, gpu::SurfaceEvaluator& evaluator, const Surface& model,
+                        const Report& r, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
+                        const GridOptions& options) {
+  ChunkUnscaler unscale(r.netScaleExponent);
+  const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
+    sliceInParallel(options.slice, chunk);
+    consumer(chunk);
+  };
+  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, options.slice ? sliceThenConsume : consumer); };
+  onDevice([&] {
+    const auto scaled = scaledOrNot(model, r.netScaleExponent);
+    const Surface& s = pick(scaled, model);
+    const PatchRange pr = s.patches();
+    const size_t itemsV = static_cast<size_t>(pr.v.last - pr.v.first + 1);
+    const size_t rows = static_cast<size_t>(pr.u.last - pr.u.first + 1), perBand = static_cast<size_t>(r.bandRows);
+    const size_t jobFirst = grid.firstItem, jobEnd = grid.itemCount ? grid.firstItem + grid.itemCount : rows * itemsV;
+    for (size_t row = jobFirst / itemsV; row * itemsV < jobEnd; row += perBand) {
+      const size_t lastRow = std::min(row + perBand, rows) - 1;
+      const size_t bandFirst = row * itemsV, bandEnd = (lastRow + 1) * itemsV;
+      const size_t first = std::max(jobFirst, bandFirst), end = std::min(jobEnd, bandEnd);
+      gpu::GpuSurface mirror(ctx, s.patchRows(pr.u.first + int(row), pr.u.first + int(lastRow)), r.computedPrecision);
+      GridSpec g = grid;
+      g.firstItem = first - bandFirst;
+      g.itemCount = end - first;
+      evaluator.evaluateGrid(mirror, g, fields, [&](const GridChunk& c) {
+        GridChunk whole = c;
+        whole.firstItem += bandFirst;
+        deliver(whole);
+      });
+    }
     return 0;
   });
 }
@@ -327,7 +399,9 @@ std::vector<SurfacePoint> evaluateOnCpu(const Surface& surface, const Report& re
 template <class Model>
 Report Session::sampleGridFor(const Model& model, const DeviceRequest& request, const GridSpec& grid,
                               FieldMask fields, const ChunkConsumer& consumer, const GridOptions& options) {
-  const Report r = planFor(model, request);
+  DeviceRequest gridRequest = request;
+  gridRequest.grid = true;
+  const Report r = planFor(model, gridRequest);
   if (r.gpu) {
     const size_t planeBytes = evaluatorOptions(options, r.computedPrecision).maxPlaneBytes;
     auto& evaluator = onDevice([&]() -> typename Gpu<Model>::Evaluator& {
@@ -337,6 +411,12 @@ Report Session::sampleGridFor(const Model& model, const DeviceRequest& request, 
         return surfaceEvaluator(r.computedPrecision, planeBytes);
       }
     });
+    if constexpr (std::is_same_v<Model, Surface>) {
+      if (r.bandRows > 0) {
+        sampleOnGpuInBands(ctx_, evaluator, model, r, grid, fields, consumer, options);
+        return r;
+      }
+    }
     sampleOnGpu(ctx_, evaluator, model, r, grid, fields, consumer, options);
   } else {
     sampleOnCpu(model, r, grid, fields, consumer, options);

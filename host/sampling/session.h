@@ -129,10 +129,18 @@ class Session {
   // after plan() chose the GPU.
   const std::shared_ptr<vk::Context>& vulkanContext() const { return ctx_; }
 
+  // The most bytes one device buffer of a model may take (0, the default: the device's
+  // maxStorageBufferRange and maxMemoryAllocationSize). A grid job on a larger net is sampled in
+  // bands of patch rows (Report::bandRows); a list job goes to the CPU. Tests force tiny bands with
+  // it; a caller may keep device memory for itself.
+  void setMaxBufferBytes(uint64_t bytes) { maxBufferBytes_ = bytes; }
+
  private:
   // One body for curves and surfaces each (session.cpp).
   template <class Model>
   Report planFor(const Model& model, const DeviceRequest& request);
+  // maxStorageBufferRange, maxMemoryAllocationSize and maxBufferBytes_, the least of them.
+  uint64_t bufferLimit(const vk::Context& ctx) const;
   template <class Model>
   Report sampleGridFor(const Model& model, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
                        const ChunkConsumer& consumer, const GridOptions& options);
@@ -148,6 +156,7 @@ class Session {
   vk::ContextOptions options_;
   std::shared_ptr<vk::Context> ctx_;
   std::optional<std::string> noDevice_;  // why creating the context failed
+  uint64_t maxBufferBytes_ = 0;
   std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::CurveEvaluator>> curveEvaluators_;
   std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::SurfaceEvaluator>> surfaceEvaluators_;
 };

@@ -109,6 +109,13 @@ class Handle {
       lock.unlock();
       return sampleGrid(request, grid, fields, consumer, chunkPoints, slice, jobPlanes);
     }
+    if (r.bandRows > 0) {
+      // A net too large for one device buffer: no resident mirror; the session samples it in bands.
+      sampling::GridOptions o;
+      o.chunkPoints = chunkPoints;
+      o.slice = slice;
+      return session().sampleGrid(model_, request, grid, fields, consumer, o);
+    }
     try {
       Resident& res = resident(r, chunkPoints);
       sampling::ChunkUnscaler unscale(r.netScaleExponent);

@@ -311,7 +311,8 @@ py::object sample(Handle<Model>& h, py::object grid, py::object samples, py::obj
                   const std::string& precision, bool require, long long firstItem, long long itemCount,
                   long long chunkPoints, bool withReport) {
   const FieldMask mask = parseFields<Model>(fields);
-  const sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  request.grid = true;
   if (chunkPoints < 0) argumentError("chunk_points", "must be >= 0", std::to_string(chunkPoints));
   const GridSpec g = jobGrid(h, parseGrid<Model>(grid, samples), firstItem, itemCount);
   sampling::Report report;

@@ -24,6 +24,7 @@
 #include <shapespline/sampling/gpu_limits.h>
 #include <shapespline/sampling/net_scale.h>
 #include <shapespline/sampling/session.h>
+#include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
 
@@ -193,9 +194,14 @@ TEST_F(SamplingGpu, ModelBeyondOneStorageBindingFallsBackWithTheSizes) {
     EXPECT_FALSE(r.gpu);
     ASSERT_EQ(r.fallbacks.size(), 1u);
     EXPECT_NE(r.fallbacks[0].find("-byte device buffer in fp32, over the " + std::to_string(range) +
-                                  "-byte maxStorageBufferRange of Vulkan device"),
+                                  "-byte limit of Vulkan device"),
               std::string::npos)
         << r.fallbacks[0];
+    EXPECT_NE(r.fallbacks[0].find("only grid jobs are split into bands"), std::string::npos) << r.fallbacks[0];
+    // A curve's grid is not split either.
+    DeviceRequest grid{DeviceKind::Auto, p, false};
+    grid.grid = true;
+    EXPECT_FALSE(session.plan(c, grid).gpu);
     EXPECT_THROW(session.plan(c, {DeviceKind::Vulkan, p, true}), sampling::DeviceError);
   }
   m.points.resize(fits);
@@ -203,6 +209,86 @@ TEST_F(SamplingGpu, ModelBeyondOneStorageBindingFallsBackWithTheSizes) {
   const Curve c = Curve::create(m);
   EXPECT_LE(gpu::modelBufferBytes(c, p).largest(), range);
   EXPECT_TRUE(session.plan(c, {DeviceKind::Auto, p, false}).gpu);
+}
+
+// A surface net over the session's buffer limit is sampled on the GPU in bands of patch rows
+// (Surface::patchRows), each band its own mirror: the chunks are bit for bit those of the whole
+// net on the device (same kernels, same inputs), for whole jobs and item ranges that start and end
+// inside bands; list jobs and knot-vector nets go to the CPU with the reason.
+TEST_F(SamplingGpu, NetsOverTheBufferLimitAreSampledInBandsWithTheSameBits) {
+  SurfaceModel open = wavyNet(FamilySpec{Construction::AlphaEB, 5, 0, -1.0, {}}, 9, true);
+  open.alpha[3 * 9 + 4] = open.alpha[8 * 9 + 8] = 1.0;
+  SurfaceModel closedU = open;
+  closedU.closedU = true;
+  SurfaceModel xu = wavyNet(FamilySpec{Construction::ExtendedBSpline, 5, 0, 0.5, {}}, 10, false);
+  xu.closedU = xu.closedV = true;
+  std::vector<Precision> precisions = {Precision::Float};
+  if (ctx().supportsFloat64()) precisions.push_back(Precision::Double);
+  const FieldMask fields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dvv) | fieldBit(Field::Normal);
+  for (const auto& [name, model] : {std::pair{"open alpha_eb", open}, {"alpha_eb closed in u", closedU}, {"closed xu-wang", xu}}) {
+    const Surface s = Surface::create(model);
+    const size_t items = surfaceGridItems(s).size();
+    for (Precision p : precisions) {
+      SCOPED_TRACE(std::string(name) + (p == Precision::Double ? " fp64" : " fp32"));
+      DeviceRequest request{DeviceKind::Vulkan, p, true};
+      request.grid = true;
+      sampling::Session whole(ctx_), bands(ctx_);
+      // Room for about three patch rows: the net is the largest buffer.
+      const gpu::ModelBufferBytes all = gpu::modelBufferBytes(s, p);
+      bands.setMaxBufferBytes(all.largest() * 4 / (s.patches().u.last - s.patches().u.first + 1));
+      const sampling::Report r = bands.plan(s, request);
+      ASSERT_TRUE(r.gpu);
+      EXPECT_GE(r.bandRows, 1);
+      EXPECT_LT(r.bandRows, s.patches().u.last - s.patches().u.first + 1);
+      EXPECT_EQ(whole.plan(s, request).bandRows, 0);
+      for (const auto& [first, count] : {std::pair<size_t, size_t>{0, 0}, {5, 17}, {items - 3, 3}}) {
+        GridSpec g;
+        g.samplesU = 3;
+        g.samplesV = 4;
+        g.firstItem = first;
+        g.itemCount = count;
+        // Each field's bytes over the whole job (chunks may be cut differently), and where each
+        // chunk starts.
+        auto run = [&](sampling::Session& session) {
+          std::vector<std::string> planes(4);
+          size_t firstItem = SIZE_MAX, points = 0;
+          session.sampleGrid(s, request, g, fields, [&](const GridChunk& c) {
+            if (firstItem == SIZE_MAX) firstItem = c.firstItem;
+            EXPECT_EQ(c.firstItem * c.pointsPerItem + c.firstItemPoint(), first * c.pointsPerItem + points);
+            points += c.pointCount();
+            const size_t size = c.pointCount() * 3 * (p == Precision::Double ? 8 : 4);
+            int k = 0;
+            for (Field f : {Field::Point, Field::Du, Field::Dvv, Field::Normal})
+              planes[size_t(k++)].append(static_cast<const char*>(c.planes[size_t(f)]), size);
+          });
+          return std::pair{firstItem, planes};
+        };
+        const auto [firstWhole, bytesWhole] = run(whole);
+        const auto [firstBands, bytesBands] = run(bands);
+        EXPECT_EQ(firstBands, first);
+        EXPECT_EQ(firstWhole, first);
+        for (size_t k = 0; k < 4; ++k)
+          EXPECT_TRUE(bytesBands[k] == bytesWhole[k]) << "items from " << first << ": field " << k << " differs";
+      }
+      // A list job needs the whole net on the device.
+      DeviceRequest list = request;
+      list.grid = false;
+      list.require = false;
+      const sampling::Report lr = bands.plan(s, list);
+      EXPECT_FALSE(lr.gpu);
+      ASSERT_EQ(lr.fallbacks.size(), 1u);
+      EXPECT_NE(lr.fallbacks[0].find("only grid jobs are split into bands"), std::string::npos) << lr.fallbacks[0];
+    }
+  }
+  // Knot-vector nets are not split.
+  sampling::Session tiny(ctx_);
+  tiny.setMaxBufferBytes(64);
+  DeviceRequest grid{DeviceKind::Auto, Precision::Float, false};
+  grid.grid = true;
+  const sampling::Report kr = tiny.plan(Surface::create(nurbsTorus(3.0, 1.0)), grid);
+  EXPECT_FALSE(kr.gpu);
+  ASSERT_EQ(kr.fallbacks.size(), 1u);
+  EXPECT_NE(kr.fallbacks[0].find("knot-vector nets and curves are not split into bands"), std::string::npos) << kr.fallbacks[0];
 }
 
 // More knots than fp32 PARAMS indices address exactly: the fp32 GPU path falls back, naming them;
