@@ -52,6 +52,7 @@ class Report:
     fallbacks: list[str]
     """Why the GPU was not used, in the order found (empty when it was)."""
     net_scale_exponent: int
+    band_rows: int  # GPU grids of nets over one device buffer: patch rows per band; 0 otherwise
     """The GPU evaluated 2^k * net (exact power-of-two scaling of extreme nets)."""
 
 class ChunkIterator(Iterator[dict[str, Any]]):

@@ -438,7 +438,8 @@ py::object sampleAnyModel(py::object item, py::object grid, py::object fields, c
 py::list sampleMany(py::sequence models, py::object grid, py::object fields, const std::string& device,
                     const std::string& precision, bool require, const std::string& errors, bool withReport) {
   if (errors != "raise" && errors != "keep") argumentError("errors", "must be 'raise' or 'keep'", errors);
-  const sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  request.grid = true;
   // Called as a Python function, so that every C++ exception arrives translated (ModelError,
   // DeviceError, ...) as the exception object the caller would see.
   py::cpp_function one([&](py::object item) { return sampleAnyModel(item, grid, fields, request, withReport); });
@@ -796,6 +797,8 @@ PYBIND11_MODULE(shapespline, m) {
                              [](const sampling::Report& r) { return r.outputPrecision == Precision::Double ? "double" : "float"; })
       .def_readonly("fallbacks", &sampling::Report::fallbacks, "Why the GPU was not used, in the order found.")
       .def_readonly("net_scale_exponent", &sampling::Report::netScaleExponent, "The job evaluated 2^k * net (either path) and scaled the results back.")
+      .def_readonly("band_rows", &sampling::Report::bandRows,
+                    "GPU grid of a net larger than one device buffer: patch rows per band (0: the whole net at once).")
       .def("__repr__", [](const sampling::Report& r) {
         std::string s = "Report(device='" + r.device + "', gpu=" + (r.gpu ? "True" : "False") + ", computed_precision='" +
                         (r.computedPrecision == Precision::Double ? "double" : "float") + "'";

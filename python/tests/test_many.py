@@ -59,3 +59,22 @@ def test_a_failing_model_is_named_and_the_others_are_kept():
     with pytest.raises(ValueError, match="errors"):
         ss.sample_many(models, 4, errors="ignore")
     assert ss.sample_many([], 4) == []
+
+
+def test_a_net_over_one_device_buffer_is_sampled_in_bands(gpu):
+    """A 1450 x 1450 alpha_eb net in fp64 needs 135 MB for V and the nodes, over lavapipe's
+    128 MiB storage binding: sample() takes the GPU in bands of patch rows and equals the CPU."""
+    if not gpu["fp64"]:
+        pytest.skip("the device has no fp64")
+    n = 1450
+    u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+    s = ss.Surface(np.stack([u, v, 0.1 * np.sin(9 * u) * np.cos(7 * v)], axis=-1), construction="alpha_eb",
+                   degree=5, alpha=0.5)
+    got, report = s.sample(2, device="vulkan", precision="double", require=True, report=True)
+    if report.band_rows == 0:
+        pytest.skip(f"{report.device} holds the whole net in one buffer")
+    assert report.gpu and 0 < report.band_rows < n - 1
+    want = s.sample(2, device="cpu")
+    assert np.abs(got["point"] - want["point"]).max() <= 1e-12 * np.sqrt(2.02)
+    [(arrays, many)] = ss.sample_many([s], 2, device="vulkan", precision="double", require=True, report=True)
+    assert many.band_rows == report.band_rows and np.array_equal(arrays["point"], got["point"])
