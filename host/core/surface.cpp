@@ -1,5 +1,6 @@
 #include <shapespline/core/surface.h>
 
+#include <shapespline/core/huge_pages.h>
 #include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
 
@@ -154,8 +155,8 @@ Surface Surface::create(SurfaceModel model) {
   s.netRows_ = static_cast<int>(eu.size());
   s.netCols_ = static_cast<int>(ev.size());
   // Appended rather than resized first: zero-filling a large net (a 4096² one is 400 MB) only to
-  // overwrite it costs as much as writing it.
-  s.net_.reserve(eu.size() * ev.size());
+  // overwrite it costs as much as writing it; on huge pages (core/huge_pages.h).
+  reserveHuge(s.net_, eu.size() * ev.size());
   for (int a = 0; a < s.netRows_; ++a) {
     for (int b = 0; b < s.netCols_; ++b) {
       const ExtendedIndex& x = eu[a];
@@ -177,7 +178,7 @@ Surface Surface::create(SurfaceModel model) {
     evalSpanBasis(s.basisV_, 0.0, v0, d1, d2);
     std::copy(u0, u0 + 3, s.nodeWeightU_);
     std::copy(v0, v0 + 3, s.nodeWeightV_);
-    s.v_.reserve(static_cast<size_t>(m.rows) * m.cols);
+    reserveHuge(s.v_, static_cast<size_t>(m.rows) * m.cols);
     for (int i = 0; i < m.rows; ++i) {
       for (int j = 0; j < m.cols; ++j) {
         const size_t k = static_cast<size_t>(i) * m.cols + j;

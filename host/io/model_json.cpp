@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <shapespline/core/huge_pages.h>
 #include <shapespline/core/validate.h>
 #include <shapespline/io/input_file.h>
 
@@ -257,7 +258,7 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
   if (doc.contains("alpha")) {
     const json& a = doc.at("alpha");
     if (auto v = scalarAlpha(a)) {
-      m.alpha.assign(m.points.size(), *v);
+      reserveHuge(m.alpha, m.points.size()), m.alpha.assign(m.points.size(), *v);
     } else if (isArrayReference(a)) {
       m.alpha = referencedPerPoint(a, "alpha", files, m.points.size());
     } else {
@@ -361,7 +362,7 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
     NpyArray a = referencedArray(pts, "points", files, {{0, 0, 3}}, "surface points must be a (rows, cols, 3) array");
     m.rows = int(a.shape[0]);
     m.cols = int(a.shape[1]);
-    m.points.resize(a.values.size() / 3);
+    resizeHuge(m.points, a.values.size() / 3);
     std::copy(a.values.begin(), a.values.end(), &m.points.data()->x);
   } else {
     readSurfacePoints(pts, m);
@@ -370,7 +371,7 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
   if (doc.contains("alpha")) {
     const json& a = doc.at("alpha");
     if (auto v = scalarAlpha(a)) {
-      m.alpha.assign(m.points.size(), *v);
+      reserveHuge(m.alpha, m.points.size()), m.alpha.assign(m.points.size(), *v);
     } else {
       m.alpha = readPerVertex(a, "alpha", "alpha must be a number or an array", m.rows, m.cols, files);
     }

@@ -1,5 +1,6 @@
 #include <shapespline/io/npy_array.h>
 
+#include <shapespline/core/huge_pages.h>
 #include <shapespline/core/model.h>
 #include <shapespline/io/input_file.h>
 
@@ -193,7 +194,7 @@ NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueB
     throw std::runtime_error("cannot seek in '" + path.string() + "': " + std::strerror(errno));
   NpyArray out;
   out.shape = h.shape;
-  out.values.resize(size_t(h.count));
+  resizeHuge(out.values, size_t(h.count));
   if (h.float64) {
     readExactly(fd, reinterpret_cast<char*>(out.values.data()), h.count * 8, path);
   } else {

@@ -6,6 +6,7 @@
 #include "handle.h"
 
 #include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/huge_pages.h>
 #include <shapespline/core/tess_patches.h>
 #include <shapespline/core/tess_topology.h>
 #include <shapespline/gpu/tessellator.h>
@@ -104,6 +105,7 @@ bool giveArray(py::handle value, const char* key, nlohmann::json& doc, io::Model
   if (!c) throw py::error_already_set();
   io::NpyArray given;
   for (py::ssize_t d = 0; d < c.ndim(); ++d) given.shape.push_back(uint64_t(c.shape(d)));
+  reserveHuge(given.values, size_t(c.size()));
   given.values.assign(c.data(), c.data() + c.size());
   arrays.given[key] = std::move(given);
   doc[key] = {{"array", key}};
