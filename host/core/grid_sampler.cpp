@@ -409,8 +409,11 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
       glm::dvec3 V[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
       if (alphaEB) {  // corners (i,j), (i,j+1), (i+1,j), (i+1,j+1), wrapped in closed directions
         const int i1 = (i + 1) % model.rows, j1 = (j + 1) % model.cols;
-        const int idx[4] = {i * model.cols + j, i * model.cols + j1, i1 * model.cols + j, i1 * model.cols + j1};
-        for (int k = 0; k < 4; ++k) alpha[k] = surface.alphas()[idx[k]], V[k] = surface.alphaV()[idx[k]];
+        const int ci[4] = {i, i, i1, i1}, cj[4] = {j, j1, j, j1};
+        for (int k = 0; k < 4; ++k) {
+          alpha[k] = surface.alphas()[static_cast<size_t>(ci[k]) * model.cols + cj[k]];
+          V[k] = surface.alphaVertex(ci[k], cj[k]);
+        }
       }
       for (int a = aBegin; a < aEnd; ++a) {
         if (knotU) {

@@ -178,12 +178,11 @@ Surface Surface::create(SurfaceModel model) {
     evalSpanBasis(s.basisV_, 0.0, v0, d1, d2);
     std::copy(u0, u0 + 3, s.nodeWeightU_);
     std::copy(v0, v0 + 3, s.nodeWeightV_);
-    reserveHuge(s.v_, static_cast<size_t>(m.rows) * m.cols);
+    // Every V once, for its rule (a tiny α makes V overflow fp64): ModelError naming the vertex.
     for (int i = 0; i < m.rows; ++i) {
       for (int j = 0; j < m.cols; ++j) {
-        const size_t k = static_cast<size_t>(i) * m.cols + j;
-        s.v_.push_back(alphaEBVertex(m.at(i, j), s.alphaNode(i, j), m.alpha[k],
-                                [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; }));
+        (void)alphaEBVertex(m.at(i, j), s.alphaNode(i, j), m.alpha[static_cast<size_t>(i) * m.cols + j],
+                            [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; });
       }
     }
   }
@@ -221,8 +220,8 @@ Surface Surface::patchRows(int first, int last) const {
     m.points = b.net_;
     return b;
   }
-  // α-EB: vertex rows first..last+1 (the last one wrapped in a closed u direction) with their V
-  // and α; the net rows are those the nodes read (alphaNode: rows i..i+2).
+  // α-EB: vertex rows first..last+1 (the last one wrapped in a closed u direction) with their α;
+  // the net rows are those the nodes and V read (alphaNode: rows i..i+2).
   std::copy(nodeWeightU_, nodeWeightU_ + 3, b.nodeWeightU_);
   std::copy(nodeWeightV_, nodeWeightV_ + 3, b.nodeWeightV_);
   m.rows = count + 1;
@@ -233,7 +232,6 @@ Surface Surface::patchRows(int first, int last) const {
                     model_.points.begin() + static_cast<std::ptrdiff_t>(row + cols));
     m.alpha.insert(m.alpha.end(), model_.alpha.begin() + static_cast<std::ptrdiff_t>(row),
                    model_.alpha.begin() + static_cast<std::ptrdiff_t>(row + cols));
-    b.v_.insert(b.v_.end(), v_.begin() + static_cast<std::ptrdiff_t>(row), v_.begin() + static_cast<std::ptrdiff_t>(row + cols));
   }
   return b;
 }
@@ -248,6 +246,20 @@ glm::dvec3 Surface::alphaNode(int i, int j) const {
     p += nodeWeightU_[r] * row;
   }
   return p;
+}
+
+glm::dvec3 Surface::alphaVertex(int i, int j) const {
+  // create() checked the rule (V within fp64) for every vertex; the same arithmetic here.
+  return pm::alphaEBVertex(model_.at(i, j), alphaNode(i, j), model_.alpha[static_cast<size_t>(i) * model_.cols + j]);
+}
+
+std::vector<glm::dvec3> Surface::alphaV() const {
+  std::vector<glm::dvec3> v;
+  if (!alphaEB()) return v;
+  v.reserve(static_cast<size_t>(model_.rows) * model_.cols);
+  for (int i = 0; i < model_.rows; ++i)
+    for (int j = 0; j < model_.cols; ++j) v.push_back(alphaVertex(i, j));
+  return v;
 }
 
 std::vector<glm::dvec3> Surface::alphaNodes() const {
@@ -304,7 +316,7 @@ void Surface::evalPatch(int i, int j, double u, double v, PatchDerivs& out, Patc
   const int j1 = j + 1 == model_.cols ? 0 : j + 1;
   const size_t k00 = static_cast<size_t>(i) * model_.cols + j, k01 = static_cast<size_t>(i) * model_.cols + j1;
   const size_t k10 = static_cast<size_t>(i1) * model_.cols + j, k11 = static_cast<size_t>(i1) * model_.cols + j1;
-  const glm::dvec3 V[4] = {v_[k00], v_[k01], v_[k10], v_[k11]};
+  const glm::dvec3 V[4] = {alphaVertex(i, j), alphaVertex(i, j1), alphaVertex(i1, j), alphaVertex(i1, j1)};
   const double alpha[4] = {model_.alpha[k00], model_.alpha[k01], model_.alpha[k10], model_.alpha[k11]};
   evalAlphaEBPatch(basisU_, net, netCols_, V, alpha, u, v, out, &base);
 }
@@ -317,7 +329,8 @@ bool Surface::cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const {
   if (model_.alpha[kv] != 1.0) return false;
   const size_t ku = static_cast<size_t>(pn) * cols + q, kw = static_cast<size_t>(p) * cols + qn;
   const glm::dvec3& P = model_.at(p, q);
-  const glm::dvec3 c = alphaEBCornerNormal(P, alphaNode(p, q), v_[ku], model_.alpha[ku], v_[kw], model_.alpha[kw],
+  const glm::dvec3 c = alphaEBCornerNormal(P, alphaNode(p, q), alphaVertex(pn, q), model_.alpha[ku], alphaVertex(p, qn),
+                                           model_.alpha[kw],
                                            cu == 0 ? 1.0 : -1.0, cv == 0 ? 1.0 : -1.0);
   // Scaled before the length so that |c|^2 neither overflows nor underflows for extreme nets.
   const glm::dvec3 s = unitScaled(c);

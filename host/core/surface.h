@@ -144,7 +144,10 @@ class Surface {
   // net, computed when asked for. alphaNodes() computes all of them.
   glm::dvec3 alphaNode(int i, int j) const;
   std::vector<glm::dvec3> alphaNodes() const;
-  const std::vector<glm::dvec3>& alphaV() const { return v_; }
+  // V_ij = P_ij + ((1-α)/α)(P_ij - node_ij) likewise, not kept (another 400 MB at 4096²): four per
+  // patch cost less than reading them from memory would. alphaV() computes all of them.
+  glm::dvec3 alphaVertex(int i, int j) const;
+  std::vector<glm::dvec3> alphaV() const;
   const std::vector<double>& alphas() const { return model_.alpha; }
 
  private:
@@ -163,7 +166,6 @@ class Surface {
   Parameterization parameterization_ = Parameterization::LocalSpans;
   std::vector<glm::dvec3> net_;
   int netRows_ = 0, netCols_ = 0, offU_ = 0, offV_ = 0;
-  std::vector<glm::dvec3> v_;
   // The span bases at 0 (b_0..b_2; b_3(0) = 0, §2.3): node_ij's weights, α-EB only.
   double nodeWeightU_[3] = {}, nodeWeightV_[3] = {};
   std::vector<glm::dvec3> emptyPoints_;

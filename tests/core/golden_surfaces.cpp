@@ -119,7 +119,7 @@ void checkSurface(CaseReport& r) {
            ++j) {
         const size_t k = static_cast<size_t>(i) * model->cols + j;
         r.compare(at("base_nodes", i, j), nodes[i][j], surface.alphaNode(i, j), 3, tolNode);
-        r.compare(at("V", i, j), vs[i][j], surface.alphaV()[k], 3, tolV);
+        r.compare(at("V", i, j), vs[i][j], surface.alphaVertex(i, j), 3, tolV);
       }
     }
   }

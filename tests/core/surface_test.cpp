@@ -327,8 +327,8 @@ TEST(SurfaceAlphaOneVertex, NormalIsTheDiagonalLimitInEveryAdjacentPatch) {
       // Independent formula from the accessors: A_u = V_{p',q} - P + (1-α_{p',q})(node - P).
       const int vp = 1, vq = 1, np = pi + (1 - cu), nq = pj + (1 - cv);
       const dvec3 P = m.at(vp, vq), node = s.alphaNode(vp, vq);
-      const dvec3 au = s.alphaV()[np * 4 + vq] - P + (1 - m.alpha[np * 4 + vq]) * (node - P);
-      const dvec3 av = s.alphaV()[vp * 4 + nq] - P + (1 - m.alpha[vp * 4 + nq]) * (node - P);
+      const dvec3 au = s.alphaVertex(np, vq) - P + (1 - m.alpha[np * 4 + vq]) * (node - P);
+      const dvec3 av = s.alphaVertex(vp, nq) - P + (1 - m.alpha[vp * 4 + nq]) * (node - P);
       const dvec3 expected = glm::normalize(glm::cross((cu == 0 ? 1.0 : -1.0) * au, (cv == 0 ? 1.0 : -1.0) * av));
       EXPECT_TRUE(near(p.normal, expected, 1e-14, "diagonal-limit formula"));
       // Approaching the vertex along the patch diagonal, the regular normal tends to the limit.
