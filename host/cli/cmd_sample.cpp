@@ -334,6 +334,14 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
 
   // One set: the data and its sidecar appear together or not at all (io/output_set.h).
   outputs.reads(args.model, "MODEL");
+  for (const std::filesystem::path& array : io::arrayFilesOf(args.model)) outputs.reads(array, "MODEL's array");
+  if (!args.saveModel.empty()) {
+    if (std::filesystem::path(args.saveModel).extension() != ".json")
+      throw InputError("--save-model", args.saveModel,
+                       "must name a model file ending in .json (its arrays are written beside it as STEM.points.npy, ...)");
+    if (curve) io::saveModelWithArrays(curve->model(), args.saveModel, outputs, "--save-model");
+    else io::saveModelWithArrays(surface->model(), args.saveModel, outputs, "--save-model");
+  }
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
   if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64 ||
@@ -485,6 +493,8 @@ void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) 
   if (args.out.find(kStem) == std::string::npos)
     throw InputError("-o", args.out, "several models need {stem} in the output name (e.g. out/{stem}.npy)");
   if (!args.shard.empty()) throw InputError("--shard", args.shard, "does not apply to several models");
+  if (!args.saveModel.empty() && args.saveModel.find(kStem) == std::string::npos)
+    throw InputError("--save-model", args.saveModel, "several models need {stem} in the saved model's name");
   std::set<std::string> outs;
   for (const std::string& m : models)
     if (!outs.insert(withStem(args.out, std::filesystem::path(m).stem().string())).second)
@@ -496,6 +506,7 @@ void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) 
     one.model = m;
     one.models = {m};
     one.out = withStem(args.out, std::filesystem::path(m).stem().string());
+    if (!args.saveModel.empty()) one.saveModel = withStem(args.saveModel, std::filesystem::path(m).stem().string());
     try {
       sampleAndCommit(one, &session);
     } catch (const std::exception& e) {
@@ -562,6 +573,9 @@ void registerSample(CLI::App& app) {
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
   sub->add_flag("--fail-fast", args->failFast,
                 "several models: stop at the first that fails (else each failure is reported, the rest written, exit 1)");
+  sub->add_option("--save-model", args->saveModel,
+                  "also write the model as PATH.json with its net (and per-vertex alpha, weights) as .npy arrays "
+                  "beside it (PATH.points.npy, ...), committed with the samples");
   sub->add_flag("--allow-outside-arrays", args->allowOutsideArrays,
                 "read .npy arrays the model references from outside its folder (absolute paths, .., links)");
   sub->footer(kExitCodeHelp);

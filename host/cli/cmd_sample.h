@@ -25,6 +25,7 @@ struct SampleArgs {
   long long chunkPoints = 0;  // 0 = default (CPU sampler and GPU evaluator defaults)
   bool derivatives = false, normals = false, quiet = false, requireDevice = false;
   bool allowOutsideArrays = false;  // the model's .npy arrays may lie outside its folder
+  std::string saveModel;            // --save-model PATH.json ("" = not given; {stem} with several models)
   bool failFast = false;            // several models: stop at the first that fails
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
 };

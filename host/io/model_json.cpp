@@ -1,5 +1,6 @@
 #include <shapespline/io/model_json.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -9,7 +10,10 @@
 
 #include <shapespline/core/huge_pages.h>
 #include <shapespline/core/validate.h>
+#include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/io/raw_records.h>
 
 namespace shapespline::io {
 
@@ -535,6 +539,80 @@ json toJson(const SurfaceModel& m) {
 
 json toJson(const Model& model) {
   return std::visit([](const auto& m) { return toJson(m); }, model);
+}
+
+namespace {
+
+// STEM.KEY.npy beside `path`, added to `outputs`, holding `values` as a float64 array of `shape`;
+// returns the reference the model file gives ({"npy": "STEM.KEY.npy"}).
+json saveArray(const std::filesystem::path& path, const char* key, const double* values, const std::vector<uint64_t>& shape,
+               OutputSet& outputs, const std::string& option) {
+  const std::string name = path.stem().string() + "." + key + ".npy";
+  AtomicFile& f = outputs.add(path.parent_path() / name, option);
+  f.write(npyArrayHeader(shape));
+  uint64_t count = 1;
+  for (uint64_t d : shape) count *= d;
+  f.write(values, count * sizeof(double));
+  return {{"npy", name}};
+}
+
+// The per-vertex values as one number when they are all the same (α), else as an array file.
+json saveVertexValues(const std::filesystem::path& path, const char* key, const std::vector<double>& values,
+                      const std::vector<uint64_t>& shape, bool oneNumberIfSame, OutputSet& outputs,
+                      const std::string& option) {
+  if (oneNumberIfSame && std::all_of(values.begin(), values.end(), [&](double v) { return v == values.front(); }))
+    return values.front();
+  return saveArray(path, key, values.data(), shape, outputs, option);
+}
+
+}  // namespace
+
+void saveModelWithArrays(const CurveModel& model, const std::filesystem::path& path, OutputSet& outputs,
+                         const std::string& option) {
+  AtomicFile& file = outputs.add(path, option);
+  json doc;
+  {
+    const CurveModel* c = &model;
+    // The keys of toJson without the arrays written out as numbers.
+    CurveModel head;
+    head.family = c->family;
+    head.closed = c->closed;
+    head.dimension = c->dimension;
+    head.knots = c->knots;
+    doc = toJson(head);
+    const uint64_t n = c->points.size(), dim = static_cast<uint64_t>(c->dimension);
+    std::vector<double> xy;
+    xy.reserve(n * dim);
+    for (const auto& p : c->points)
+      for (uint64_t a = 0; a < dim; ++a) xy.push_back(p[static_cast<int>(a)]);
+    doc["points"] = saveArray(path, "points", xy.data(), {n, dim}, outputs, option);
+    if (!c->alpha.empty()) doc["alpha"] = saveVertexValues(path, "alpha", c->alpha, {n}, true, outputs, option);
+    if (!c->weights.empty()) doc["weights"] = saveVertexValues(path, "weights", c->weights, {n}, false, outputs, option);
+  }
+  file.write(doc.dump(1) + "\n");
+}
+
+void saveModelWithArrays(const SurfaceModel& s, const std::filesystem::path& path, OutputSet& outputs,
+                         const std::string& option) {
+  AtomicFile& file = outputs.add(path, option);
+  json doc;
+  {
+    SurfaceModel head;
+    head.family = s.family;
+    head.orderV = s.orderV;
+    head.closedU = s.closedU;
+    head.closedV = s.closedV;
+    head.knotsU = s.knotsU;
+    head.knotsV = s.knotsV;
+    doc = toJson(head);
+    const uint64_t rows = static_cast<uint64_t>(s.rows), cols = static_cast<uint64_t>(s.cols);
+    static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
+    doc["points"] = saveArray(path, "points", &s.points.data()->x, {rows, cols, 3}, outputs, option);
+    if (!s.alpha.empty()) doc["alpha"] = saveVertexValues(path, "alpha", s.alpha, {rows, cols}, true, outputs, option);
+    if (!s.weights.empty())
+      doc["weights"] = saveVertexValues(path, "weights", s.weights, {rows, cols}, false, outputs, option);
+  }
+  file.write(doc.dump(1) + "\n");
 }
 
 }  // namespace shapespline::io

@@ -68,4 +68,14 @@ nlohmann::json toJson(const Model& model);
 nlohmann::json toJson(const CurveModel& model);
 nlohmann::json toJson(const SurfaceModel& model);
 
+class OutputSet;
+// Adds `path` (a model file) to `outputs` with the model's points, per-vertex α and weights as
+// float64 .npy arrays beside it, STEM.points.npy, STEM.alpha.npy, STEM.weights.npy (an α that is
+// the same at every vertex stays one number): loadModelFile(path) then gives `model` exactly. The
+// caller commits the set. `option` names the files in errors (OutputSet::add).
+void saveModelWithArrays(const CurveModel& model, const std::filesystem::path& path, OutputSet& outputs,
+                         const std::string& option);
+void saveModelWithArrays(const SurfaceModel& model, const std::filesystem::path& path, OutputSet& outputs,
+                         const std::string& option);
+
 }  // namespace shapespline::io

@@ -15,12 +15,10 @@
 
 namespace shapespline::io {
 
-std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records) {
-  std::string dict = "{'descr': [";
-  for (size_t k = 0; k < fieldNames.size(); ++k) {
-    dict += (k ? ", ('" : "('") + fieldNames[k] + (float64 ? "', '<f8', (3,))" : "', '<f4', (3,))");
-  }
-  dict += "], 'fortran_order': False, 'shape': (" + std::to_string(records) + ",), }";
+namespace {
+
+// Magic, version 1.0, length, then `dict` padded with spaces and a newline.
+std::string npyHeaderOf(std::string dict) {
   // magic (6) + version (2) + length (2) + dict + padding + '\n' = a multiple of 64 (NEP 1).
   const size_t unpadded = 10 + dict.size() + 1;
   dict.append((64 - unpadded % 64) % 64, ' ');
@@ -31,6 +29,24 @@ std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, 
   h += static_cast<char>(len & 0xff);
   h += static_cast<char>(len >> 8);
   return h + dict;
+}
+
+}  // namespace
+
+std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records) {
+  std::string dict = "{'descr': [";
+  for (size_t k = 0; k < fieldNames.size(); ++k) {
+    dict += (k ? ", ('" : "('") + fieldNames[k] + (float64 ? "', '<f8', (3,))" : "', '<f4', (3,))");
+  }
+  dict += "], 'fortran_order': False, 'shape': (" + std::to_string(records) + ",), }";
+  return npyHeaderOf(std::move(dict));
+}
+
+std::string npyArrayHeader(const std::vector<uint64_t>& shape) {
+  std::string dims;
+  for (size_t k = 0; k < shape.size(); ++k) dims += (k ? ", " : "") + std::to_string(shape[k]);
+  if (shape.size() == 1) dims += ",";
+  return npyHeaderOf("{'descr': '<f8', 'fortran_order': False, 'shape': (" + dims + "), }");
 }
 
 namespace {

@@ -54,5 +54,7 @@ class PlacedRecords {
 // 'fortran_order': False, 'shape': (records,), } padded with spaces and a newline to a multiple of
 // 64 bytes. The data that follows is byte for byte the raw file's.
 std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records);
+// The same for a plain C-order float64 array of `shape` (what numpy.save writes for one).
+std::string npyArrayHeader(const std::vector<uint64_t>& shape);
 
 }  // namespace shapespline::io

@@ -73,6 +73,33 @@ model("bad_absolute.json", points={"npy": os.path.join(outside, "net.npy")}, alp
 model("bad_reference.json", points={"npy": "net.npy", "mmap": True}, alpha={"npy": "alpha.npy"})
 )PY";
 
+// Checks a model saved by --save-model against the JSON model it came from (argv: folder, source
+// model, saved model relative to the folder).
+constexpr const char* kCheckSaved = R"PY(
+import json, os, sys
+import numpy as np
+folder, source, saved = sys.argv[1:4]
+src = json.load(open(source))
+path = os.path.join(folder, saved)
+doc = json.load(open(path))
+stem = os.path.basename(saved)[:-len(".json")]
+for key in ("points", "alpha", "weights"):
+    if key not in src:
+        assert key not in doc, key
+        continue
+    want = np.asarray(src[key], dtype=float)
+    if want.ndim == 0 or (want == want.flat[0]).all() and key == "alpha":
+        assert doc[key] == want.flat[0], (key, doc[key])  # one number
+        continue
+    assert doc[key] == {"npy": stem + "." + key + ".npy"}, doc[key]
+    got = np.load(os.path.join(os.path.dirname(path), doc[key]["npy"]))
+    assert got.dtype == np.float64 and got.shape == want.shape and (got == want).all(), key
+for key in src:
+    if key not in ("points", "alpha", "weights"):
+        assert doc[key] == src[key], (key, doc[key], src[key])
+print("OK")
+)PY";
+
 class NpyArrays : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -81,6 +108,7 @@ class NpyArrays : public ::testing::Test {
     fs::create_directories(models());
     fs::create_directories(outside());
     writeText(dir_ / "make.py", kMakeArrays);
+    writeText(dir_ / "check.py", kCheckSaved);
     ASSERT_EQ(std::system((std::string(kPython) + " " + quote((dir_ / "make.py").string()) + " " +
                            quote(models().string()) + " " + quote(outside().string()))
                               .c_str()),
@@ -148,6 +176,58 @@ TEST_F(NpyArrays, BadArraysNameTheKeyAndTheFileAndWriteNothing) {
     const CliResult r = sample(model, "out.f64", "--allow-outside-arrays");
     EXPECT_EQ(r.rc, 0) << model << ": " << r.err;
   }
+}
+
+// --save-model writes the model with its arrays as .npy files beside it, committed with the
+// samples: numpy reads back the values of the JSON model, a uniform α stays a number, and the
+// saved model samples to the same bytes. Bad names are refused before anything is written.
+
+TEST_F(NpyArrays, SaveModelWritesTheNetAsArrays) {
+  writeText(models() / "curve_uniform.json",
+            R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": 0.5, "closed": true,
+                "points": [[0, 0], [2, 1], [3, 3], [1, 4], [-1, 2]], "alpha": 0.75})");
+  fs::create_directories(dir_ / "saved");
+  for (const std::string model : {"inline.json", "curve_inline.json", "curve_uniform.json"}) {
+    SCOPED_TRACE(model);
+    const std::string saved = "saved/" + model;
+    const CliResult r = sample(model, "a.f64", "--save-model " + quote((dir_ / saved).string()));
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const CliResult check = runCaptured(std::string(kPython) + " " + quote((dir_ / "check.py").string()) + " " +
+                                            quote(dir_.path().string()) + " " + quote((models() / model).string()) +
+                                            " " + quote(saved) + " >" + quote((dir_ / "check.out").string()) + " 2>" +
+                                            quote((dir_ / "check.err").string()),
+                                        dir_ / "check.out", dir_ / "check.err");
+    EXPECT_EQ(check.rc, 0) << check.err;
+    EXPECT_NE(check.out.find("OK"), std::string::npos) << check.out;
+    // The saved model samples to the same bytes (from its own folder, with its arrays).
+    const CliResult again =
+        runCli("sample " + quote((dir_ / saved).string()) + " -o " + quote((dir_ / "b.f64").string()) +
+                   (model.rfind("curve", 0) == 0 ? " --samples 9" : " --grid 4") + " --derivatives --device cpu -q",
+               dir_.path());
+    ASSERT_EQ(again.rc, 0) << again.err;
+    EXPECT_TRUE(readText(dir_ / "a.f64") == readText(dir_ / "b.f64")) << "the saved model samples otherwise";
+  }
+  const std::string uniform = readText(dir_ / "saved/curve_uniform.json");
+  EXPECT_NE(uniform.find("\"alpha\": 0.75"), std::string::npos) << uniform;
+  EXPECT_FALSE(fs::exists(dir_ / "saved/curve_uniform.alpha.npy"));
+
+  // Refused before anything is written: not .json, the model itself, a file the model reads.
+  const std::string notJson = quote((dir_ / "m.txt").string());
+  const CliResult r1 = sample("inline.json", "out.f64", "--save-model " + notJson);
+  EXPECT_EQ(r1.rc, 2);
+  EXPECT_NE(r1.err.find("--save-model: must name a model file ending in .json"), std::string::npos) << r1.err;
+  const CliResult r2 = sample("ref.json", "out.f64", "--save-model " + quote((models() / "ref.json").string()));
+  EXPECT_EQ(r2.rc, 2);
+  EXPECT_NE(r2.err.find("is the same file as MODEL"), std::string::npos) << r2.err;
+  // "net.json" would write net.points.npy; a model that reads net.points.npy must not lose it.
+  fs::copy_file(models() / "net.npy", models() / "net.points.npy");
+  writeText(models() / "reads_points.json",
+            R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "points": {"npy": "net.points.npy"}, "alpha": 0.5})");
+  const CliResult r3 = sample("reads_points.json", "out.f64", "--save-model " + quote((models() / "net.json").string()));
+  EXPECT_EQ(r3.rc, 2);
+  EXPECT_NE(r3.err.find("which this command reads"), std::string::npos) << r3.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.f64")) << "partial output";
+  EXPECT_FALSE(fs::exists(models() / "net.json")) << "partial output";
 }
 
 // The job metadata's model_sha256 covers the arrays too (the JSON alone stays the same), and merge
