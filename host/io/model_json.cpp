@@ -567,51 +567,44 @@ json saveVertexValues(const std::filesystem::path& path, const char* key, const 
 
 }  // namespace
 
-void saveModelWithArrays(const CurveModel& model, const std::filesystem::path& path, OutputSet& outputs,
+void saveModelWithArrays(const CurveModel& m, const std::filesystem::path& path, OutputSet& outputs,
                          const std::string& option) {
   AtomicFile& file = outputs.add(path, option);
-  json doc;
-  {
-    const CurveModel* c = &model;
-    // The keys of toJson without the arrays written out as numbers.
-    CurveModel head;
-    head.family = c->family;
-    head.closed = c->closed;
-    head.dimension = c->dimension;
-    head.knots = c->knots;
-    doc = toJson(head);
-    const uint64_t n = c->points.size(), dim = static_cast<uint64_t>(c->dimension);
-    std::vector<double> xy;
-    xy.reserve(n * dim);
-    for (const auto& p : c->points)
-      for (uint64_t a = 0; a < dim; ++a) xy.push_back(p[static_cast<int>(a)]);
-    doc["points"] = saveArray(path, "points", xy.data(), {n, dim}, outputs, option);
-    if (!c->alpha.empty()) doc["alpha"] = saveVertexValues(path, "alpha", c->alpha, {n}, true, outputs, option);
-    if (!c->weights.empty()) doc["weights"] = saveVertexValues(path, "weights", c->weights, {n}, false, outputs, option);
-  }
+  // toJson's keys from a copy without the arrays, which go to files.
+  CurveModel head;
+  head.family = m.family;
+  head.closed = m.closed;
+  head.dimension = m.dimension;
+  head.knots = m.knots;
+  json doc = toJson(head);
+  const uint64_t n = m.points.size(), dim = static_cast<uint64_t>(m.dimension);
+  std::vector<double> xy;  // 2-D curves keep (N, 2), as in their JSON form
+  xy.reserve(n * dim);
+  for (const auto& p : m.points)
+    for (uint64_t a = 0; a < dim; ++a) xy.push_back(p[static_cast<int>(a)]);
+  doc["points"] = saveArray(path, "points", xy.data(), {n, dim}, outputs, option);
+  if (!m.alpha.empty()) doc["alpha"] = saveVertexValues(path, "alpha", m.alpha, {n}, true, outputs, option);
+  if (!m.weights.empty()) doc["weights"] = saveVertexValues(path, "weights", m.weights, {n}, false, outputs, option);
   file.write(doc.dump(1) + "\n");
 }
 
-void saveModelWithArrays(const SurfaceModel& s, const std::filesystem::path& path, OutputSet& outputs,
+void saveModelWithArrays(const SurfaceModel& m, const std::filesystem::path& path, OutputSet& outputs,
                          const std::string& option) {
   AtomicFile& file = outputs.add(path, option);
-  json doc;
-  {
-    SurfaceModel head;
-    head.family = s.family;
-    head.orderV = s.orderV;
-    head.closedU = s.closedU;
-    head.closedV = s.closedV;
-    head.knotsU = s.knotsU;
-    head.knotsV = s.knotsV;
-    doc = toJson(head);
-    const uint64_t rows = static_cast<uint64_t>(s.rows), cols = static_cast<uint64_t>(s.cols);
-    static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
-    doc["points"] = saveArray(path, "points", &s.points.data()->x, {rows, cols, 3}, outputs, option);
-    if (!s.alpha.empty()) doc["alpha"] = saveVertexValues(path, "alpha", s.alpha, {rows, cols}, true, outputs, option);
-    if (!s.weights.empty())
-      doc["weights"] = saveVertexValues(path, "weights", s.weights, {rows, cols}, false, outputs, option);
-  }
+  SurfaceModel head;
+  head.family = m.family;
+  head.orderV = m.orderV;
+  head.closedU = m.closedU;
+  head.closedV = m.closedV;
+  head.knotsU = m.knotsU;
+  head.knotsV = m.knotsV;
+  json doc = toJson(head);
+  const uint64_t rows = static_cast<uint64_t>(m.rows), cols = static_cast<uint64_t>(m.cols);
+  static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
+  doc["points"] = saveArray(path, "points", &m.points.data()->x, {rows, cols, 3}, outputs, option);
+  if (!m.alpha.empty()) doc["alpha"] = saveVertexValues(path, "alpha", m.alpha, {rows, cols}, true, outputs, option);
+  if (!m.weights.empty())
+    doc["weights"] = saveVertexValues(path, "weights", m.weights, {rows, cols}, false, outputs, option);
   file.write(doc.dump(1) + "\n");
 }
 

@@ -282,16 +282,22 @@ Report Session::plan(const Surface& surface, const DeviceRequest& request) { ret
 
 namespace {
 
+// What a GPU chunk goes through: scaled back, then the slice work (on every core), then `consumer`.
+ChunkConsumer gpuDelivery(ChunkUnscaler& unscale, const GridOptions& options, const ChunkConsumer& consumer) {
+  return [&unscale, &options, &consumer](const GridChunk& chunk) {
+    unscale(chunk, [&](const GridChunk& c) {
+      if (options.slice) sliceInParallel(options.slice, c);
+      consumer(c);
+    });
+  };
+}
+
 template <class Model>
 void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, typename Gpu<Model>::Evaluator& evaluator, const Model& model,
                  const Report& r, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
                  const GridOptions& options) {
   ChunkUnscaler unscale(r.netScaleExponent);
-  const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
-    sliceInParallel(options.slice, chunk);
-    consumer(chunk);
-  };
-  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, options.slice ? sliceThenConsume : consumer); };
+  const ChunkConsumer deliver = gpuDelivery(unscale, options, consumer);
   onDevice([&] {
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     typename Gpu<Model>::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
@@ -307,11 +313,7 @@ void sampleOnGpuInBands(const std::shared_ptr<vk::Context>& ctx, gpu::SurfaceEva
                         const Report& r, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
                         const GridOptions& options) {
   ChunkUnscaler unscale(r.netScaleExponent);
-  const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
-    sliceInParallel(options.slice, chunk);
-    consumer(chunk);
-  };
-  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, options.slice ? sliceThenConsume : consumer); };
+  const ChunkConsumer deliver = gpuDelivery(unscale, options, consumer);
   onDevice([&] {
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     const Surface& s = pick(scaled, model);
