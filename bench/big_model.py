@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""One big α-EB net from .npy against the issue-31 ceilings, measured in the same run (issue 31).
+
+Workload: an N x N height field (degree 5, α = 0.5) saved with numpy.save (N = 4096: 400 MB of
+fp64 points), sampled 4 x 4 per patch to .f32. For each device (cpu, and vulkan when one exists)
+the script runs `shapespline sample` twice in child processes: a shard of one patch row's worth
+of items (set-up to the first sample: read, validate, build) and the whole job; each child's max
+RSS comes from wait4. The ceilings are the issue's: time to the first sample <= 2 x the time
+numpy.load takes for the same file (measured here, warm cache), max RSS <= 1.5 x the net's bytes
++ 100 MB. Ratios > 1 miss the ceiling.
+
+Usage: bench/big_model.py CLI [--n N] [--out PATH]
+Prints a table and writes bench/results/big_model.json (or PATH).
+"""
+import argparse
+import datetime
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def child(cmd):
+    """Wall seconds and max RSS (bytes) of one child process."""
+    t = time.perf_counter()
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - t
+    err = p.stderr.read().decode()
+    p.stderr.close()
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"big_model: {' '.join(cmd)} failed: {err.strip()}")
+    return wall, usage.ru_maxrss * 1024
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("cli")
+    ap.add_argument("--n", type=int, default=4096)
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "big_model.json"))
+    a = ap.parse_args()
+    work = tempfile.mkdtemp(prefix="shapespline_big_")
+    try:
+        n = a.n
+        u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+        net = os.path.join(work, "net.npy")
+        np.save(net, np.stack([u, v, 0.1 * np.sin(8 * u) * np.cos(6 * v)], axis=-1))
+        del u, v
+        with open(os.path.join(work, "m.json"), "w") as f:
+            json.dump({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": 0.5,
+                       "points": {"npy": "net.npy"}}, f)
+        net_bytes = os.path.getsize(net)
+        np.load(net)  # warm the page cache
+        loads = []
+        for _ in range(3):
+            t = time.perf_counter()
+            np.load(net)
+            loads.append(time.perf_counter() - t)
+        load_s = min(loads)
+        info = subprocess.run([a.cli, "info"], capture_output=True, text=True)
+        has_vulkan = info.returncode == 0 and "selected:" in info.stdout
+        rss_ceiling = 1.5 * net_bytes + 100e6
+        rows = []
+        for device in ["cpu"] + (["vulkan"] if has_vulkan else []):
+            base = [a.cli, "sample", os.path.join(work, "m.json"), "--grid", "4x4", "--device", device, "-q"]
+            if device == "vulkan":
+                base += ["--precision", "float", "--require-device"]
+            # One shard of about one patch row: what the job costs before its first sample.
+            first_s, first_rss = child(base + ["-o", os.path.join(work, "first.f32"), "--shard", f"1/{n - 1}"])
+            whole_s, whole_rss = child(base + ["-o", os.path.join(work, "whole.f32")])
+            os.remove(os.path.join(work, "whole.f32"))
+            rows.append({"device": device, "first_sample_s": first_s, "whole_s": whole_s, "max_rss": whole_rss,
+                         "first_over_ceiling": first_s / (2 * load_s), "rss_over_ceiling": whole_rss / rss_ceiling})
+        result = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "cores": os.cpu_count(), "n": n,
+                  "net_bytes": net_bytes, "numpy_load_s": load_s, "rss_ceiling": rss_ceiling, "rows": rows}
+        os.makedirs(os.path.dirname(a.out), exist_ok=True)
+        with open(a.out, "w") as f:
+            json.dump(result, f, indent=2)
+        print(f"net {n} x {n}: {net_bytes / 1e6:.0f} MB; numpy.load {load_s:.3f} s; RSS ceiling {rss_ceiling / 1e6:.0f} MB")
+        print("| device | first sample s | / ceiling | whole job s | max RSS MB | / ceiling |")
+        print("|---|---:|---:|---:|---:|---:|")
+        for r in rows:
+            print(f"| {r['device']} | {r['first_sample_s']:.2f} | {r['first_over_ceiling']:.1f}x | {r['whole_s']:.1f} | "
+                  f"{r['max_rss'] / 1e6:.0f} | {r['rss_over_ceiling']:.2f}x |")
+        print(f"\nwritten: {a.out}")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
