@@ -14,9 +14,7 @@ layout(push_constant) uniform PushBlock { VertexPush pc; };
 const uint kNodePoints = 3u;
 
 void main() {
-  // KernelSet::dispatch folds more than maxComputeWorkGroupCount[0] groups into y (a 2048² α-EB
-  // net has 4.2 million vertices: 65,536 groups of 64).
-  uint idx = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint idx = flatInvocation();
   uint count = pc.rows * pc.cols;
   if (idx >= count) return;
   uint i = idx / pc.cols, j = idx - i * pc.cols;

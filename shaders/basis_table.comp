@@ -11,9 +11,7 @@ layout(std430, binding = kBindingSamples) readonly buffer SampleBuf { ListSample
 layout(push_constant) uniform PushBlock { TablePush pc; };
 
 void main() {
-  // KernelSet::dispatch folds more than maxComputeWorkGroupCount[0] groups into y (a 2048² α-EB
-  // net has 4.2 million vertices: 65,536 groups of 64).
-  uint a = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint a = flatInvocation();
   if (a >= pc.sampleCount) return;
   REAL t;
   if (pc.listMode != 0u) t = samples[a].u;

@@ -22,7 +22,7 @@ const uint M = BASIS_COUNT_U;
 const uint STRIDE = 1u + 3u * M;
 
 void main() {
-  uint k = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint k = flatInvocation();
   if (k >= pc.rowCount) return;  // rows of a curve chunk are samples
   uint g = pc.firstRow + k;
   uint item = g / pc.samplesU, a = g - item * pc.samplesU;

@@ -80,7 +80,7 @@ Sample evalSample(uint k) {
 // One point at a time in a loop the compiler keeps rolled: de Boor–Cox of order up to 10 is large
 // code, and four inlined copies (the uniform kernels' vec4 path) multiply llvmpipe compile time.
 void main() {
-  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint q = flatInvocation();
   uint total = pc.listMode != 0u ? pc.itemCount : pc.rowCount * pc.samplesV;
   uint k0 = q * kPointsPerInvocation;
   if (k0 >= total) return;

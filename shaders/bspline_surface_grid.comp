@@ -41,7 +41,7 @@ const uint STRIDE_U = 1u + 3u * MU;  // TABLE entry of one sample: span, N, N', 
 const uint STRIDE_V = 1u + 3u * MV;
 
 void main() {
-  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint q = flatInvocation();
   uint runs = pc.samplesV / RUN_LENGTH;
   uint row = q / runs;  // row of the chunk
   if (row >= pc.rowCount) return;

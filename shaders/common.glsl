@@ -45,6 +45,12 @@
 #include "layout.h"
 
 layout(local_size_x_id = kSpecWorkgroupSize) in;
+// This invocation's index over the whole dispatch: gpu::KernelSet::dispatch folds more than
+// maxComputeWorkGroupCount[0] groups into y (65,535 on lavapipe: a 2048² α-EB net's vertex pass),
+// so every kernel it dispatches counts through y too.
+uint flatInvocation() {
+  return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+}
 layout(constant_id = kSpecBasisCountU) const uint BASIS_COUNT_U = 4;
 layout(constant_id = kSpecPolyDegreeU) const uint POLY_DEGREE_U = 3;
 layout(constant_id = kSpecBasisCountV) const uint BASIS_COUNT_V = 4;

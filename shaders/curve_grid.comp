@@ -28,7 +28,7 @@ const uint MU = BASIS_COUNT_U;
 const uint DU = POLY_DEGREE_U;
 
 void main() {
-  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint q = flatInvocation();
   uint spansPer = max(1u, RUN_LENGTH / pc.samplesU);  // spans of this invocation
   uint runLen = min(RUN_LENGTH, pc.samplesU);          // samples of each of its spans
   uint runs = pc.samplesU / runLen;

@@ -87,7 +87,7 @@ Sample evalSample(uint k) {
   }
 
 void main() {
-  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint q = flatInvocation();
   uint total = LIST_MODE != 0u ? pc.itemCount : pc.rowCount * pc.samplesV;
   uint k0 = q * kPointsPerInvocation;
   if (k0 >= total) return;

@@ -70,7 +70,7 @@ const uint DU = POLY_DEGREE_U;
 const uint DV = POLY_DEGREE_V;
 
 void main() {
-  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint q = flatInvocation();
   uint rowsPer = max(1u, RUN_LENGTH / pc.samplesV);  // rows of this invocation
   uint runLen = min(RUN_LENGTH, pc.samplesV);         // samples of each of its rows
   uint runs = pc.samplesV / runLen;

@@ -65,7 +65,7 @@ void writePerimeter(uint b, REAL3 p, REAL3 n) {
 #include "patch_rows.glsl"
 
 void main() {
-  uint q = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint q = flatInvocation();
   if (q >= pc.invocations) return;
   // This invocation's rows: a0, a0 + step, ... (rowCount of them), all of one patch.
   uint patchIndex, a0, step = 1u, rowCount = 1u;

@@ -51,7 +51,7 @@ vec3 sourceValue(uint source, uint field) {
 }
 
 void main() {
-  uint k = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  uint k = flatInvocation();
   if (k >= pc.boundaryVertexCount) return;
   uint canonical = sources[k];
   vec3 p = sourceValue(canonical, 0u);
