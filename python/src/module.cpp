@@ -371,8 +371,6 @@ py::object chunkDict(ChunkData&& d, FieldMask mask, Precision precision) {
   return out;
 }
 
-// ---- Lists -------------------------------------------------------------------------------------
-
 // ---- Many models ---------------------------------------------------------------------------------
 
 // One model of sample_many, sampled whole through the module's Session: its device and evaluators
@@ -459,6 +457,8 @@ py::list sampleMany(py::sequence models, py::object grid, py::object fields, con
   }
   return out;
 }
+
+// ---- Lists -------------------------------------------------------------------------------------
 
 template <class Model, class Point>
 py::dict pointDict(const std::vector<Point>& pts, Precision precision) {
