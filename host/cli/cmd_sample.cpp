@@ -204,7 +204,8 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                      "must be in [1, " + std::to_string(kMaxChunkPoints) + "] (0 = default)");
   }
 
-  io::Model model = loadModel(args.model, args.allowOutsideArrays);
+  std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
+  io::Model model = loadModel(args.model, args.allowOutsideArrays, &arrayFiles);
   const bool isSurface = std::holds_alternative<SurfaceModel>(model);
   std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
 
@@ -334,7 +335,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
 
   // One set: the data and its sidecar appear together or not at all (io/output_set.h).
   outputs.reads(args.model, "MODEL");
-  for (const std::filesystem::path& array : io::arrayFilesOf(args.model)) outputs.reads(array, "MODEL's array");
+  for (const std::filesystem::path& array : arrayFiles) outputs.reads(array, "MODEL's array");
   if (!args.saveModel.empty()) {
     if (std::filesystem::path(args.saveModel).extension() != ".json")
       throw InputError("--save-model", args.saveModel,
@@ -363,9 +364,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
     const Precision stored = format == io::OutputFormat::RawF32 || io::isGltf(format) ? Precision::Float
                              : format == io::OutputFormat::RawF64 ? Precision::Double
                                                                   : precision;
-    layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, report.device, report.computedPrecision,
+    layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, arrayFiles, report.device, report.computedPrecision,
                                                 stored, su)
-                            : io::jobMetadataOf(surface->model(), args.model, report.device,
+                            : io::jobMetadataOf(surface->model(), args.model, arrayFiles, report.device,
                                                 report.computedPrecision, stored, su, sv);
   } catch (const std::runtime_error& e) {
     throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());

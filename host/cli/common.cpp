@@ -23,7 +23,7 @@ namespace {
 constexpr size_t kMaxPathChars = 256;
 }  // namespace
 
-io::Model loadModel(const std::string& path, bool allowOutsideArrays) {
+io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vector<std::filesystem::path>* arrayFiles) {
   std::string text;
   try {
     text = io::readInputFile(path, "MODEL");
@@ -33,8 +33,10 @@ io::Model loadModel(const std::string& path, bool allowOutsideArrays) {
     throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
   // Array references ("points": {"npy": ...}) are resolved in the model file's folder.
-  io::ModelArrays arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays, io::kDefaultArrayBudget, {}};
-  return io::parseModelText(text, &arrays);
+  io::ModelArrays arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays, io::kDefaultArrayBudget, {}, {}};
+  io::Model model = io::parseModelText(text, &arrays);
+  if (arrayFiles) *arrayFiles = std::move(arrays.files);
+  return model;
 }
 
 nlohmann::json readJsonFile(const std::string& path, const std::string& field) {

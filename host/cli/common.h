@@ -42,7 +42,8 @@ void refuseOption(const GivenOptions& given, const std::string& option, const st
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...). Arrays it references are read from its folder, or from
 // anywhere with `allowOutsideArrays` (--allow-outside-arrays).
-io::Model loadModel(const std::string& path, bool allowOutsideArrays = false);
+io::Model loadModel(const std::string& path, bool allowOutsideArrays = false,
+                    std::vector<std::filesystem::path>* arrayFiles = nullptr);
 // Reads a JSON file; malformed JSON or an unreadable file is an InputError naming `field`.
 nlohmann::json readJsonFile(const std::string& path, const std::string& field);
 

@@ -479,7 +479,8 @@ std::string sha256OfFile(const std::filesystem::path& path) {
 
 namespace {
 
-JobMetadata common(const FamilySpec& f, const std::string& modelPath, std::string_view device, Precision computed,
+JobMetadata common(const FamilySpec& f, const std::string& modelPath,
+                   const std::vector<std::filesystem::path>& arrayFiles, std::string_view device, Precision computed,
                    Precision output) {
   JobMetadata m;
   m.toolVersion = SHAPESPLINE_VERSION_STRING;
@@ -489,7 +490,7 @@ JobMetadata common(const FamilySpec& f, const std::string& modelPath, std::strin
   // arrays differ here (merge compares it); a model without arrays hashes as sha256sum does.
   Sha256 h;
   hashFile(h, modelPath);
-  for (const std::filesystem::path& array : arrayFilesOf(modelPath)) hashFile(h, array);
+  for (const std::filesystem::path& array : arrayFiles) hashFile(h, array);
   m.modelSha256 = h.hex();
   // Only what the family uses, so that metadataFromJson(metadataJson(m)) == m.
   const FamilyTraits& t = familyOf(f.construction);
@@ -506,9 +507,10 @@ JobMetadata common(const FamilySpec& f, const std::string& modelPath, std::strin
 
 }  // namespace
 
-JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string_view device,
+JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
+                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU) {
-  JobMetadata m = common(model.family, modelPath, device, computedPrecision, outputPrecision);
+  JobMetadata m = common(model.family, modelPath, arrayFiles, device, computedPrecision, outputPrecision);
   m.surface = false;
   m.rational = !model.weights.empty();
   if (m.usesAlpha()) m.setAlpha(model.alpha, 0, 0);
@@ -517,9 +519,10 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
   return m;
 }
 
-JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath, std::string_view device,
+JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath,
+                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV) {
-  JobMetadata m = common(model.family, modelPath, device, computedPrecision, outputPrecision);
+  JobMetadata m = common(model.family, modelPath, arrayFiles, device, computedPrecision, outputPrecision);
   m.surface = true;
   m.rational = !model.weights.empty();
   if (twoOrders(m)) m.orderV = model.orderV;

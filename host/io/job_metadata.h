@@ -116,12 +116,15 @@ std::string sha256OfFile(const std::filesystem::path& path);
 // SHA-256 of bytes in memory, the same digits.
 std::string sha256Of(std::string_view bytes);
 
-// The metadata of sampling `model`, read from `modelPath` (hashed with sha256OfFile, so the same
-// errors), on `device` in `computedPrecision`, stored in `outputPrecision`, samplesU per span or
-// samplesU x samplesV per patch. The tool version and commit are this build's (shapespline/version.h).
-JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string_view device,
+// The metadata of sampling `model`, read from `modelPath` and the .npy `arrayFiles` it names
+// (ModelArrays::files; hashed in that order after the file, with sha256OfFile's errors), on
+// `device` in `computedPrecision`, stored in `outputPrecision`, samplesU per span or samplesU x
+// samplesV per patch. The tool version and commit are this build's (shapespline/version.h).
+JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
+                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU);
-JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath, std::string_view device,
+JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath,
+                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV);
 
 }  // namespace shapespline::io

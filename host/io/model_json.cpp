@@ -159,7 +159,9 @@ NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays,
   const std::filesystem::path file = referencedFile(ref, key, arrays);
   name = shortText(ref.at("npy").get<std::string>());
   try {
-    return readNpyArray(file, arrays->maxValueBytes);
+    NpyArray a = readNpyArray(file, arrays->maxValueBytes);
+    arrays->files.push_back(file);
+    return a;
   } catch (const std::invalid_argument& e) {
     fail(key, name, e.what());
   } catch (const std::runtime_error& e) {
@@ -452,21 +454,8 @@ Model parseModelText(std::string_view text, ModelArrays* arrays) {
   return parseModel(parseJsonText(text, "(document)"), arrays);
 }
 
-std::vector<std::filesystem::path> arrayFilesOf(const std::filesystem::path& path) {
-  const json doc = parseJsonText(readInputFile(path, "(file)"), "(document)");
-  std::vector<std::filesystem::path> files;
-  if (!doc.is_object()) return files;
-  for (const char* key : {"points", "alpha", "weights"}) {
-    if (!doc.contains(key)) continue;
-    const json& v = doc.at(key);
-    if (v.is_object() && v.contains("npy") && v.at("npy").is_string())
-      files.push_back(path.parent_path() / v.at("npy").get<std::string>());
-  }
-  return files;
-}
-
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside, std::uint64_t maxValueBytes) {
-  ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}};
+  ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}, {}};
   return parseModelText(readInputFile(path, "(file)"), &arrays);
 }
 

@@ -44,6 +44,9 @@ struct ModelArrays {
   bool allowOutside = false;     // absolute names, "..", and symlinks that lead out of `folder`
   std::uint64_t maxValueBytes = kDefaultArrayBudget;
   std::map<std::string, NpyArray> given;  // by key; the parser moves each one it uses out
+  // The .npy files the parser read, in key order (points, alpha, weights): what the job metadata
+  // hashes with the model file, and what an output must not replace.
+  std::vector<std::filesystem::path> files;
 };
 
 // JSON value -> validated model. Throws ModelError. Without `arrays`, an array reference is refused
@@ -57,10 +60,6 @@ Model parseModelText(std::string_view text, ModelArrays* arrays = nullptr);
 // from an invalid model).
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside = false,
                     std::uint64_t maxValueBytes = kDefaultArrayBudget);
-
-// The .npy files the model file `path` names, in key order (points, alpha, weights), resolved as
-// loadModelFile resolves them (the job metadata hashes them with the file). Reads only the JSON.
-std::vector<std::filesystem::path> arrayFilesOf(const std::filesystem::path& path);
 
 // Model -> docs/format.md JSON: 2-D curves as [x, y], alpha as a per-vertex array, doubles written
 // round-trippably, so parseModel(toJson(m)) reproduces m exactly.

@@ -127,7 +127,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   c.points.resize(3);
   c.alpha = {1.0, 0.5, 1.0};
   const std::string model = std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models/open_aeb.json";
-  const JobMetadata m = jobMetadataOf(c, model, "llvmpipe", Precision::Float, Precision::Float, 9);
+  const JobMetadata m = jobMetadataOf(c, model, {}, "llvmpipe", Precision::Float, Precision::Float, 9);
   EXPECT_EQ(m.toolVersion, SHAPESPLINE_VERSION_STRING);
   EXPECT_EQ(m.toolCommit, SHAPESPLINE_GIT_COMMIT);
   EXPECT_EQ(m.modelFile, model);
@@ -142,7 +142,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   s.family.order = 3;
   s.orderV = 4;
   s.rows = s.cols = 4;
-  const JobMetadata b = jobMetadataOf(s, model, "cpu", Precision::Double, Precision::Double, 5, 6);
+  const JobMetadata b = jobMetadataOf(s, model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
   EXPECT_EQ(b.grid(), "5x6");
   const json j = metadataJson(b);
   EXPECT_EQ(j["order"], json::array({3, 4}));
@@ -155,7 +155,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   // A rational B-spline says so ("rational": true, and a comment line); it is another job than the
   // same net without weights.
   s.weights.assign(16, 0.5);
-  const JobMetadata r = jobMetadataOf(s, model, "cpu", Precision::Double, Precision::Double, 5, 6);
+  const JobMetadata r = jobMetadataOf(s, model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
   EXPECT_TRUE(r.rational);
   EXPECT_EQ(metadataJson(r)["rational"], true);
   EXPECT_NE(metadataComments(r, "# ").find("# rational: true\n"), std::string::npos);
