@@ -15,6 +15,8 @@ PACKAGES=(
   slurm-wlm munge
   libglfw3-dev xvfb xauth
   pybind11-dev python3-dev python3-pytest python3-matplotlib python3-scipy
+  # Open CASCADE for `shapespline import` (host/cad/); its CMake targets link TBB's .so files.
+  libocct-data-exchange-dev libocct-modeling-algorithms-dev libtbb-dev
 )
 
 missing=()

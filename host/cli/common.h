@@ -25,6 +25,7 @@ void registerEval(CLI::App& app);
 void registerBasis(CLI::App& app);
 void registerGbFit(CLI::App& app);
 void registerExtend(CLI::App& app);
+void registerImport(CLI::App& app);
 void registerInfo(CLI::App& app);
 void registerDemo(CLI::App& app);
 void registerMerge(CLI::App& app);

@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
   registerBasis(app);
   registerGbFit(app);
   registerExtend(app);
+  registerImport(app);
   registerInfo(app);
   registerDemo(app);
   registerMerge(app);

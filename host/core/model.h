@@ -3,6 +3,7 @@
 // evaluators (core/curve.h, core/surface.h, gpu/) take these by const reference.
 #include <shapespline/core/family.h>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <stdexcept>
@@ -32,6 +33,17 @@ struct CurveModel {
                                      // (a rational B-spline, docs/math.md §10.8); empty: all 1
 };
 
+// The trimming loops of a face (docs/format.md "Trim"): closed polylines in the surface's (U,V)
+// knot parameters, the last point not repeating the first; outer loops counter-clockwise, holes
+// clockwise. A sample is inside by the even-odd rule; one within `tolerance` (a parameter-space
+// distance) of a loop counts as inside. Written by `shapespline import` from a CAD face.
+struct TrimLoops {
+  std::vector<std::vector<glm::dvec2>> loops;
+  double tolerance = 0.0;
+
+  bool empty() const { return loops.empty(); }
+};
+
 struct SurfaceModel {
   FamilySpec family;                 // family.order is the u order for BSpline
   int orderV = 0;                    // BSpline only: v order (else equal to family.order)
@@ -45,6 +57,7 @@ struct SurfaceModel {
   std::vector<double> knotsV;
   std::vector<double> weights;       // BSpline with knot vectors: rows * cols positive weights,
                                      // row-major (rational, docs/math.md §10.8); empty: all 1
+  TrimLoops trim;                    // BSpline with knot vectors only; empty: the whole domain
 
   const glm::dvec3& at(int i, int j) const { return points[static_cast<size_t>(i) * cols + j]; }
 };

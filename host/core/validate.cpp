@@ -283,6 +283,30 @@ void validateCurve(const CurveModel& m) {
   }
 }
 
+// docs/format.md "Trim": closed loops of at least 3 finite (U,V) points inside the knot domain
+// (widened by the tolerance), and a finite tolerance >= 0.
+void checkTrim(const SurfaceModel& m, int orderU, int orderV) {
+  const TrimLoops& t = m.trim;
+  if (!std::isfinite(t.tolerance) || t.tolerance < 0.0)
+    fail("trim.tolerance", num(t.tolerance), "the trim tolerance must be a finite number >= 0");
+  const double u0 = m.knotsU[static_cast<size_t>(orderU - 1)], u1 = m.knotsU[static_cast<size_t>(m.rows)];
+  const double v0 = m.knotsV[static_cast<size_t>(orderV - 1)], v1 = m.knotsV[static_cast<size_t>(m.cols)];
+  for (size_t l = 0; l < t.loops.size(); ++l) {
+    const std::string loop = idx("trim.loops", l);
+    if (t.loops[l].size() < 3)
+      fail(loop, std::to_string(t.loops[l].size()) + " points", "a trim loop needs at least 3 points");
+    for (size_t p = 0; p < t.loops[l].size(); ++p) {
+      const glm::dvec2 q = t.loops[l][p];
+      if (!std::isfinite(q.x) || !std::isfinite(q.y))
+        fail(idx(loop, p), num(q.x) + ", " + num(q.y), "trim points must be finite numbers");
+      if (q.x < u0 - t.tolerance || q.x > u1 + t.tolerance || q.y < v0 - t.tolerance || q.y > v1 + t.tolerance)
+        fail(idx(loop, p), num(q.x) + ", " + num(q.y),
+             "trim points must lie in the knot domain [" + num(u0) + ", " + num(u1) + "] x [" + num(v0) + ", " +
+                 num(v1) + "] (within the tolerance)");
+    }
+  }
+}
+
 void validateSurface(const SurfaceModel& m) {
   const FamilySpec& f = m.family;
   const Construction c = f.construction;
@@ -324,6 +348,8 @@ void validateSurface(const SurfaceModel& m) {
     for (int j = 0; j < m.cols; ++j)
       checkWeight(m.weights[static_cast<size_t>(i) * m.cols + j], m.at(i, j),
                   [&] { return idx(idx("weights", static_cast<size_t>(i)), static_cast<size_t>(j)); });
+  if (!m.trim.empty() && (c != Construction::BSpline || !hasKnots))
+    fail("trim", std::to_string(m.trim.loops.size()) + " loops", "trim is only allowed on a bspline surface with knot vectors");
   if (!hasKnots) return;
   if (c != Construction::BSpline)
     fail("knots", "present", "surfaces take knots only for bspline (span knots are for curves only)");
@@ -334,6 +360,7 @@ void validateSurface(const SurfaceModel& m) {
          "a bspline surface with knot vectors must be open in both directions");
   checkKnotVector(m.knotsU, static_cast<size_t>(m.rows), orderU, "knots[0]");
   checkKnotVector(m.knotsV, static_cast<size_t>(m.cols), orderV, "knots[1]");
+  checkTrim(m, orderU, orderV);
 }
 
 }  // namespace shapespline

@@ -64,7 +64,9 @@ std::string unusedKeyRule(const std::string& key, Construction c, bool surface) 
   else if (key == "alpha") used = f.usesAlpha;
   else if (key == "knots") used = hasKnots(f, surface);
   else if (key == "weights") used = f.knotVectors;
+  else if (key == "trim") used = f.knotVectors && surface;
   if (used) return {};
+  if (key == "trim") return "trim is only allowed on bspline surfaces (a CAD face's loops), not " + name + (surface ? "" : " curves");
   if (key == "weights") return "weights are only allowed for bspline (a rational B-spline), not " + name;
   if (key == "alpha") return "alpha is only allowed for alpha_eb, not " + name;
   if (key == "knots" && surface && f.spanKnots)
@@ -339,6 +341,41 @@ std::vector<double> readPerVertex(const json& a, const std::string& key, const s
       .values;
 }
 
+// docs/format.md "Trim": {"loops": [[[u, v], ...], ...], "tolerance": t}. The rules on the values
+// (at least 3 points a loop, inside the knot domain) are core validateSurface's.
+TrimLoops readTrim(const json& t) {
+  if (!t.is_object() || !t.contains("loops") || !t.contains("tolerance"))
+    failJson("trim", t, "trim must be an object {\"loops\": [[[u, v], ...], ...], \"tolerance\": t}");
+  for (const auto& [key, value] : t.items())
+    if (key != "loops" && key != "tolerance") failJson("trim." + key, value, "unknown key (trim takes loops and tolerance)");
+  TrimLoops out;
+  out.tolerance = getNumber(t.at("tolerance"), "trim.tolerance");
+  const json& loops = t.at("loops");
+  if (!loops.is_array() || loops.empty()) failJson("trim.loops", loops, "must be a non-empty array of loops");
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const std::string field = idx("trim.loops", l);
+    if (!loops[l].is_array()) failJson(field, loops[l], "a trim loop must be an array of [u, v] points");
+    std::vector<glm::dvec2>& loop = out.loops.emplace_back();
+    loop.reserve(loops[l].size());
+    for (size_t p = 0; p < loops[l].size(); ++p) {
+      const json& q = loops[l][p];
+      if (!q.is_array() || q.size() != 2) failJson(idx(field, p), q, "a trim point must be [u, v]");
+      loop.emplace_back(getNumber(q[0], idx(idx(field, p), 0)), getNumber(q[1], idx(idx(field, p), 1)));
+    }
+  }
+  return out;
+}
+
+json trimJson(const TrimLoops& t) {
+  json loops = json::array();
+  for (const auto& loop : t.loops) {
+    json l = json::array();
+    for (const glm::dvec2& q : loop) l.push_back({q.x, q.y});
+    loops.push_back(std::move(l));
+  }
+  return {{"loops", std::move(loops)}, {"tolerance", t.tolerance}};
+}
+
 SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
   SurfaceModel m;
   m.family.construction = c;
@@ -391,6 +428,7 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
   }
   if (doc.contains("weights"))
     m.weights = readPerVertex(doc.at("weights"), "weights", "weights must be an array", m.rows, m.cols, files);
+  if (doc.contains("trim")) m.trim = readTrim(doc.at("trim"));
   return m;
 }
 
@@ -400,10 +438,10 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
 Model parseModel(const json& doc, ModelArrays* arrays) {
   if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
 
-  static const std::array<const char*, 13> kKnownKeys = {"kind",  "construction", "degree", "order",
+  static const std::array<const char*, 14> kKnownKeys = {"kind",  "construction", "degree", "order",
                                                          "lambda", "mu",          "closed", "points",
-                                                         "alpha", "knots",        "weights", "name",
-                                                         "comment"};
+                                                         "alpha", "knots",        "weights", "trim",
+                                                         "name",  "comment"};
   for (const auto& [key, value] : doc.items()) {
     bool known = false;
     for (const char* k : kKnownKeys) known = known || key == k;
@@ -523,6 +561,7 @@ json toJson(const SurfaceModel& m) {
   } else if (!m.weights.empty()) {
     j["weights"] = m.weights;  // not a valid model; write what is there
   }
+  if (!m.trim.empty()) j["trim"] = trimJson(m.trim);
   return j;
 }
 
@@ -587,6 +626,7 @@ void saveModelWithArrays(const SurfaceModel& m, const std::filesystem::path& pat
   head.closedV = m.closedV;
   head.knotsU = m.knotsU;
   head.knotsV = m.knotsV;
+  head.trim = m.trim;
   json doc = toJson(head);
   const uint64_t rows = static_cast<uint64_t>(m.rows), cols = static_cast<uint64_t>(m.cols);
   static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));

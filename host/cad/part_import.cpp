@@ -1,0 +1,136 @@
+#include <shapespline/cad/occt_part.h>
+#include <shapespline/cad/part_import.h>
+#include <shapespline/io/job_metadata.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/version.h>
+
+#include <BRep_Tool.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace shapespline::cad {
+namespace {
+
+using nlohmann::json;
+
+std::string numbered(const char* stem, int id) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%s_%04d.json", stem, id);
+  return name;
+}
+
+struct PartFile {
+  std::string name, text;
+};
+
+// The ids (1-based, in TopExp::MapShapes order) of the sub-shapes of `shape` of type `type`.
+json idsIn(const TopoDS_Shape& shape, TopAbs_ShapeEnum type, const TopTools_IndexedMapOfShape& all) {
+  TopTools_IndexedMapOfShape inside;
+  TopExp::MapShapes(shape, type, inside);
+  json ids = json::array();
+  for (int i = 1; i <= inside.Extent(); ++i) ids.push_back(all.FindIndex(inside(i)));
+  return ids;
+}
+
+}  // namespace
+
+ImportSummary importPart(const std::filesystem::path& part, const std::filesystem::path& outDir,
+                         const ImportOptions& options) {
+  if (!std::isfinite(options.trimTolerance) || options.trimTolerance <= 0.0 || options.trimTolerance > 0.01)
+    throw std::invalid_argument("--trim-tolerance: must lie in (0, 0.01] (got " + std::to_string(options.trimTolerance) + ")");
+  const PartShape shape = readPart(part, options.maxFileBytes);
+  TopTools_IndexedMapOfShape faces, edges, shells;
+  TopExp::MapShapes(shape.shape, TopAbs_FACE, faces);
+  TopExp::MapShapes(shape.shape, TopAbs_EDGE, edges);
+  TopExp::MapShapes(shape.shape, TopAbs_SHELL, shells);
+
+  ImportSummary summary;
+  summary.format = shape.format;
+  summary.units = shape.units;
+  std::vector<PartFile> files;
+  json faceList = json::array(), edgeList = json::array(), shellList = json::array();
+  std::string firstReason;
+  for (int i = 1; i <= faces.Extent(); ++i) {
+    const TopoDS_Face& face = TopoDS::Face(faces(i));
+    json entry = {{"id", i}, {"edges", idsIn(face, TopAbs_EDGE, edges)}};
+    try {
+      const ConvertedFace converted = convertFace(face, options.trimTolerance);
+      const std::string name = numbered("face", i);
+      SurfaceModel model = converted.model;
+      files.push_back({name, io::toJson(model).dump(1) + "\n"});
+      entry["model"] = name;
+      entry["surface"] = converted.surfaceType;
+      entry["reversed"] = converted.reversed;
+      entry["bounds"] = {converted.bounds[0], converted.bounds[1], converted.bounds[2], converted.bounds[3]};
+      entry["loops"] = converted.model.trim.loops.size();
+      ++summary.faces;
+    } catch (const ConversionError& e) {
+      entry["model"] = nullptr;
+      entry["skipped"] = e.what();
+      if (firstReason.empty()) firstReason = "face " + std::to_string(i) + ": " + e.what();
+      ++summary.facesSkipped;
+    }
+    faceList.push_back(std::move(entry));
+  }
+  for (int i = 1; i <= edges.Extent(); ++i) {
+    const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+    json entry = {{"id", i}};
+    if (BRep_Tool::Degenerated(edge)) {  // a sphere's pole, a cone's apex: a point, not a curve
+      entry["model"] = nullptr;
+      entry["degenerate"] = true;
+    } else {
+      try {
+        const ConvertedEdge converted = convertEdge(edge);
+        const std::string name = numbered("edge", i);
+        files.push_back({name, io::toJson(converted.model).dump(1) + "\n"});
+        entry["model"] = name;
+        entry["curve"] = converted.curveType;
+        ++summary.edges;
+      } catch (const ConversionError& e) {
+        entry["model"] = nullptr;
+        entry["skipped"] = e.what();
+        if (firstReason.empty()) firstReason = "edge " + std::to_string(i) + ": " + e.what();
+        ++summary.edgesSkipped;
+      }
+    }
+    edgeList.push_back(std::move(entry));
+  }
+  for (int i = 1; i <= shells.Extent(); ++i)
+    shellList.push_back({{"id", i}, {"faces", idsIn(shells(i), TopAbs_FACE, faces)}});
+  summary.shells = shells.Extent();
+  if (summary.faces == 0 && summary.edges == 0)
+    throw CadError(part.string(), "(part)", "no face or edge could be converted (" + firstReason + ")");
+
+  const json manifest = {
+      {"format", "shapespline-part"},
+      {"version", 1},
+      {"tool", {{"name", "shapespline"}, {"version", SHAPESPLINE_VERSION_STRING}}},
+      {"source",
+       {{"file", part.filename().string()},
+        {"format", shape.format},
+        {"bytes", std::filesystem::file_size(part)},
+        {"sha256", io::sha256OfFile(part)}}},
+      {"units", shape.units},
+      {"trim_tolerance", options.trimTolerance},
+      {"faces", std::move(faceList)},
+      {"edges", std::move(edgeList)},
+      {"shells", std::move(shellList)}};
+
+  std::filesystem::create_directories(outDir);
+  io::OutputSet outputs;
+  outputs.reads(part, "PART");
+  for (const PartFile& f : files) outputs.add(outDir / f.name, "-o").write(f.text);
+  outputs.add(outDir / "part.json", "-o").write(manifest.dump(1) + "\n");
+  outputs.commit();
+  return summary;
+}
+
+}  // namespace shapespline::cad
