@@ -1,0 +1,118 @@
+// Bad parts (issue 32): a missing, empty, truncated, non-STEP or oversized file, a part without
+// geometry: CadError naming the file and the entity, exit 2 from the CLI, and no output at all.
+#include "test_parts.h"
+
+#include <shapespline/cad/part_import.h>
+
+#include <TopoDS_Compound.hxx>
+#include <BRep_Builder.hxx>
+
+#include <cli/cli_runner.h>
+
+#include <gtest/gtest.h>
+
+namespace shapespline::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Expects importPart to throw CadError for `part` with `entity` and a reason containing `reason`,
+// and the output folder not to exist afterwards.
+void expectRefused(const fs::path& part, const std::string& entity, const std::string& reason,
+                   std::uint64_t maxBytes = std::uint64_t{1} << 30) {
+  const fs::path out = part.parent_path() / "out";
+  cad::ImportOptions options;
+  options.maxFileBytes = maxBytes;
+  try {
+    cad::importPart(part, out, options);
+    ADD_FAILURE() << part << " was imported";
+  } catch (const cad::CadError& e) {
+    EXPECT_EQ(e.file(), part.string());
+    EXPECT_EQ(e.entity(), entity) << e.what();
+    EXPECT_NE(e.reason().find(reason), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out)) << "output left behind for " << part;
+}
+
+TEST(ImportErrors, MissingEmptyOversizedAndWronglyNamedFiles) {
+  ScratchDir dir("import_files");
+  expectRefused(dir / "missing.step", "(file)", "no such file");
+  writeText(dir / "empty.step", "");
+  expectRefused(dir / "empty.step", "(file)", "the file is empty");
+  writeStep(cylinder(), dir / "cylinder.step");
+  expectRefused(dir / "cylinder.step", "(file)", "over the limit of 100", 100);
+  fs::copy_file(dir / "cylinder.step", dir / "cylinder.txt");
+  expectRefused(dir / "cylinder.txt", "(file)", "a part must be a STEP (.step, .stp) or IGES (.iges, .igs) file");
+  fs::create_directory(dir / "folder.step");
+  expectRefused(dir / "folder.step", "(file)", "not a regular file");
+}
+
+TEST(ImportErrors, TextThatIsNotStepOrIges) {
+  ScratchDir dir("import_text");
+  writeText(dir / "notes.step", "these are not the parts you are looking for\n");
+  expectRefused(dir / "notes.step", "(file)", "not a readable STEP file");
+  writeText(dir / "notes.iges", "these are not the parts you are looking for\n");
+  // OCCT's IGES reader takes any text as a file of no entities: refused as a part without shapes.
+  expectRefused(dir / "notes.iges", "(part)", "the IGES file holds no shape");
+}
+
+TEST(ImportErrors, TruncatedStepFile) {
+  ScratchDir dir("import_truncated");
+  writeStep(filletedBox(), dir / "whole.step");
+  const std::string text = readText(dir / "whole.step");
+  for (double fraction : {0.1, 0.5, 0.9}) {
+    SCOPED_TRACE(fraction);
+    writeText(dir / "cut.step", text.substr(0, static_cast<size_t>(fraction * text.size())));
+    const fs::path out = dir / "out";
+    try {
+      cad::importPart(dir / "cut.step", out);
+      // OCCT may recover the entities before the cut; then whatever it gives is whole models.
+      EXPECT_TRUE(fs::exists(out / "part.json"));
+      fs::remove_all(out);
+    } catch (const cad::CadError& e) {
+      EXPECT_EQ(e.file(), (dir / "cut.step").string());
+      EXPECT_FALSE(fs::exists(out));
+    }
+  }
+}
+
+TEST(ImportErrors, PartWithoutFacesOrEdges) {
+  ScratchDir dir("import_empty_part");
+  TopoDS_Compound empty;
+  BRep_Builder().MakeCompound(empty);
+  try {
+    writeStep(empty, dir / "empty_part.step");
+  } catch (const std::runtime_error&) {
+    GTEST_SKIP() << "OCCT does not write an empty compound";
+  }
+  expectRefused(dir / "empty_part.step", "(part)", "");
+}
+
+TEST(ImportCli, ImportsAPartAndRefusesBadOnesWithExitTwo) {
+  ScratchDir dir("import_cli");
+  writeStep(drilledPlate(), dir / "plate.step");
+  CliResult r = runCli("import " + quote((dir / "plate.step").string()) + " -o " + quote((dir / "plate").string()),
+                       dir.path());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("8 faces"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "plate" / "part.json"));
+  EXPECT_TRUE(fs::exists(dir / "plate" / "face_0001.json"));
+
+  writeText(dir / "bad.step", "not a step file");
+  r = runCli("import " + quote((dir / "bad.step").string()) + " -o " + quote((dir / "bad").string()), dir.path());
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.err.find("PART"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bad.step"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not a readable STEP file"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+
+  r = runCli("import " + quote((dir / "plate.step").string()) + " -o " + quote((dir / "tight").string()) +
+                 " --trim-tolerance 0",
+             dir.path());
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.err.find("--trim-tolerance"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "tight"));
+}
+
+}  // namespace
+}  // namespace shapespline::test
