@@ -415,5 +415,25 @@ TEST(RoundTrip, TwoDimensionalCurvesWrittenAsPairs) {
   EXPECT_EQ(s.at("closed"), json::array({false, true}));
 }
 
+// docs/format.md "Trim": the loops and the tolerance come back exactly through toJson, and a
+// model without trim writes no key.
+TEST(TrimLoops, RoundTripThroughJson) {
+  const std::string text = R"({"kind": "surface", "construction": "bspline", "order": [2, 2],
+    "knots": [[0, 0, 2, 2], [1, 1, 3, 3]], "points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]],
+    "trim": {"loops": [[[0, 1], [2, 1], [2, 3], [0.5, 2.75]], [[0.5, 1.5], [0.75, 2.0], [1.0, 1.5]]],
+             "tolerance": 1e-7}})";
+  const SurfaceModel m = std::get<SurfaceModel>(io::parseModelText(text));
+  ASSERT_EQ(m.trim.loops.size(), 2u);
+  EXPECT_EQ(m.trim.loops[0].size(), 4u);
+  EXPECT_EQ(m.trim.loops[0][3], glm::dvec2(0.5, 2.75));
+  EXPECT_EQ(m.trim.tolerance, 1e-7);
+  const SurfaceModel back = std::get<SurfaceModel>(io::parseModel(io::toJson(m)));
+  EXPECT_EQ(back.trim.loops, m.trim.loops);
+  EXPECT_EQ(back.trim.tolerance, m.trim.tolerance);
+  SurfaceModel plain = m;
+  plain.trim = {};
+  EXPECT_FALSE(io::toJson(plain).contains("trim"));
+}
+
 }  // namespace
 }  // namespace shapespline

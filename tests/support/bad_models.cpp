@@ -16,6 +16,9 @@ const std::string kNet4 =
 std::string curve(const std::string& construction, const std::string& rest) {
   return R"({"kind": "curve", "construction": ")" + construction + "\", " + rest + "}";
 }
+// A bicubic bspline surface's keys before "points" (kNet4 is 4 x 4), over the domain [0, 1]^2.
+const std::string kTrimmable = R"("order": [4, 4], "knots": [[0,0,0,0,1,1,1,1],[0,0,0,0,1,1,1,1]], )";
+
 std::string surface(const std::string& construction, const std::string& rest) {
   return R"({"kind": "surface", "construction": ")" + construction + "\", " + rest + "}";
 }
@@ -184,6 +187,30 @@ std::vector<BadModel> build() {
        surface("bspline", R"("order": [4, 4], "knots": [[0,0,0,0,1,1,1,1],[0,0,0,0,1,1,1,1]], )"
                           R"("weights": [[1,1,1,1],[1,1,1,1],[1,1,1,-2],[1,1,1,1]], "points": )" + kNet4),
        "weights[2][3]"},
+      // Trimming loops (docs/format.md Trim): bspline surfaces with knot vectors only.
+      {"trim_on_curve", curve("bspline", bs4 + R"("knots": [0,0,0,0,0.5,1,1,1,1], "trim": {"loops": [], "tolerance": 0}, )" + pts5),
+       "trim"},
+      {"trim_without_knots",
+       surface("bspline", R"("order": [4, 4], "trim": {"loops": [[[0,0],[1,0],[1,1]]], "tolerance": 0}, "points": )" + kNet4),
+       "trim"},
+      {"trim_on_ubp", surface("ubp", R"("order": 4, "trim": {"loops": [[[0,0],[1,0],[1,1]]], "tolerance": 0}, "points": )" + kNet4),
+       "trim"},
+      {"trim_two_points", surface("bspline", kTrimmable + R"("trim": {"loops": [[[0,0],[1,0]]], "tolerance": 0}, "points": )" + kNet4),
+       "trim.loops[0]"},
+      {"trim_outside_domain",
+       surface("bspline", kTrimmable + R"("trim": {"loops": [[[0,0],[1,0],[1,1.5]]], "tolerance": 0.1}, "points": )" + kNet4),
+       "trim.loops[0][2]"},
+      {"trim_negative_tolerance",
+       surface("bspline", kTrimmable + R"("trim": {"loops": [[[0,0],[1,0],[1,1]]], "tolerance": -1}, "points": )" + kNet4),
+       "trim.tolerance"},
+      {"trim_point_not_pair",
+       surface("bspline", kTrimmable + R"("trim": {"loops": [[[0,0],[1,0],[1]]], "tolerance": 0}, "points": )" + kNet4),
+       "trim.loops[0][2]"},
+      {"trim_unknown_key",
+       surface("bspline", kTrimmable + R"("trim": {"loops": [[[0,0],[1,0],[1,1]]], "tolerance": 0, "rule": "winding"}, "points": )" + kNet4),
+       "trim.rule"},
+      {"trim_no_loops", surface("bspline", kTrimmable + R"("trim": {"loops": [], "tolerance": 0}, "points": )" + kNet4),
+       "trim.loops"},
   };
 }
 
