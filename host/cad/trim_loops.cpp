@@ -26,15 +26,6 @@ double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   return glm::length(p - (a + t * ab));
 }
 
-double signedArea(const std::vector<glm::dvec2>& loop) {
-  double twice = 0.0;
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const glm::dvec2 a = loop[i], b = loop[(i + 1) % loop.size()];
-    twice += a.x * b.y - b.x * a.y;
-  }
-  return 0.5 * twice;
-}
-
 class EdgeFlattener {
  public:
   EdgeFlattener(const Handle(Geom2d_Curve)& curve, const ParameterMap& map, double tolerance)
@@ -94,6 +85,15 @@ std::vector<glm::dvec2> wireLoop(const TopoDS_Wire& wire, const TopoDS_Face& fac
 }
 
 }  // namespace
+
+double signedArea(const std::vector<glm::dvec2>& loop) {
+  double twice = 0.0;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const glm::dvec2 a = loop[i], b = loop[(i + 1) % loop.size()];
+    twice += a.x * b.y - b.x * a.y;
+  }
+  return 0.5 * twice;
+}
 
 TrimLoops faceTrimLoops(const TopoDS_Face& face, const ParameterMap& map, double tolerance) {
   const TopoDS_Face forward = TopoDS::Face(face.Oriented(TopAbs_FORWARD));

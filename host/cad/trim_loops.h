@@ -11,6 +11,9 @@
 
 namespace shapespline::cad {
 
+// The enclosed area of a closed polyline, positive when counter-clockwise (shoelace).
+double signedArea(const std::vector<glm::dvec2>& loop);
+
 TrimLoops faceTrimLoops(const TopoDS_Face& face, const ParameterMap& map, double tolerance);
 
 }  // namespace shapespline::cad

@@ -7,6 +7,7 @@
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/parameter_map.h>
 #include <shapespline/cad/part_import.h>
+#include <shapespline/cad/trim_loops.h>
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/io/model_json.h>
@@ -69,15 +70,6 @@ double boxDiagonal(const std::vector<glm::dvec3>& points) {
 }
 
 glm::dvec3 vec(const gp_XYZ& p) { return {p.X(), p.Y(), p.Z()}; }
-
-double signedArea(const std::vector<glm::dvec2>& loop) {
-  double twice = 0.0;
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const glm::dvec2 a = loop[i], b = loop[(i + 1) % loop.size()];
-    twice += a.x * b.y - b.x * a.y;
-  }
-  return 0.5 * twice;
-}
 
 struct Imported {
   fs::path part, dir;
@@ -149,8 +141,8 @@ TEST_P(ImportPart, EveryFaceEvaluatesAsOcctDoes) {
     // Trimming loops: the outer one counter-clockwise, holes clockwise.
     ASSERT_FALSE(model.trim.empty());
     EXPECT_EQ(entry.at("loops").get<size_t>(), model.trim.loops.size());
-    EXPECT_GT(signedArea(model.trim.loops[0]), 0.0);
-    for (size_t l = 1; l < model.trim.loops.size(); ++l) EXPECT_LT(signedArea(model.trim.loops[l]), 0.0) << "loop " << l;
+    EXPECT_GT(cad::signedArea(model.trim.loops[0]), 0.0);
+    for (size_t l = 1; l < model.trim.loops.size(); ++l) EXPECT_LT(cad::signedArea(model.trim.loops[l]), 0.0) << "loop " << l;
   }
 }
 
@@ -183,6 +175,44 @@ TEST_P(ImportPart, EveryEdgeEvaluatesAsOcctDoes) {
     ++curves;
   }
   EXPECT_GT(curves, 0);
+}
+
+// The drilled plate's top and bottom faces: three loops each. Every point of the two inner loops,
+// evaluated on the imported surface, lies on a hole's circle; every point of the outer loop on the
+// plate's rectangle. (The loop points are exact points of the edges' curves on the face, so the
+// bound is the evaluation's, not the polyline tolerance.)
+TEST(ImportTrim, DrilledPlateHolesAreTheInnerLoops) {
+  for (const char* format : {"step", "iges"}) {
+    SCOPED_TRACE(format);
+    const Imported imp = importOnce("drilled_plate", format);
+    int drilledFaces = 0;
+    for (const json& entry : imp.manifest.at("faces")) {
+      if (entry.at("loops").get<int>() != 3) continue;
+      ++drilledFaces;
+      const SurfaceModel model = std::get<SurfaceModel>(io::loadModelFile(imp.dir / entry.at("model").get<std::string>()));
+      const Surface surface = Surface::create(model);
+      const double tolerance = 1e-9 * 100.0;
+      for (const glm::dvec2& q : model.trim.loops[0]) {
+        const glm::dvec3 p = surface.evaluateAt(q.x, q.y).point;
+        const double toRectangle = std::min({std::abs(p.x), std::abs(p.x - 100.0), std::abs(p.y), std::abs(p.y - 60.0)});
+        ASSERT_LE(toRectangle, tolerance) << p.x << ", " << p.y;
+      }
+      for (size_t l = 1; l < 3; ++l) {
+        double nearestHoleX = 0.0;
+        for (const glm::dvec2& q : model.trim.loops[l]) {
+          const glm::dvec3 p = surface.evaluateAt(q.x, q.y).point;
+          double best = 1e300;
+          for (const Hole& h : drilledPlateHoles()) {
+            const double d = std::abs(std::hypot(p.x - h.x, p.y - h.y) - h.radius);
+            if (d < best) best = d, nearestHoleX = h.x;
+          }
+          ASSERT_LE(best, tolerance) << "loop " << l << ": " << p.x << ", " << p.y;
+        }
+        EXPECT_TRUE(nearestHoleX == 30.0 || nearestHoleX == 70.0);
+      }
+    }
+    EXPECT_EQ(drilledFaces, 2);
+  }
 }
 
 std::string caseName(const ::testing::TestParamInfo<ImportPart::ParamType>& info) {
