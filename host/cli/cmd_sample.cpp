@@ -9,6 +9,7 @@
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
 #include <shapespline/io/shard_record.h>
+#include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/session.h>
 
@@ -175,6 +176,19 @@ GridChunk withInjectedNan(const GridChunk& c, size_t points, std::vector<double>
   return out;
 }
 
+// --trim (docs/cad.md): a surface with trim loops, a point-cloud output, one whole job.
+void requireTrimmable(const SampleArgs& args, const io::Model& model, io::OutputFormat format) {
+  const auto* surface = std::get_if<SurfaceModel>(&model);
+  if (!surface || surface->trim.empty())
+    throw InputError("--trim", args.model, "the model has no trim loops (the faces `shapespline import` writes have them)");
+  if (!io::trimmedPointFormat(format))
+    throw InputError("-o", args.out,
+                     "a trimmed face is written as a point cloud (.npy, .f32, .f64, .csv or .ply); meshes and pictures "
+                     "of trimmed faces are refused until a trimmed mesher exists");
+  if (!args.shard.empty()) throw InputError("--shard", args.shard, "trimmed sampling is not sharded yet");
+  if (args.meshLayoutGiven) throw InputError("--mesh-layout", args.meshLayout, "does not apply to --trim (a point cloud)");
+}
+
 }  // namespace
 
 bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary, sampling::Session* shared) {
@@ -208,6 +222,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   io::Model model = loadModel(args.model, args.allowOutsideArrays, &arrayFiles);
   const bool isSurface = std::holds_alternative<SurfaceModel>(model);
   std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
+  if (args.trim) requireTrimmable(args, model, format);
 
   int su = 0, sv = 1;
   if (isSurface) {
@@ -265,7 +280,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   if (args.meshLayout == "per-item" && (!meshFormat || io::isGltf(format))) {
     throw InputError("--mesh-layout", args.meshLayout, "per-item layouts are for .obj and .ply outputs");
   }
-  layout.welded = meshFormat && args.meshLayout == "welded";
+  layout.welded = meshFormat && args.meshLayout == "welded" && !args.trim;
   if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
     SurfaceGridItems items = surfaceGridItems(*surface);
@@ -385,7 +400,15 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                                  args.quiet)) {
     return false;
   }
-  auto writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
+  std::unique_ptr<io::SampleWriter> writer;
+  const io::TrimmedPointWriter* trimmed = nullptr;
+  if (args.trim) {
+    auto w = std::make_unique<io::TrimmedPointWriter>(format, out, sidecar, surface->model().trim);
+    trimmed = w.get();
+    writer = std::move(w);
+  } else {
+    writer = io::makeSampleWriter(format, out, sidecar ? &*sidecar : nullptr);
+  }
   writer->begin(layout);
   if (layout.itemCount > 0) {
     Progress progress(layout.pointCount(), args.quiet);
@@ -441,6 +464,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   }
   summary = "wrote " + args.out + " (" + std::to_string(layout.itemCount) + (isSurface ? " patches, " : " spans, ") +
             std::to_string(layout.pointCount()) + " points" +
+            (trimmed ? ", " + std::to_string(trimmed->kept()) + " inside the trim loops" : std::string()) +
             (sidecar ? (format == io::OutputFormat::Gltf ? ", buffer in " : ", layout in ") + sidecar->target().string()
                      : std::string()) +
             ")";
@@ -569,6 +593,9 @@ void registerSample(CLI::App& app) {
   sub->add_option("--chunk-points", args->chunkPoints,
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 32768 "
                   "on the CPU, 4 MiB planes on the GPU; output is identical)");
+  sub->add_flag("--trim", args->trim,
+                "keep only the samples inside the model's trim loops (a face from `import`), written as a point cloud "
+                "(.npy, .f32, .f64, .csv, .ply) with each sample's (U, V)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");

@@ -27,6 +27,7 @@ struct SampleArgs {
   bool allowOutsideArrays = false;  // the model's .npy arrays may lie outside its folder
   std::string saveModel;            // --save-model PATH.json ("" = not given; {stem} with several models)
   bool failFast = false;            // several models: stop at the first that fails
+  bool trim = false;                // --trim: only the samples inside the model's trim loops
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
 };
 

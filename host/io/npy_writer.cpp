@@ -34,9 +34,16 @@ std::string npyHeaderOf(std::string dict) {
 }  // namespace
 
 std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records) {
+  std::vector<std::pair<std::string, int>> fields;
+  for (const std::string& name : fieldNames) fields.emplace_back(name, 3);
+  return npyHeader(fields, float64, records);
+}
+
+std::string npyHeader(const std::vector<std::pair<std::string, int>>& fields, bool float64, uint64_t records) {
   std::string dict = "{'descr': [";
-  for (size_t k = 0; k < fieldNames.size(); ++k) {
-    dict += (k ? ", ('" : "('") + fieldNames[k] + (float64 ? "', '<f8', (3,))" : "', '<f4', (3,))");
+  for (size_t k = 0; k < fields.size(); ++k) {
+    dict += (k ? ", ('" : "('") + fields[k].first + (float64 ? "', '<f8', (" : "', '<f4', (") +
+            std::to_string(fields[k].second) + ",))";
   }
   dict += "], 'fortran_order': False, 'shape': (" + std::to_string(records) + ",), }";
   return npyHeaderOf(std::move(dict));

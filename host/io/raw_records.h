@@ -54,6 +54,8 @@ class PlacedRecords {
 // 'fortran_order': False, 'shape': (records,), } padded with spaces and a newline to a multiple of
 // 64 bytes. The data that follows is byte for byte the raw file's.
 std::string npyHeader(const std::vector<std::string>& fieldNames, bool float64, uint64_t records);
+// The same with each field's own number of components: ("uv", 2), ("point", 3), ...
+std::string npyHeader(const std::vector<std::pair<std::string, int>>& fields, bool float64, uint64_t records);
 // The same for a plain C-order float64 array of `shape` (what numpy.save writes for one).
 std::string npyArrayHeader(const std::vector<uint64_t>& shape);
 
