@@ -191,6 +191,23 @@ void requireTrimmable(const SampleArgs& args, const io::Model& model, io::Output
 
 }  // namespace
 
+void setSurfaceItems(const Surface& surface, io::SampleLayout& layout) {
+  SurfaceGridItems items = surfaceGridItems(surface);
+  layout.totalItems = items.size();
+  layout.spanU = std::move(items.u);
+  layout.spanV = std::move(items.v);
+  layout.itemsV = layout.spanV.size();
+  const auto& sm = surface.model();
+  layout.closedU = sm.closedU;
+  layout.closedV = sm.closedV;
+  auto interval = [&](int i, const std::vector<double>& knots) {
+    return surface.usesKnotVector() ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
+                                    : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
+  };
+  for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
+  for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
+}
+
 bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary, sampling::Session* shared) {
   // --shard auto and a shard pattern in -o first (cli/shard_files.h): the rest sees K/N and a path.
   SampleArgs resolved = given;
@@ -218,11 +235,13 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                      "must be in [1, " + std::to_string(kMaxChunkPoints) + "] (0 = default)");
   }
 
+  // A part's manifest (`shapespline import`): every face, trimmed, into one point cloud.
+  const bool part = isPartManifest(args.model);
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
-  io::Model model = loadModel(args.model, args.allowOutsideArrays, &arrayFiles);
-  const bool isSurface = std::holds_alternative<SurfaceModel>(model);
-  std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
-  if (args.trim) requireTrimmable(args, model, format);
+  io::Model model = part ? io::Model{} : loadModel(args.model, args.allowOutsideArrays, &arrayFiles);
+  const bool isSurface = part || std::holds_alternative<SurfaceModel>(model);
+  if (!part) std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
+  if (args.trim && !part) requireTrimmable(args, model, format);
 
   int su = 0, sv = 1;
   if (isSurface) {
@@ -268,6 +287,13 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   layout.source = modelName;
   layout.shardIndex = shardK;
   layout.shardCount = shardN;
+  if (part) {
+    if (!args.shard.empty()) throw InputError("--shard", args.shard, "a part is sampled whole (not sharded yet)");
+    const bool fileFloat = format == io::OutputFormat::RawF32 || (precision == Precision::Float && format != io::OutputFormat::RawF64);
+    PartJob job{format, request, su, sv, fields, precision, {}};
+    job.check = [fileFloat](const GridChunk& c, size_t first, size_t count) { requireFinite(c, first, count, fileFloat); };
+    return samplePartInto(args, job, outputs, summary, shared);
+  }
   const bool meshFormat = io::isMesh(format);
   if (args.meshLayout != "welded" && args.meshLayout != "per-item") {
     throw InputError("--mesh-layout", args.meshLayout, "expected welded or per-item");
@@ -283,20 +309,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   layout.welded = meshFormat && args.meshLayout == "welded" && !args.trim;
   if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
-    SurfaceGridItems items = surfaceGridItems(*surface);
-    layout.totalItems = items.size();
-    layout.spanU = std::move(items.u);
-    layout.spanV = std::move(items.v);
-    layout.itemsV = layout.spanV.size();
-    const auto& sm = surface->model();
-    layout.closedU = sm.closedU;
-    layout.closedV = sm.closedV;
-    auto interval = [&](int i, const std::vector<double>& knots) {
-      return surface->usesKnotVector() ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
-                                       : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
-    };
-    for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
-    for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
+    setSurfaceItems(*surface, layout);
   } else {
     curve.emplace(Curve::create(std::get<CurveModel>(std::move(model))));
     layout.spanU = curveGridItems(*curve);

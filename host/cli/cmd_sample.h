@@ -1,8 +1,17 @@
 #pragma once
-// The `sample` command's arguments and entry point, also used by `demo`.
+// The `sample` command's arguments and entry point, also used by `demo`; the pieces of a job that
+// sampling a whole part (cli/part_sample.cpp) shares.
+#include <shapespline/core/sample_grid.h>
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/sampling/report.h>
+
+#include <functional>
 #include <string>
 #include <vector>
 
+namespace shapespline {
+class Surface;
+}
 namespace shapespline::io {
 class OutputSet;
 }
@@ -44,5 +53,25 @@ void runSample(const SampleArgs& args);
 // nullptr for a new one.
 bool sampleInto(const SampleArgs& args, io::OutputSet& outputs, std::string& summary,
                 sampling::Session* session = nullptr);
+
+// The grid items of a surface job (patch indices and parameter intervals per row and column).
+void setSurfaceItems(const Surface& surface, io::SampleLayout& layout);
+
+// What `sample` parsed for a job, handed to the part sampler.
+struct PartJob {
+  io::OutputFormat format;
+  sampling::DeviceRequest request;
+  int samplesU, samplesV;
+  FieldMask fields;
+  Precision precision;
+  SliceConsumer check;  // the finiteness check of every slice (sample's requireFinite)
+};
+
+// Whether `path` is a part manifest (part.json of `shapespline import`: "format" "shapespline-part").
+bool isPartManifest(const std::string& path);
+// Samples every converted face of the part, each trimmed, into one point cloud with a `face` column
+// (cli/part_sample.cpp); as sampleInto.
+bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& outputs, std::string& summary,
+                    sampling::Session* session);
 
 }  // namespace shapespline::cli

@@ -24,65 +24,98 @@ std::array<std::string, 3> plyNames(Field f) {
 
 }  // namespace
 
+std::string TrimmedPointWriter::columnName(const Column& c) {
+  return c.kind == Column::Uv ? "uv" : c.kind == Column::Face ? "face" : std::string(fieldName(c.field));
+}
+
+int TrimmedPointWriter::columnWidth(const Column& c) { return c.kind == Column::Uv ? 2 : c.kind == Column::Face ? 1 : 3; }
+
 bool trimmedPointFormat(OutputFormat f) {
   return f == OutputFormat::Npy || f == OutputFormat::RawF32 || f == OutputFormat::RawF64 || f == OutputFormat::Csv ||
          f == OutputFormat::Ply;
 }
 
+uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim) {
+  layout.checkDerivedValues();
+  const TrimClassifier classifier(trim);
+  const auto sv = static_cast<size_t>(layout.samplesV);
+  uint64_t inside = 0;
+  for (size_t item = layout.firstItem; item < layout.firstItem + layout.itemCount; ++item)
+    for (size_t p = 0; p < layout.pointsPerItem(); ++p) {
+      const auto [u, v] = layout.parameter(item, static_cast<int>(p / sv), static_cast<int>(p % sv));
+      inside += classifier.inside({u, v});
+    }
+  return inside;
+}
+
 TrimmedPointWriter::TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar, const TrimLoops& trim)
-    : format_(format), out_(out), sidecar_(sidecar), classifier_(trim), tolerance_(trim.tolerance) {
+    : format_(format), out_(out), sidecar_(sidecar), trim_(trim), classifier_(trim) {
   if (!trimmedPointFormat(format)) throw std::logic_error("TrimmedPointWriter: not a point format");
 }
 
-bool TrimmedPointWriter::inside(size_t item, size_t pointInItem) const {
-  const auto sv = static_cast<size_t>(layout_.samplesV);
-  const auto [u, v] = layout_.parameter(item, static_cast<int>(pointInItem / sv), static_cast<int>(pointInItem % sv));
-  return classifier_.inside({u, v});
-}
+TrimmedPointWriter::TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar)
+    : TrimmedPointWriter(format, out, sidecar, TrimLoops{}) {}
 
 void TrimmedPointWriter::begin(const SampleLayout& layout) {
   if (!layout.surface) throw std::logic_error("TrimmedPointWriter: surfaces only");
   layout_ = layout;
-  layout_.checkDerivedValues();
   fields_ = recordFields(layout.fields);
   float64_ = format_ == OutputFormat::RawF64 || (format_ != OutputFormat::RawF32 && layout.precision == Precision::Double);
-  for (size_t item = layout.firstItem; item < layout.firstItem + layout.itemCount; ++item)
-    for (size_t p = 0; p < layout.pointsPerItem(); ++p) kept_ += inside(item, p);
-  header();
+  kept_ = samplesInside(layout, trim_);
+  header(false);
 }
 
-void TrimmedPointWriter::header() {
-  // The record's columns: (U, V) first, except in PLY, where point-cloud readers want the point
-  // and the normal first.
+void TrimmedPointWriter::beginPart(const SampleLayout& anyFace, uint64_t total, const nlohmann::json& part) {
+  part_ = part;
+  layout_ = anyFace;
+  fields_ = recordFields(anyFace.fields);
+  float64_ = format_ == OutputFormat::RawF64 || (format_ != OutputFormat::RawF32 && anyFace.precision == Precision::Double);
+  kept_ = total;
+  header(true);
+}
+
+void TrimmedPointWriter::nextFace(const SampleLayout& layout, const TrimLoops& trim, int faceId) {
+  layout_ = layout;
+  trim_ = trim;
+  classifier_ = TrimClassifier(trim);
+  faceId_ = faceId;
+}
+
+void TrimmedPointWriter::header(bool withFace) {
+  // The record's columns: the face id (parts), (U, V), then the fields; in PLY the point and the
+  // normal come first, where point-cloud readers look for them.
   columns_.clear();
-  if (format_ == OutputFormat::Ply) {
+  auto add = [&](Column::Kind kind, Field f = Field::Point) { columns_.push_back({kind, f}); };
+  const bool ply = format_ == OutputFormat::Ply;
+  if (ply)
     for (Field f : {Field::Point, Field::Normal})
-      if (std::find(fields_.begin(), fields_.end(), f) != fields_.end()) columns_.emplace_back(f);
-    columns_.emplace_back(std::nullopt);
-    for (Field f : fields_)
-      if (f != Field::Point && f != Field::Normal) columns_.emplace_back(f);
-  } else {
-    columns_.emplace_back(std::nullopt);
-    for (Field f : fields_) columns_.emplace_back(f);
-  }
+      if (std::find(fields_.begin(), fields_.end(), f) != fields_.end()) add(Column::Vector, f);
+  if (withFace) add(Column::Face);
+  add(Column::Uv);
+  for (Field f : fields_)
+    if (!ply || (f != Field::Point && f != Field::Normal)) add(Column::Vector, f);
   const std::string property = float64_ ? "property double " : "property float ";
   if (format_ == OutputFormat::Npy) {
     std::vector<std::pair<std::string, int>> npyFields;
-    for (const auto& c : columns_) npyFields.emplace_back(c ? std::string(fieldName(*c)) : "uv", c ? 3 : 2);
+    for (const Column& c : columns_) npyFields.emplace_back(columnName(c), columnWidth(c));
     out_.write(npyHeader(npyFields, float64_, kept_));
   } else if (format_ == OutputFormat::Csv) {
     std::string h;
-    for (const auto& c : columns_)
-      if (!c) h += ",U,V";
-      else for (const std::string& n : plyNames(*c)) h += "," + n;
+    for (const Column& c : columns_)
+      if (c.kind == Column::Uv) h += ",U,V";
+      else if (c.kind == Column::Face) h += ",face";
+      else for (const std::string& n : plyNames(c.field)) h += "," + n;
     out_.write(h.substr(1) + "\n");
   } else if (format_ == OutputFormat::Ply) {
     std::string h = "ply\nformat binary_little_endian 1.0\ncomment shapespline trimmed point cloud: the grid samples "
                     "inside the face's trim loops\n" +
-                    metadataComments(layout_.metadata, "comment ") + "element vertex " + std::to_string(kept_) + "\n";
-    for (const auto& c : columns_)
-      if (!c) h += property + "u\n" + property + "v\n";
-      else for (const std::string& n : plyNames(*c)) h += property + n + "\n";
+                    (part_.is_null() ? metadataComments(layout_.metadata, "comment ")
+                                     : "comment part: " + part_.dump() + "\n") +
+                    "element vertex " + std::to_string(kept_) + "\n";
+    for (const Column& c : columns_)
+      if (c.kind == Column::Uv) h += property + "u\n" + property + "v\n";
+      else if (c.kind == Column::Face) h += property + "face\n";
+      else for (const std::string& n : plyNames(c.field)) h += property + n + "\n";
     out_.write(h + "end_header\n");
   }
 }
@@ -100,12 +133,14 @@ void TrimmedPointWriter::appendRecord(const GridChunk& chunk, size_t p, std::pai
       buffer_.append(reinterpret_cast<const char*>(&f), sizeof f);
     }
   };
-  for (const auto& c : columns_) {
-    if (!c) {
+  for (const Column& c : columns_) {
+    if (c.kind == Column::Uv) {
       put(uv.first);
       put(uv.second);
+    } else if (c.kind == Column::Face) {
+      put(faceId_);  // exact in fp32 up to 2^24 faces
     } else {
-      for (int axis = 0; axis < 3; ++axis) put(chunk.coord(*c, p, axis));
+      for (int axis = 0; axis < 3; ++axis) put(chunk.coord(c.field, p, axis));
     }
   }
   if (format_ == OutputFormat::Csv) buffer_.back() = '\n';
@@ -133,9 +168,8 @@ void TrimmedPointWriter::finish() {
   if (written_ != kept_) throw std::logic_error("TrimmedPointWriter: the chunks did not cover the job");
   if (!sidecar_) return;
   nlohmann::json fields = nlohmann::json::array();
-  for (const auto& c : columns_)
-    fields.push_back({{"name", c ? std::string(fieldName(*c)) : "uv"}, {"components", c ? 3 : 2}});
-  const nlohmann::json s = {
+  for (const Column& c : columns_) fields.push_back({{"name", columnName(c)}, {"components", columnWidth(c)}});
+  nlohmann::json s = {
       {"format", "shapespline-trimmed-points"},
       {"data", out_.target().filename().string()},
       {"dtype", float64_ ? "<f8" : "<f4"},
@@ -143,8 +177,10 @@ void TrimmedPointWriter::finish() {
       {"fields", fields},
       {"grid_points", layout_.pointCount()},
       {"samples_per_patch", {layout_.samplesU, layout_.samplesV}},
-      {"trim", {{"rule", "even-odd"}, {"tolerance", tolerance_}}},
-      {"metadata", metadataJson(layout_.metadata)}};
+      {"trim", part_.is_null() ? nlohmann::json{{"rule", "even-odd"}, {"tolerance", trim_.tolerance}}
+                               : nlohmann::json{{"rule", "even-odd"}}}};
+  if (part_.is_null()) s["metadata"] = metadataJson(layout_.metadata);
+  else s["part"] = part_;
   sidecar_->write(s.dump(1) + "\n");
 }
 

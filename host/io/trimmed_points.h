@@ -14,40 +14,60 @@
 #include <shapespline/core/trim_classifier.h>
 #include <shapespline/io/sample_writer.h>
 
-#include <optional>
+#include <nlohmann/json.hpp>
+
 #include <vector>
 
 namespace shapespline::io {
 
 bool trimmedPointFormat(OutputFormat format);
 
+// The samples of a job's grid inside `trim` (what begin() counts, without sampling anything).
+uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim);
+
 class TrimmedPointWriter final : public SampleWriter {
  public:
-  // `sidecar`: the OUT.json of .f32/.f64/.npy (may be null for .npy).
+  // One face: `sidecar` is the OUT.json of .f32/.f64/.npy (may be null for .npy).
   TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar, const TrimLoops& trim);
+  // A whole part (`sample part.json`): every record also carries its face's id (a `face` column).
+  // beginPart() writes the header for `total` records (the sum of samplesInside over the faces);
+  // then each face's job is nextFace() and its chunks; finish() after the last.
+  TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar);
+  // `part`: what the header comments and the sidecar say of the part instead of one model's job
+  // metadata (the manifest's name and SHA-256, the faces).
+  void beginPart(const SampleLayout& anyFace, uint64_t total, const nlohmann::json& part);
+  void nextFace(const SampleLayout& layout, const TrimLoops& trim, int faceId);
 
   void begin(const SampleLayout& layout) override;
   void consume(const GridChunk& chunk) override;
   void finish() override;
 
-  uint64_t kept() const { return kept_; }  // samples inside the loops (after begin())
+  uint64_t kept() const { return kept_; }  // records the file holds (after begin() / beginPart())
 
  private:
-  bool inside(size_t item, size_t pointInItem) const;
-  void header();
+  // One column of a record: the sample's (U, V), its face id, or a field's x y z.
+  struct Column {
+    enum Kind { Uv, Face, Vector } kind;
+    Field field = Field::Point;
+  };
+  static std::string columnName(const Column& c);
+  static int columnWidth(const Column& c);
+  void header(bool withFace);
   void appendRecord(const GridChunk& chunk, size_t p, std::pair<double, double> uv);
   void flush();
 
   OutputFormat format_;
   AtomicFile& out_;
   AtomicFile* sidecar_;
+  TrimLoops trim_;  // of the face being written
   TrimClassifier classifier_;
-  double tolerance_;
+  int faceId_ = 0;
   SampleLayout layout_;
   std::vector<Field> fields_;
-  std::vector<std::optional<Field>> columns_;  // a record, in order; nullopt: (U, V)
+  std::vector<Column> columns_;
   bool float64_ = true;
   uint64_t kept_ = 0, written_ = 0;
+  nlohmann::json part_;  // a part's description (null for one face)
   std::string buffer_;
 };
 

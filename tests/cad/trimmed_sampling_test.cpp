@@ -159,5 +159,59 @@ TEST_F(TrimmedSampling, RefusesMeshesShardsAndModelsWithoutLoops) {
   EXPECT_FALSE(fs::exists(*dir_ / "y.npy"));
 }
 
+// `sample part.json`: every face of the filleted box, trimmed, in one cloud whose records carry the
+// face id; each face's records are exactly those of `sample FACE --trim` for that face, and every
+// point lies on the box.
+TEST(PartSampling, OneCloudWithAFaceColumnEqualToTheFacesSampledAlone) {
+  ScratchDir dir("part_sampling");
+  writeStep(filletedBox(), dir / "box.step");
+  cad::importPart(dir / "box.step", dir / "box");
+  const CliResult r = runCli("sample " + quote((dir / "box" / "part.json").string()) + " --grid 12 --device cpu -o " +
+                                 quote((dir / "cloud.f64").string()),
+                             dir.path());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  struct Record {
+    double face, u, v, x, y, z;
+  };
+  const std::string bytes = readText(dir / "cloud.f64");
+  ASSERT_EQ(bytes.size() % sizeof(Record), 0u);
+  std::vector<Record> cloud(bytes.size() / sizeof(Record));
+  std::memcpy(cloud.data(), bytes.data(), bytes.size());
+  std::ifstream in(dir / "box" / "part.json");
+  const nlohmann::json manifest = nlohmann::json::parse(in);
+  size_t next = 0;
+  for (const auto& face : manifest.at("faces")) {
+    const int id = face.at("id").get<int>();
+    SCOPED_TRACE(id);
+    const fs::path alone = dir / ("face" + std::to_string(id) + ".f64");
+    const CliResult f = runCli("sample " + quote((dir / "box" / face.at("model").get<std::string>()).string()) +
+                                   " --grid 12 --trim --device cpu -o " + quote(alone.string()),
+                               dir.path());
+    ASSERT_EQ(f.rc, 0) << f.err;
+    const std::vector<TrimmedRecord> records = readRecords(alone);
+    ASSERT_GT(records.size(), 0u);
+    ASSERT_LE(next + records.size(), cloud.size());
+    for (const TrimmedRecord& t : records) {
+      const Record& c = cloud[next++];
+      ASSERT_EQ(c.face, id);
+      ASSERT_EQ(std::memcmp(&c.u, &t, sizeof t), 0);
+      EXPECT_GE(c.x, -1e-9);
+      EXPECT_LE(c.x, 40.0 + 1e-9);
+      EXPECT_GE(c.y, -1e-9);
+      EXPECT_LE(c.y, 30.0 + 1e-9);
+      EXPECT_GE(c.z, -1e-9);
+      EXPECT_LE(c.z, 20.0 + 1e-9);
+    }
+  }
+  EXPECT_EQ(next, cloud.size());
+
+  const CliResult mesh = runCli("sample " + quote((dir / "box" / "part.json").string()) + " -o " +
+                                    quote((dir / "cloud.obj").string()),
+                                dir.path());
+  EXPECT_EQ(mesh.rc, 2);
+  EXPECT_NE(mesh.err.find("point cloud"), std::string::npos) << mesh.err;
+  EXPECT_FALSE(fs::exists(dir / "cloud.obj"));
+}
+
 }  // namespace
 }  // namespace shapespline::test
