@@ -4,18 +4,25 @@
 #include <shapespline/cad/part_import.h>
 
 #include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
 
 #include <algorithm>
 #include <cctype>
+#include <mutex>
 #include <system_error>
+
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/lsan_interface.h>
+#endif
 
 namespace shapespline::cad {
 namespace {
@@ -44,6 +51,20 @@ TopoDS_Shape transfer(Reader& reader, const std::string& file, const char* forma
 
 }  // namespace
 
+void initOcctControllers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+#if defined(__SANITIZE_ADDRESS__)
+    __lsan_disable();
+#endif
+    STEPControl_Controller::Init();
+    IGESControl_Controller::Init();
+#if defined(__SANITIZE_ADDRESS__)
+    __lsan_enable();
+#endif
+  });
+}
+
 PartShape readPart(const std::filesystem::path& path, std::uint64_t maxFileBytes) {
   const std::string file = path.string();
   PartShape part;
@@ -62,6 +83,7 @@ PartShape readPart(const std::filesystem::path& path, std::uint64_t maxFileBytes
     throw CadError(file, "(file)", "the file has " + std::to_string(bytes) + " bytes, over the limit of " +
                                        std::to_string(maxFileBytes));
   silenceOcct();
+  initOcctControllers();
   try {
     if (part.format == "step") {
       STEPControl_Reader reader;
