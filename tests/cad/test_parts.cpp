@@ -86,7 +86,7 @@ std::vector<TestPart> allTestParts() {
 
 void writeStep(const TopoDS_Shape& shape, const std::filesystem::path& path) {
   cad::initOcctControllers();
-  const LeakCheckPaused paused;
+  [[maybe_unused]] const LeakCheckPaused paused;
   STEPControl_Writer writer;
   if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone || writer.Write(path.c_str()) != IFSelect_RetDone)
     throw std::runtime_error("writeStep failed: " + path.string());
@@ -94,7 +94,7 @@ void writeStep(const TopoDS_Shape& shape, const std::filesystem::path& path) {
 
 void writeIges(const TopoDS_Shape& shape, const std::filesystem::path& path) {
   cad::initOcctControllers();
-  const LeakCheckPaused paused;
+  [[maybe_unused]] const LeakCheckPaused paused;
   IGESControl_Writer writer("MM", 1);  // BRep mode: faces with their trimming loops
   if (!writer.AddShape(shape) || !writer.Write(path.c_str())) throw std::runtime_error("writeIges failed: " + path.string());
 }
