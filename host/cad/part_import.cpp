@@ -57,7 +57,6 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
   summary.units = shape.units;
   std::vector<PartFile> files;
   json faceList = json::array(), edgeList = json::array(), shellList = json::array();
-  std::string firstReason;
   for (int i = 1; i <= faces.Extent(); ++i) {
     const TopoDS_Face& face = TopoDS::Face(faces(i));
     json entry = {{"id", i}, {"edges", idsIn(face, TopAbs_EDGE, edges)}};
@@ -75,7 +74,7 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
     } catch (const ConversionError& e) {
       entry["model"] = nullptr;
       entry["skipped"] = e.what();
-      if (firstReason.empty()) firstReason = "face " + std::to_string(i) + ": " + e.what();
+      summary.skipped.push_back("face " + std::to_string(i) + ": " + e.what());
       ++summary.facesSkipped;
     }
     faceList.push_back(std::move(entry));
@@ -97,7 +96,7 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
       } catch (const ConversionError& e) {
         entry["model"] = nullptr;
         entry["skipped"] = e.what();
-        if (firstReason.empty()) firstReason = "edge " + std::to_string(i) + ": " + e.what();
+        summary.skipped.push_back("edge " + std::to_string(i) + ": " + e.what());
         ++summary.edgesSkipped;
       }
     }
@@ -107,7 +106,8 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
     shellList.push_back({{"id", i}, {"faces", idsIn(shells(i), TopAbs_FACE, faces)}});
   summary.shells = shells.Extent();
   if (summary.faces == 0 && summary.edges == 0)
-    throw CadError(part.string(), "(part)", "no face or edge could be converted (" + firstReason + ")");
+    throw CadError(part.string(), "(part)",
+                   "no face or edge could be converted (" + (summary.skipped.empty() ? "none found" : summary.skipped[0]) + ")");
 
   const json manifest = {
       {"format", "shapespline-part"},

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace shapespline::cad {
 
@@ -22,6 +23,7 @@ struct ImportOptions {
 struct ImportSummary {
   int faces = 0, facesSkipped = 0, edges = 0, edgesSkipped = 0, shells = 0;
   std::string format, units;
+  std::vector<std::string> skipped;  // "face 3: <reason>", as part.json lists them
 };
 
 // A part that cannot be imported: `file` the part, `entity` what in it ("(file)", "(part)",

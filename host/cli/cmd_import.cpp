@@ -30,6 +30,10 @@ void runImport(const ImportArgs& a) {
   } catch (const cad::CadError& e) {
     throw InputError("PART", e.file(), e.entity() + ": " + e.reason());
   }
+  // A face or edge OCCT could not convert does not stop the import (part.json lists it); each is
+  // named here so that it is not missed.
+  for (const std::string& why : s.skipped)
+    std::fprintf(stderr, "shapespline: warning: %s: %s (not converted; listed in part.json)\n", a.part.c_str(), why.c_str());
   std::printf("imported %s (%s, %s): %d faces, %d edges, %d shells into %s/", a.part.c_str(), s.format.c_str(),
               s.units.c_str(), s.faces, s.edges, s.shells, a.out.c_str());
   if (s.facesSkipped + s.edgesSkipped > 0)

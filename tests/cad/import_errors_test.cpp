@@ -4,8 +4,15 @@
 
 #include <shapespline/cad/part_import.h>
 
-#include <TopoDS_Compound.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRep_Builder.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+
+#include <cmath>
 
 #include <cli/cli_runner.h>
 
@@ -86,6 +93,49 @@ TEST(ImportErrors, PartWithoutFacesOrEdges) {
     GTEST_SKIP() << "OCCT does not write an empty compound";
   }
   expectRefused(dir / "empty_part.step", "(part)", "");
+}
+
+// A face beyond what a bspline model holds (degree 11 > order 10) is listed in part.json with the
+// reason and named on stderr; the rest of the part is imported (exit 0). Alone, it is an error.
+TEST(ImportCli, FacesThatDoNotConvertAreListedAndNamed) {
+  ScratchDir dir("import_skipped");
+  TColgp_Array2OfPnt points(1, 12, 1, 12);
+  for (int i = 1; i <= 12; ++i)
+    for (int j = 1; j <= 12; ++j) points(i, j) = gp_Pnt(i, j, std::sin(0.5 * i) * std::cos(0.4 * j));
+  GeomAPI_PointsToBSplineSurface fit(points, 11, 11, GeomAbs_C2, 1e-3);
+  ASSERT_TRUE(fit.IsDone());
+  const Handle(Geom_Surface) surface(fit.Surface());
+  ASSERT_EQ(fit.Surface()->UDegree(), 11);
+  const TopoDS_Face high = BRepBuilderAPI_MakeFace(surface, 1e-7).Face();
+  TopoDS_Compound both;
+  BRep_Builder builder;
+  builder.MakeCompound(both);
+  builder.Add(both, high);
+  builder.Add(both, cylinder());
+  writeStep(both, dir / "both.step");
+  CliResult r = runCli("import " + quote((dir / "both.step").string()) + " -o " + quote((dir / "both").string()), dir.path());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("degree 11 is above the largest order 10"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("not converted: see part.json"), std::string::npos) << r.out;
+  const nlohmann::json manifest = nlohmann::json::parse(readText(dir / "both" / "part.json"));
+  int skipped = 0, converted = 0;
+  for (const auto& face : manifest.at("faces")) {
+    if (face.at("model").is_null()) {
+      ++skipped;
+      EXPECT_NE(face.at("skipped").get<std::string>().find("degree 11"), std::string::npos) << face.dump();
+    } else {
+      ++converted;
+    }
+  }
+  EXPECT_EQ(skipped, 1);
+  EXPECT_EQ(converted, 3);
+
+  writeStep(high, dir / "high.step");
+  r = runCli("import " + quote((dir / "high.step").string()) + " -o " + quote((dir / "high").string()), dir.path());
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.err.find("no face or edge could be converted"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "high"));
 }
 
 TEST(ImportCli, ImportsAPartAndRefusesBadOnesWithExitTwo) {

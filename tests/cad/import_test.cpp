@@ -13,6 +13,8 @@
 #include <shapespline/io/model_json.h>
 
 #include <TopExp.hxx>
+#include <TopLoc_Location.hxx>
+#include <gp_Trsf.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
@@ -213,6 +215,38 @@ TEST(ImportTrim, DrilledPlateHolesAreTheInnerLoops) {
     }
     EXPECT_EQ(drilledFaces, 2);
   }
+}
+
+// A placed part (an assembly's instance): the cylinder turned 90 degrees about x and moved by
+// (10, 20, 30). STEP carries the placement; import applies it, so the side face's points lie at
+// radius 5 about the moved axis (through (10, 20, 30), along -y), between y = 20 - 12 and 20.
+TEST(ImportPlacement, PlacementsAreApplied) {
+  gp_Trsf turn, move;
+  turn.SetRotation(gp::OX(), M_PI / 2);
+  move.SetTranslation(gp_Vec(10.0, 20.0, 30.0));
+  const TopoDS_Shape placed = cylinder().Moved(TopLoc_Location(move * turn));
+  const fs::path dir = scratchRoot() / "placed";
+  fs::create_directories(dir);
+  writeStep(placed, dir / "placed.step");
+  cad::importPart(dir / "placed.step", dir / "out");
+  const json manifest = readJson(dir / "out" / "part.json");
+  int sides = 0;
+  for (const json& entry : manifest.at("faces")) {
+    if (entry.at("surface") != "Geom_CylindricalSurface") continue;
+    ++sides;
+    const SurfaceModel model = std::get<SurfaceModel>(io::loadModelFile(dir / "out" / entry.at("model").get<std::string>()));
+    const Surface surface = Surface::create(model);
+    const auto [a0, a1] = surface.parameterRangeU();
+    const auto [b0, b1] = surface.parameterRangeV();
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j <= 10; ++j) {
+        const glm::dvec3 p = surface.evaluateAt(a0 + (a1 - a0) * i / 10, b0 + (b1 - b0) * j / 10).point;
+        ASSERT_NEAR(std::hypot(p.x - 10.0, p.z - 30.0), 5.0, 1e-12 * 20.0) << p.x << ", " << p.y << ", " << p.z;
+        ASSERT_GE(p.y, 20.0 - 12.0 - 1e-12 * 20.0);
+        ASSERT_LE(p.y, 20.0 + 1e-12 * 20.0);
+      }
+  }
+  EXPECT_EQ(sides, 1);
 }
 
 std::string caseName(const ::testing::TestParamInfo<ImportPart::ParamType>& info) {
