@@ -57,14 +57,20 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
   summary.units = shape.units;
   std::vector<PartFile> files;
   json faceList = json::array(), edgeList = json::array(), shellList = json::array();
+  // A face or edge that did not convert: listed with the reason, in part.json and the summary.
+  auto skip = [&](json& entry, const std::string& what, int id, const ConversionError& e, int& count) {
+    entry["model"] = nullptr;
+    entry["skipped"] = e.what();
+    summary.skipped.push_back(what + " " + std::to_string(id) + ": " + e.what());
+    ++count;
+  };
   for (int i = 1; i <= faces.Extent(); ++i) {
     const TopoDS_Face& face = TopoDS::Face(faces(i));
     json entry = {{"id", i}, {"edges", idsIn(face, TopAbs_EDGE, edges)}};
     try {
       const ConvertedFace converted = convertFace(face, options.trimTolerance);
       const std::string name = numbered("face", i);
-      SurfaceModel model = converted.model;
-      files.push_back({name, io::toJson(model).dump(1) + "\n"});
+      files.push_back({name, io::toJson(converted.model).dump(1) + "\n"});
       entry["model"] = name;
       entry["surface"] = converted.surfaceType;
       entry["reversed"] = converted.reversed;
@@ -72,10 +78,7 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
       entry["loops"] = converted.model.trim.loops.size();
       ++summary.faces;
     } catch (const ConversionError& e) {
-      entry["model"] = nullptr;
-      entry["skipped"] = e.what();
-      summary.skipped.push_back("face " + std::to_string(i) + ": " + e.what());
-      ++summary.facesSkipped;
+      skip(entry, "face", i, e, summary.facesSkipped);
     }
     faceList.push_back(std::move(entry));
   }
@@ -94,10 +97,7 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
         entry["curve"] = converted.curveType;
         ++summary.edges;
       } catch (const ConversionError& e) {
-        entry["model"] = nullptr;
-        entry["skipped"] = e.what();
-        summary.skipped.push_back("edge " + std::to_string(i) + ": " + e.what());
-        ++summary.edgesSkipped;
+        skip(entry, "edge", i, e, summary.edgesSkipped);
       }
     }
     edgeList.push_back(std::move(entry));

@@ -1,5 +1,6 @@
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/trim_loops.h>
+#include <shapespline/core/trim_classifier.h>
 
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
@@ -18,13 +19,6 @@ namespace {
 
 constexpr int kPiecesPerEdge = 8;  // before subdivision: a full circle is never one chord
 constexpr int kMaxDepth = 24;
-
-double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
-  const glm::dvec2 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return glm::length(p - (a + t * ab));
-}
 
 class EdgeFlattener {
  public:

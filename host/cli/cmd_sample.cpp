@@ -287,9 +287,12 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   layout.source = modelName;
   layout.shardIndex = shardK;
   layout.shardCount = shardN;
+  // What the file stores: raw .f32, or PLY/CSV/OBJ/.npy after --precision float.
+  const bool fileFloat = format == io::OutputFormat::RawF32 || io::isGltf(format) ||
+                         (precision == Precision::Float && format != io::OutputFormat::RawF64 &&
+                          format != io::OutputFormat::Svg);
   if (part) {
     if (!args.shard.empty()) throw InputError("--shard", args.shard, "a part is sampled whole (not sharded yet)");
-    const bool fileFloat = format == io::OutputFormat::RawF32 || (precision == Precision::Float && format != io::OutputFormat::RawF64);
     PartJob job{format, request, su, sv, fields, precision, {}};
     job.check = [fileFloat](const GridChunk& c, size_t first, size_t count) { requireFinite(c, first, count, fileFloat); };
     return samplePartInto(args, job, outputs, summary, shared);
@@ -373,10 +376,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   }
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
-  if (format == io::OutputFormat::RawF32 || format == io::OutputFormat::RawF64 ||
-      format == io::OutputFormat::Npy) {
-    sidecar = &outputs.add(args.out + ".json", "-o");
-  }
+  if (io::hasLayoutSidecar(format)) sidecar = &outputs.add(args.out + ".json", "-o");
   if (format == io::OutputFormat::Gltf) sidecar = &outputs.add(io::gltfBufferPath(args.out), "-o");  // OUT.bin
   // A shard (--shard given) also writes its record OUT.shard.json, last in the set (cli/shard_files.h).
   io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(io::shardRecordPath(args.out), "-o");
@@ -403,10 +403,6 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
-  // What the file stores: raw .f32, or PLY/CSV/OBJ/.npy after --precision float.
-  const bool fileFloat = format == io::OutputFormat::RawF32 || io::isGltf(format) ||
-                         (precision == Precision::Float && format != io::OutputFormat::RawF64 &&
-                          format != io::OutputFormat::Svg);
 
   // Resume: a shard whose record and files verify is left as it is.
   if (record && shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},

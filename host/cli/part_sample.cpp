@@ -91,9 +91,7 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
 
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
-  if (job.format == io::OutputFormat::RawF32 || job.format == io::OutputFormat::RawF64 ||
-      job.format == io::OutputFormat::Npy)
-    sidecar = &outputs.add(args.out + ".json", "-o");
+  if (io::hasLayoutSidecar(job.format)) sidecar = &outputs.add(args.out + ".json", "-o");
   std::optional<sampling::Session> own;
   sampling::Session& session = shared ? *shared : own.emplace();
   const sampling::Report report = session.plan(*faces.front().surface, job.request);

@@ -6,7 +6,6 @@
 #include <cmath>
 
 namespace shapespline {
-namespace {
 
 double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   const glm::dvec2 ab = b - a;
@@ -14,8 +13,6 @@ double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
   return glm::length(p - (a + t * ab));
 }
-
-}  // namespace
 
 TrimClassifier::TrimClassifier(const TrimLoops& trim) : tolerance_(trim.tolerance) {
   double lo = 1e300, hi = -1e300;

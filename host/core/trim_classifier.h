@@ -13,6 +13,9 @@
 
 namespace shapespline {
 
+// Distance from p to the segment [a, b] (a point when a == b).
+double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b);
+
 class TrimClassifier {
  public:
   explicit TrimClassifier(const TrimLoops& trim);

@@ -136,6 +136,11 @@ class SampleWriter {
 // call into OutputWriteError(out.option(), out.target(), ...).
 std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar = nullptr);
 
+// The formats whose OUT.json sidecar describes their records (raw .f32/.f64 and .npy).
+inline bool hasLayoutSidecar(OutputFormat f) {
+  return f == OutputFormat::RawF32 || f == OutputFormat::RawF64 || f == OutputFormat::Npy;
+}
+
 // The formats that write meshes (OBJ, PLY, glTF), welded when layout.welded (io/welded_mesh.h).
 inline bool isMesh(OutputFormat f) { return f == OutputFormat::Obj || f == OutputFormat::Ply || isGltf(f); }
 // The item ranges [a, b) a writer of `format` must be given, in this order: a welded shard's

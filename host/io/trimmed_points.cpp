@@ -35,9 +35,10 @@ bool trimmedPointFormat(OutputFormat f) {
          f == OutputFormat::Ply;
 }
 
-uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim) {
+namespace {
+
+uint64_t countInside(const SampleLayout& layout, const TrimClassifier& classifier) {
   layout.checkDerivedValues();
-  const TrimClassifier classifier(trim);
   const auto sv = static_cast<size_t>(layout.samplesV);
   uint64_t inside = 0;
   for (size_t item = layout.firstItem; item < layout.firstItem + layout.itemCount; ++item)
@@ -48,6 +49,12 @@ uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim) {
   return inside;
 }
 
+}  // namespace
+
+uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim) {
+  return countInside(layout, TrimClassifier(trim));
+}
+
 TrimmedPointWriter::TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar, const TrimLoops& trim)
     : format_(format), out_(out), sidecar_(sidecar), trim_(trim), classifier_(trim) {
   if (!trimmedPointFormat(format)) throw std::logic_error("TrimmedPointWriter: not a point format");
@@ -56,20 +63,22 @@ TrimmedPointWriter::TrimmedPointWriter(OutputFormat format, AtomicFile& out, Ato
 TrimmedPointWriter::TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar)
     : TrimmedPointWriter(format, out, sidecar, TrimLoops{}) {}
 
-void TrimmedPointWriter::begin(const SampleLayout& layout) {
+void TrimmedPointWriter::setLayout(const SampleLayout& layout) {
   if (!layout.surface) throw std::logic_error("TrimmedPointWriter: surfaces only");
   layout_ = layout;
   fields_ = recordFields(layout.fields);
   float64_ = format_ == OutputFormat::RawF64 || (format_ != OutputFormat::RawF32 && layout.precision == Precision::Double);
-  kept_ = samplesInside(layout, trim_);
+}
+
+void TrimmedPointWriter::begin(const SampleLayout& layout) {
+  setLayout(layout);
+  kept_ = countInside(layout, classifier_);
   header(false);
 }
 
 void TrimmedPointWriter::beginPart(const SampleLayout& anyFace, uint64_t total, const nlohmann::json& part) {
   part_ = part;
-  layout_ = anyFace;
-  fields_ = recordFields(anyFace.fields);
-  float64_ = format_ == OutputFormat::RawF64 || (format_ != OutputFormat::RawF32 && anyFace.precision == Precision::Double);
+  setLayout(anyFace);
   kept_ = total;
   header(true);
 }

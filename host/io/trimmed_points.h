@@ -50,6 +50,7 @@ class TrimmedPointWriter final : public SampleWriter {
     enum Kind { Uv, Face, Vector } kind;
     Field field = Field::Point;
   };
+  void setLayout(const SampleLayout& layout);  // and the fields and file precision it implies
   static std::string columnName(const Column& c);
   static int columnWidth(const Column& c);
   void header(bool withFace);
