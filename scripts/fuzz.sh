@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target of the build for SECONDS in all (default 60, split evenly among them):
 #   model_fuzzer   model parsing, validation and CPU evaluation (tests/fuzz/model_fuzzer.cpp)
-#   merge_fuzzer   shard files of every format through io::mergeShards (tests/fuzz/merge_fuzzer.cpp)
+#   merge_fuzzer   shard files of every format through jobs::mergeShards (tests/fuzz/merge_fuzzer.cpp)
 #   and any other NAME_fuzzer target the build defines (e.g. eval_at_fuzzer, `eval --at` files).
 # Builds with clang into ./build-fuzz (ASan + UBSan + libFuzzer). Each fuzzer NAME_fuzzer gets its
 # own folder build-fuzz/fuzz/NAME/: seeds/ (written by the NAME_fuzz_seeds target when there is one,

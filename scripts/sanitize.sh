@@ -22,7 +22,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX
 # replay tests, read from the CTestTestfile.cmake files (ctest -N shows no path for a program not
 # built yet; tolerant of fuzzers added or not yet there).
 # Longest first (cli_tests, then gpu_tests), for the shard pool below.
-executables=(cli_tests gpu_tests io_tests core_tests sampling_tests cad_tests)
+executables=(cli_tests gpu_tests io_tests core_tests sampling_tests cad_tests jobs_tests)
 phonies=$(ninja -C build-asan -t targets all | sed -n 's/^\([A-Za-z0-9_]*\): phony$/\1/p' | sort -u)
 targets=()
 for exe in "${executables[@]}"; do

@@ -1,9 +1,9 @@
 // `shapespline merge -o OUT SHARD...`: joins the outputs of `sample --shard K/N` (given in shard
 // order) into the file the unsharded job writes, byte for byte, after verifying that they are the
-// shards 1..N of one job (io/merge.h, which does the work; this file only maps its errors).
+// shards 1..N of one job (jobs/merge.h, which does the work; this file only maps its errors).
 #include <shapespline/cli/common.h>
-#include <shapespline/cli/shard_files.h>
-#include <shapespline/io/merge.h>
+#include <shapespline/jobs/shard_files.h>
+#include <shapespline/jobs/merge.h>
 
 #include <memory>
 
@@ -17,11 +17,11 @@ struct MergeArgs {
 
 void runMerge(const MergeArgs& a) {
   try {
-    // A shard pattern expanded, shard records verified (cli/shard_files.h), then the merge itself.
-    io::mergeShards(mergeInputs(a.inputs), a.out);
-  } catch (const io::MergeError& e) {
+    // A shard pattern expanded, shard records verified (jobs/shard_files.h), then the merge itself.
+    jobs::mergeShards(jobs::mergeInputs(a.inputs), a.out);
+  } catch (const jobs::MergeError& e) {
     throw InputError(e.field(), e.value(), e.rule());
-  } catch (const io::MergeReadError& e) {
+  } catch (const jobs::MergeReadError& e) {
     throw RuntimeError(e.field(), e.value(), e.rule());
   }
 }

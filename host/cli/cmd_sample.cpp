@@ -2,13 +2,13 @@
 // the writer chosen by the output extension, through a temporary file renamed at the end.
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
-#include <shapespline/cli/shard_files.h>
+#include <shapespline/jobs/shard_files.h>
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/orientation.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
-#include <shapespline/io/shard_record.h>
+#include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/session.h>
@@ -209,10 +209,10 @@ void setSurfaceItems(const Surface& surface, io::SampleLayout& layout) {
 }
 
 bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary, sampling::Session* shared) {
-  // --shard auto and a shard pattern in -o first (cli/shard_files.h): the rest sees K/N and a path.
+  // --shard auto and a shard pattern in -o first (jobs/shard_files.h): the rest sees K/N and a path.
   SampleArgs resolved = given;
   {
-    const ShardOutput shardOut = resolveShardOutput(given.out, given.shard, given.shardCount);
+    const jobs::ShardOutput shardOut = jobs::resolveShardOutput(given.out, given.shard, given.shardCount);
     resolved.out = shardOut.out;
     resolved.shard = shardOut.shard;
   }
@@ -347,15 +347,15 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                      : io::jobFingerprint(surface->model(), layout, format);
   // A welded shard also holds the foreign vertices of its items; at most its points either way.
   if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max() &&
-      (!layout.welded || io::WeldedNumbering(io::WeldGrid::of(layout), layout.firstItem,
+      (!layout.welded || io::WeldedNumbering(layout.weldGrid(), layout.firstItem,
                                              layout.firstItem + layout.itemCount)
                                  .vertexCount() > std::numeric_limits<uint32_t>::max())) {
     throw InputError(countField, std::to_string(layout.pointCount()) + " vertices",
                      "PLY holds at most 2^32-1 vertices; use --shard or a raw format");
   }
-  if (io::isGltf(format) && io::WeldGrid::of(layout).pointCount() > io::kMaxGltfVertices) {
+  if (io::isGltf(format) && layout.weldGrid().pointCount() > io::kMaxGltfVertices) {
     throw InputError(countField, isSurface ? std::to_string(su) + "x" + std::to_string(sv) : std::to_string(su),
-                     "the mesh would have " + std::to_string(io::WeldGrid::of(layout).pointCount()) +
+                     "the mesh would have " + std::to_string(layout.weldGrid().pointCount()) +
                          " vertices; glTF output holds at most 2^24 = " + std::to_string(io::kMaxGltfVertices) +
                          " (distinct grid points; the whole mesh is held in memory): use fewer samples, or .ply or .npy");
   }
@@ -378,8 +378,8 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   io::AtomicFile* sidecar = nullptr;
   if (io::hasLayoutSidecar(format)) sidecar = &outputs.add(args.out + ".json", "-o");
   if (format == io::OutputFormat::Gltf) sidecar = &outputs.add(io::gltfBufferPath(args.out), "-o");  // OUT.bin
-  // A shard (--shard given) also writes its record OUT.shard.json, last in the set (cli/shard_files.h).
-  io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(io::shardRecordPath(args.out), "-o");
+  // A shard (--shard given) also writes its record OUT.shard.json, last in the set (jobs/shard_files.h).
+  io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(jobs::shardRecordPath(args.out), "-o");
   const std::string extraRole = format == io::OutputFormat::Gltf ? "buffer" : "sidecar";
   std::optional<sampling::Session> own;
   sampling::Session& session = shared ? *shared : own.emplace();
@@ -405,7 +405,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
 
   // Resume: a shard whose record and files verify is left as it is.
-  if (record && shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
+  if (record && jobs::shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
                                  args.quiet)) {
     return false;
   }
@@ -469,7 +469,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   if (record) {
     out.flushToTemp();
     if (sidecar) sidecar->flushToTemp();
-    writeShardRecordOf(*record, layout, format, out, sidecar, extraRole);
+    jobs::writeShardRecordOf(*record, layout, format, out, sidecar, extraRole);
   }
   summary = "wrote " + args.out + " (" + std::to_string(layout.itemCount) + (isSurface ? " patches, " : " spans, ") +
             std::to_string(layout.pointCount()) + " points" +

@@ -1,5 +1,5 @@
 // shapespline: the command line. main catches everything and maps it to the documented exit codes:
-// 0 success, 2 bad input (ModelError, InputError, OutputPathError, argument errors), 3 device or
+// 0 success, 2 bad input (ModelError, InputError, jobs::JobInputError, OutputPathError, argument errors), 3 device or
 // runtime error (RuntimeError, sampling::DeviceError, OutputWriteError, internal errors).
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/exit_codes.h>
@@ -7,6 +7,7 @@
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/jobs/job_input_error.h>
 #include <shapespline/sampling/report.h>
 #include <shapespline/version.h>
 
@@ -112,6 +113,8 @@ int main(int argc, char** argv) {
   } catch (const ModelError& e) {
     return report(e.field(), ruleAndValue(e), kExitBadInput);
   } catch (const InputError& e) {
+    return report(e.field(), ruleAndValue(e), kExitBadInput);
+  } catch (const jobs::JobInputError& e) {
     return report(e.field(), ruleAndValue(e), kExitBadInput);
   } catch (const io::OutputPathError& e) {
     return report(e.option(), "'" + e.path() + "': " + e.reason(), kExitBadInput);

@@ -84,7 +84,7 @@ class AtomicFile {
   // Close and remove the temporary file now.
   void discard() noexcept;
   // Writes the buffered bytes to the temporary file now, so that it can be read back (the shard
-  // record hashes it, cli/shard_files.h) before commit(), which flushes too.
+  // record hashes it, jobs/shard_files.h) before commit(), which flushes too.
   void flushToTemp() { flush(); }
 
   const std::filesystem::path& target() const { return target_; }

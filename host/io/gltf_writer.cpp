@@ -140,7 +140,7 @@ class GltfWriter final : public SampleWriter {
     layout_ = layout;
     if (layout.sharded()) throw std::logic_error("glTF output is never sharded");
     if (layout.surface && !(layout.fields & fieldBit(Field::Normal))) throw std::logic_error("glTF surfaces need normals");
-    numbering_.emplace(WeldGrid::of(layout_), layout_.firstItem, layout_.firstItem + layout_.itemCount);
+    numbering_.emplace(layout_.weldGrid(), layout_.firstItem, layout_.firstItem + layout_.itemCount);
     vertices_ = numbering_->vertexCount();
     if (vertices_ > kMaxGltfVertices) throw std::logic_error("glTF vertex count beyond kMaxGltfVertices");
     positions_.reserve(static_cast<size_t>(vertices_) * 3);

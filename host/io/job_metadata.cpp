@@ -1,9 +1,8 @@
 #include <shapespline/io/job_metadata.h>
 
 #include <shapespline/core/family.h>
-#include <shapespline/io/model_json.h>
 #include <shapespline/io/number_text.h>
-#include <shapespline/io/shard_info.h>
+#include <shapespline/io/text_escape.h>
 #include <shapespline/version.h>
 
 #include <openssl/evp.h>

@@ -78,7 +78,7 @@ inline constexpr size_t kMetadataCommentListMax = 64;
 // One line per key, "<linePrefix><key>: <value>\n", in a fixed order: tool_version, model_file,
 // model_sha256, kind, construction, degree / order, rational, lambda, mu, alpha, singular_vertices, device,
 // computed_precision, output_precision, grid. `linePrefix` is written as given ("# " for OBJ,
-// "comment " for PLY). Text values are escapeText'ed (io/shard_info.h), so every value stays on its
+// "comment " for PLY). Text values are escapeText'ed (io/text_escape.h), so every value stays on its
 // line; numbers are the shortest decimals that read back exactly.
 std::string metadataComments(const JobMetadata& m, std::string_view linePrefix);
 

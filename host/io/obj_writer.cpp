@@ -37,7 +37,7 @@ class ObjWriter final : public SampleWriter {
     }
     h += metadataComments(layout.metadata, kObjJobPrefix);  // the same in every shard: merge copies it
     if (layout.welded) {
-      numbering_ = std::make_unique<WeldedNumbering>(WeldGrid::of(layout), layout.firstItem,
+      numbering_ = std::make_unique<WeldedNumbering>(layout.weldGrid(), layout.firstItem,
                                                      layout.firstItem + layout.itemCount);
       stream_ = std::make_unique<WeldedVertexStream>(*numbering_, layout.fields, layout.reversed,
                                                      [this](const WeldedVertex& v) { writeVertex(v); });

@@ -30,7 +30,7 @@ class PlyWriter final : public SampleWriter {
   void begin(const SampleLayout& layout) override {
     layout_ = layout;
     if (layout.welded) {
-      numbering_ = std::make_unique<WeldedNumbering>(WeldGrid::of(layout), layout.firstItem,
+      numbering_ = std::make_unique<WeldedNumbering>(layout.weldGrid(), layout.firstItem,
                                                      layout.firstItem + layout.itemCount);
     }
     const uint64_t vertices = numbering_ ? numbering_->vertexCount() : layout.pointCount();

@@ -94,6 +94,12 @@ std::pair<double, double> SampleLayout::parameter(size_t item, int a, int b) con
   return {u, v};
 }
 
+WeldGrid SampleLayout::weldGrid() const {
+  const uint64_t columns = surface ? itemsV : 1;
+  return WeldGrid(totalItems / columns, columns, samplesU, surface ? samplesV : 1,
+                  surface ? closedU : closed, surface && closedV);
+}
+
 std::pair<double, double> SampleLayout::texCoord(size_t item, int a, int b) const {
   const auto [u, v] = parameter(item, a, b);
   const double u0 = paramU.front().first, u1 = paramU.back().second;
@@ -193,7 +199,7 @@ std::vector<std::pair<size_t, size_t>> streamedItemRanges(OutputFormat format, c
   const std::pair<size_t, size_t> own{layout.firstItem, layout.firstItem + layout.itemCount};
   if (!isMesh(format) || !layout.welded || !layout.sharded() || layout.itemCount == 0) return {own};
   std::vector<std::pair<size_t, size_t>> ranges;
-  const auto context = WeldedNumbering(WeldGrid::of(layout), own.first, own.second).contextItems();
+  const auto context = WeldedNumbering(layout.weldGrid(), own.first, own.second).contextItems();
   for (const auto& [a, b] : context) {
     if (a < own.first) ranges.emplace_back(a, b);
   }

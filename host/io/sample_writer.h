@@ -25,6 +25,8 @@
 
 namespace shapespline::io {
 
+class WeldGrid;
+
 enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Npy, Svg, Glb, Gltf };
 
 // glTF output holds its welded mesh in memory (fp32 positions re-centred on the bounding box): at
@@ -88,6 +90,8 @@ struct SampleLayout {
   // Parameters normalised to [0,1] over the whole model (OBJ/PLY texture coordinates); throws
   // DerivedValueError if they are not finite.
   std::pair<double, double> texCoord(size_t item, int a, int b) const;
+  // The job's global point grid (io/welded_mesh.h): totalItems as patch rows x itemsV (curves: x 1).
+  WeldGrid weldGrid() const;
   // Throws DerivedValueError unless every interval end, interval width and the model's whole range
   // are finite, which makes every parameter() and texCoord() finite (checked before any byte).
   void checkDerivedValues() const;

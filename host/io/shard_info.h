@@ -1,13 +1,14 @@
 #pragma once
-// What every output of `sample` says about the job it belongs to, so that `merge` (io/merge.h) can
+// What every output of `sample` says about the job it belongs to, so that `merge` (jobs/merge.h) can
 // verify the shards it joins: a job fingerprint (64-bit FNV-1a, http://www.isthe.com/chongo/tech/
 // comp/fnv/, over the sampled model's data, the grid, the fields, the precision and the format),
 // the shard K of N and its item range. Written as one text line into PLY `comment` and OBJ `#`
-// headers, and as JSON keys into the raw sidecar; CSV stays plain (see io/merge.h).
+// headers, and as JSON keys into the raw sidecar; CSV stays plain (see jobs/merge.h).
 #include <shapespline/core/model.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/io/text_escape.h>
 
 #include <cstdint>
 #include <optional>
@@ -22,10 +23,6 @@ namespace shapespline::io {
 // the model, samples per item, fields, computed precision or output format differ.
 std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);
 std::string jobFingerprint(const SurfaceModel& model, const SampleLayout& layout, OutputFormat format);
-
-// `text` as the body of a JSON string: `"` `\` and control characters escaped (\n, \t, \u001f ...),
-// invalid UTF-8 replaced by \ufffd. One line, so a model path cannot inject header lines.
-std::string escapeText(std::string_view text);
 
 struct ShardInfo {
   std::string job;                    // jobFingerprint

@@ -1,6 +1,5 @@
 // Welded mesh numbering and the vertex stream (io/welded_mesh.h).
 #include <shapespline/io/welded_mesh.h>
-#include <shapespline/io/sample_writer.h>
 
 #include <algorithm>
 #include <cmath>
@@ -66,12 +65,6 @@ WeldGrid::WeldGrid(uint64_t patchesU, uint64_t patchesV, int samplesU, int sampl
                                 " items of " + std::to_string(samplesU) + "x" + std::to_string(samplesV) +
                                 " samples is not a grid");
   }
-}
-
-WeldGrid WeldGrid::of(const SampleLayout& layout) {
-  const uint64_t itemsV = layout.surface ? layout.itemsV : 1;
-  return WeldGrid(layout.totalItems / itemsV, itemsV, layout.samplesU, layout.surface ? layout.samplesV : 1,
-                  layout.surface ? layout.closedU : layout.closed, layout.surface && layout.closedV);
 }
 
 uint64_t WeldGrid::rows() const { return patchesU_ * static_cast<uint64_t>(su_ - 1) + (closedU_ ? 0 : 1); }

@@ -32,8 +32,6 @@
 
 namespace shapespline::io {
 
-struct SampleLayout;
-
 // The global point grid of a job: patchesU x patchesV items (curves: spans x 1, samplesV = 1),
 // samplesU x samplesV samples each.
 class WeldGrid {
@@ -44,7 +42,6 @@ class WeldGrid {
   };
 
   WeldGrid(uint64_t patchesU, uint64_t patchesV, int samplesU, int samplesV, bool closedU, bool closedV);
-  static WeldGrid of(const SampleLayout& layout);
 
   uint64_t patchesU() const { return patchesU_; }
   uint64_t patchesV() const { return patchesV_; }

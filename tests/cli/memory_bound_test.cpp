@@ -2,8 +2,8 @@
 // cut into rows of samples, so `sample` on one patch at --grid 4096 (or 65536) holds two chunks of
 // planes and not the whole patch, on the CPU and on the Vulkan path; the output bytes do not depend
 // on where the rows are cut. The peak RSS of the child process (wait4's ru_maxrss) is checked
-// against the bound the README states. The RSS tests are excluded under ASan (scripts/sanitize.sh):
-// its shadow memory and quarantine are not the tool's memory.
+// against the bound docs/performance.md states. The RSS tests are excluded under ASan
+// (scripts/sanitize.sh): its shadow memory and quarantine are not the tool's memory.
 #include "cli_runner.h"
 #include "output_checks.h"
 
@@ -23,8 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The bounds the README states (whole process, peak RSS): the CPU path holds 2 chunks of fp64
-// planes (default 2^18 points: 6 MiB per field and chunk) plus the writer's buffer; the Vulkan path
+// The bounds docs/performance.md states (whole process, peak RSS): the CPU path holds 2 chunks of
+// fp64 planes (default 2^18 points: 6 MiB per field and chunk) plus the writer's buffer; the Vulkan path
 // adds the driver (lavapipe and its LLVM: ~70-120 MB before any job) to 2 slots of planes
 // (4 MiB per field and slot). Before rows were split, one patch at 4096 x 4096 took 796 MB on the
 // CPU and failed on lavapipe (its 201 MB fp32 plane exceeds maxStorageBufferRange, 128 MiB).

@@ -1,5 +1,5 @@
-// libFuzzer target over `merge` (io/merge.h, issue 12): the input becomes 1-3 shard files in a
-// private temporary folder and io::mergeShards joins them.
+// libFuzzer target over `merge` (jobs/merge.h, issue 12): the input becomes 1-3 shard files in a
+// private temporary folder and jobs::mergeShards joins them.
 //
 // Input layout (merge_fuzz_format.h): byte 0 chooses the format (obj, ply, csv, f64, f32); the rest
 // is split at kMergeFuzzSeparator into parts: one file per shard, or for raw formats pairs of data
@@ -14,7 +14,7 @@
 #include "merge_fuzz_format.h"
 
 #include <shapespline/io/atomic_file.h>
-#include <shapespline/io/merge.h>
+#include <shapespline/jobs/merge.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -61,10 +61,10 @@ std::set<std::string> entries(const fs::path& dir) {
 // Runs the merge; true on success, false on a refusal the contract allows.
 bool merge(const std::vector<std::string>& shards, const std::string& out) {
   try {
-    io::mergeShards(shards, out);
+    jobs::mergeShards(shards, out);
     return true;
-  } catch (const io::MergeError&) {
-  } catch (const io::MergeReadError&) {
+  } catch (const jobs::MergeError&) {
+  } catch (const jobs::MergeReadError&) {
   } catch (const io::OutputWriteError&) {  // a full /tmp
   } catch (const std::exception& e) {
     finding("unexpected exception", e.what());

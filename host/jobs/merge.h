@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
 
 // A shard that cannot be merged (exit code 2 at the command line): `field` names it ("SHARD[2]",
 // 1-based position in the list), `value` shows its path (shortened), `rule` the reason.
@@ -64,4 +64,4 @@ inline constexpr uint64_t kMaxSidecarBytes = uint64_t{256} << 20;
 // any error.
 MergeResult mergeShards(const std::vector<std::string>& shards, const std::string& output);
 
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs

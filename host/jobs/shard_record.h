@@ -20,7 +20,7 @@
 #include <string_view>
 #include <vector>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
 
 inline constexpr int kShardRecordVersion = 1;
 inline constexpr std::string_view kShardRecordSuffix = ".shard.json";
@@ -45,7 +45,7 @@ struct ShardRecord {
   uint64_t points = 0;      // points sampled for the shard's own items
   uint64_t vertices = 0;    // vertices (records, rows) the data file holds: welded shards add foreign ones
   std::vector<ShardRecordFile> files;
-  JobMetadata metadata;
+  io::JobMetadata metadata;
 };
 
 // OUT + ".shard.json".
@@ -78,4 +78,4 @@ ShardRecordFile describeShardFile(const std::filesystem::path& path, std::string
 // is checked first, so a wrong size costs no read; a symlink or non-regular file never verifies.
 std::string verifyShardFile(const ShardRecordFile& f, const std::filesystem::path& path);
 
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace shapespline::cli {
+namespace shapespline::jobs {
 
 struct ShardOutput {
   std::string out;    // -o with a shard pattern expanded
@@ -17,7 +17,7 @@ struct ShardOutput {
   std::string source; // where K/N came from: "" or "Slurm job array" / "Kubernetes Indexed Job"
 };
 
-// --shard (K/N, auto or ""), --shard-count and -o (a path or a shard pattern, io/shard_pattern.h).
+// --shard (K/N, auto or ""), --shard-count and -o (a path or a shard pattern, jobs/shard_pattern.h).
 // InputError naming -o for a malformed pattern; a pattern without --shard expands as shard 1/1.
 ShardOutput resolveShardOutput(const std::string& out, const std::string& shard, const std::string& shardCount);
 
@@ -48,4 +48,4 @@ void writeShardRecordOf(io::AtomicFile& record, const io::SampleLayout& layout, 
 // shard count is the number of shards given. InputError naming SHARD / SHARD[k] otherwise.
 std::vector<std::string> mergeInputs(const std::vector<std::string>& args);
 
-}  // namespace shapespline::cli
+}  // namespace shapespline::jobs

@@ -1,14 +1,14 @@
-// io/shard_pattern and io/shard_record (issue 16): every expanded name reads back to its (K, N);
+// jobs/shard_pattern and jobs/shard_record (issue 16): every expanded name reads back to its (K, N);
 // names that expand() does not write do not match; the shard record reads back what it wrote and
 // refuses anything else naming the key.
-#include <shapespline/io/shard_pattern.h>
-#include <shapespline/io/shard_record.h>
+#include <shapespline/jobs/shard_pattern.h>
+#include <shapespline/jobs/shard_record.h>
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
 namespace {
 
 TEST(ShardPattern, ExpandsAndReadsBack) {
@@ -148,4 +148,4 @@ TEST(ShardRecord, RefusesAnythingElseNamingTheKey) {
 }
 
 }  // namespace
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs

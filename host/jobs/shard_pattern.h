@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
 
 // A malformed pattern; what() is the rule (the caller names the option: "-o", "SHARD").
 class ShardPatternError : public std::invalid_argument {
@@ -55,4 +55,4 @@ class ShardPattern {
   bool hasShard_ = false, hasCount_ = false;
 };
 
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs

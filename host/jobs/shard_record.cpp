@@ -1,4 +1,4 @@
-#include <shapespline/io/shard_record.h>
+#include <shapespline/jobs/shard_record.h>
 
 #include <shapespline/io/json_depth.h>
 
@@ -10,7 +10,14 @@
 #include <cstring>
 #include <limits>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
+
+using io::JobMetadata;
+using io::MetadataError;
+using io::jsonDepthWithin;
+using io::metadataFromJson;
+using io::metadataJson;
+using io::sha256OfFile;
 
 namespace fs = std::filesystem;
 
@@ -213,4 +220,4 @@ std::string verifyShardFile(const ShardRecordFile& f, const fs::path& path) {
   return "";
 }
 
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs

@@ -1,10 +1,10 @@
-#include <shapespline/cli/exit_codes.h>
-#include <shapespline/cli/shard_env.h>
-#include <shapespline/cli/shard_files.h>
+#include <shapespline/jobs/job_input_error.h>
+#include <shapespline/jobs/scheduler_env.h>
+#include <shapespline/jobs/shard_files.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/shard_info.h>
-#include <shapespline/io/shard_pattern.h>
-#include <shapespline/io/shard_record.h>
+#include <shapespline/jobs/shard_pattern.h>
+#include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/welded_mesh.h>
 
 #include <nlohmann/json.hpp>
@@ -17,7 +17,7 @@
 #include <filesystem>
 #include <set>
 
-namespace shapespline::cli {
+namespace shapespline::jobs {
 
 namespace fs = std::filesystem;
 
@@ -42,8 +42,8 @@ std::string formatName(io::OutputFormat f) {
 }
 
 // The record of `layout`'s shard, without its files.
-io::ShardRecord recordOf(const io::SampleLayout& layout, io::OutputFormat format) {
-  io::ShardRecord r;
+ShardRecord recordOf(const io::SampleLayout& layout, io::OutputFormat format) {
+  ShardRecord r;
   r.job = layout.job;
   r.surface = layout.surface;
   r.format = formatName(format);
@@ -54,7 +54,7 @@ io::ShardRecord recordOf(const io::SampleLayout& layout, io::OutputFormat format
   r.totalItems = layout.totalItems;
   r.points = layout.pointCount();
   r.vertices = layout.welded && io::isMesh(format)
-                   ? io::WeldedNumbering(io::WeldGrid::of(layout), layout.firstItem, layout.firstItem + layout.itemCount)
+                   ? io::WeldedNumbering(layout.weldGrid(), layout.firstItem, layout.firstItem + layout.itemCount)
                          .vertexCount()
                    : layout.pointCount();
   r.metadata = layout.metadata;
@@ -69,7 +69,7 @@ fs::path folderOf(const std::string& path) {
 std::string kn(int k, int n) { return std::to_string(k) + "/" + std::to_string(n); }
 
 // Why `got` (read back) is not the record this run would write; "" when it is.
-std::string recordDifference(const io::ShardRecord& got, const io::ShardRecord& want, io::OutputFormat format,
+std::string recordDifference(const ShardRecord& got, const ShardRecord& want, io::OutputFormat format,
                              const ShardFileList& files) {
   if (got.job != want.job) return "it is of another job (" + got.job + ", this one is " + want.job + ")";
   if (got.format != want.format || got.surface != want.surface) return "it describes another format or kind";
@@ -123,16 +123,16 @@ std::string readHead(const fs::path& path, size_t limit) {
 // N as shard 1 states it: its record, raw sidecar ("shard": {"count"}) or PLY/OBJ job line.
 std::optional<uint64_t> shardCountOfFile(const std::string& path) {
   std::error_code ec;
-  if (fs::exists(fs::symlink_status(io::shardRecordPath(path), ec))) {
+  if (fs::exists(fs::symlink_status(shardRecordPath(path), ec))) {
     try {
-      return static_cast<uint64_t>(io::readShardRecord(io::shardRecordPath(path)).shardCount);
-    } catch (const io::ShardRecordError&) {
+      return static_cast<uint64_t>(readShardRecord(shardRecordPath(path)).shardCount);
+    } catch (const ShardRecordError&) {
       // merge refuses the broken record with its reason below
     }
   }
   const std::string ext = fs::path(path).extension().string();
   if (ext == ".f32" || ext == ".f64" || ext == ".npy") {
-    const std::string text = readHead(path + ".json", static_cast<size_t>(io::kMaxShardRecordBytes));
+    const std::string text = readHead(path + ".json", static_cast<size_t>(kMaxShardRecordBytes));
     // A sidecar of a few MiB is read whole; its nesting was bounded when it was written, and a crafted
     // one only fails to parse here (merge then refuses it with its reason).
     bool shallow = true;
@@ -171,13 +171,13 @@ std::optional<uint64_t> shardCountOfFile(const std::string& path) {
 }
 
 std::vector<std::string> expandMergePattern(const std::string& text) {
-  io::ShardPattern p;
+  ShardPattern p;
   try {
-    p = io::ShardPattern::parse(text);
-  } catch (const io::ShardPatternError& e) {
-    throw InputError("SHARD", text, e.what());
+    p = ShardPattern::parse(text);
+  } catch (const ShardPatternError& e) {
+    throw JobInputError("SHARD", text, e.what());
   }
-  if (!p.hasShard()) throw InputError("SHARD", text, "a shard pattern for merge needs {shard} (the shard K)");
+  if (!p.hasShard()) throw JobInputError("SHARD", text, "a shard pattern for merge needs {shard} (the shard K)");
   // The files present that the pattern names: their counts (at most a few distinct) and highest K.
   std::set<uint64_t> counts;
   uint64_t highest = 0;
@@ -193,15 +193,15 @@ std::vector<std::string> expandMergePattern(const std::string& text) {
     }
     highest = std::max(highest, m->first);
   }
-  if (ec) throw InputError("SHARD", text, "cannot list the folder '" + folder.string() + "': " + ec.message());
+  if (ec) throw JobInputError("SHARD", text, "cannot list the folder '" + folder.string() + "': " + ec.message());
   uint64_t n = 0;
   std::string why;
   if (p.hasCount()) {
-    if (counts.empty()) throw InputError("SHARD", text, "no file matches the shard pattern");
+    if (counts.empty()) throw JobInputError("SHARD", text, "no file matches the shard pattern");
     if (counts.size() > 1) {
       std::string list;
       for (uint64_t c : counts) list += (list.empty() ? "" : ", ") + std::to_string(c);
-      throw InputError("SHARD", text,
+      throw JobInputError("SHARD", text,
                        "files of several shard counts match the pattern ({count} = " + list +
                            "); remove the stale ones, or give the shards by name");
     }
@@ -211,7 +211,7 @@ std::vector<std::string> expandMergePattern(const std::string& text) {
     n = *stated;
     why = "shard 1 says so";
   } else {
-    if (highest == 0) throw InputError("SHARD", text, "no file matches the shard pattern");
+    if (highest == 0) throw JobInputError("SHARD", text, "no file matches the shard pattern");
     n = highest;
     why = "the highest shard present";
   }
@@ -219,7 +219,7 @@ std::vector<std::string> expandMergePattern(const std::string& text) {
   for (uint64_t k = 1; k <= n; ++k) {
     std::string path = p.expand(k, n);
     if (!fs::exists(fs::symlink_status(path, ec))) {
-      throw InputError("SHARD[" + std::to_string(k) + "]", path,
+      throw JobInputError("SHARD[" + std::to_string(k) + "]", path,
                        "is missing: the pattern expands to shards 1.." + std::to_string(n) + " (N = " +
                            std::to_string(n) + ": " + why + ")");
     }
@@ -236,11 +236,11 @@ ShardOutput resolveShardOutput(const std::string& out, const std::string& shard,
   o.shard = shard.empty() ? "" : kn(c.index, c.count);
   o.source = c.source;
   o.out = out;
-  if (io::ShardPattern::looksLikePattern(out)) {
+  if (ShardPattern::looksLikePattern(out)) {
     try {
-      o.out = io::ShardPattern::parse(out).expand(static_cast<uint64_t>(c.index), static_cast<uint64_t>(c.count));
-    } catch (const io::ShardPatternError& e) {
-      throw InputError("-o", out, e.what());
+      o.out = ShardPattern::parse(out).expand(static_cast<uint64_t>(c.index), static_cast<uint64_t>(c.count));
+    } catch (const ShardPatternError& e) {
+      throw JobInputError("-o", out, e.what());
     }
   }
   return o;
@@ -248,7 +248,7 @@ ShardOutput resolveShardOutput(const std::string& out, const std::string& shard,
 
 bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, const ShardFileList& files,
                       bool quiet) {
-  const fs::path recordPath = io::shardRecordPath(files.data);
+  const fs::path recordPath = shardRecordPath(files.data);
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(recordPath, ec))) return false;
   auto redo = [&](const std::string& why) {
@@ -258,10 +258,10 @@ bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, c
     }
     return false;
   };
-  io::ShardRecord got;
+  ShardRecord got;
   try {
-    got = io::readShardRecord(recordPath);
-  } catch (const io::ShardRecordError& e) {
+    got = readShardRecord(recordPath);
+  } catch (const ShardRecordError& e) {
     return redo(std::string("the record ") + e.what());
   }
   if (const std::string why = recordDifference(got, recordOf(layout, format), format, files); !why.empty()) {
@@ -269,7 +269,7 @@ bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, c
   }
   const fs::path folder = folderOf(files.data);
   for (const auto& f : got.files) {
-    if (const std::string why = io::verifyShardFile(f, folder / f.name); !why.empty()) return redo(why);
+    if (const std::string why = verifyShardFile(f, folder / f.name); !why.empty()) return redo(why);
   }
   if (!quiet) {
     std::fprintf(stderr,
@@ -283,10 +283,10 @@ bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, c
 
 void writeShardRecordOf(io::AtomicFile& record, const io::SampleLayout& layout, io::OutputFormat format,
                         const io::AtomicFile& data, const io::AtomicFile* extra, const std::string& extraRole) {
-  io::ShardRecord r = recordOf(layout, format);
+  ShardRecord r = recordOf(layout, format);
   auto describe = [](const io::AtomicFile& f, const std::string& role) {
     try {
-      io::ShardRecordFile d = io::describeShardFile(f.tempPath(), role);
+      ShardRecordFile d = describeShardFile(f.tempPath(), role);
       d.name = f.target().filename().string();
       return d;
     } catch (const std::exception& e) {
@@ -296,12 +296,12 @@ void writeShardRecordOf(io::AtomicFile& record, const io::SampleLayout& layout, 
   };
   r.files.push_back(describe(data, "data"));
   if (extra) r.files.push_back(describe(*extra, extraRole));
-  record.write(io::shardRecordJson(r));
+  record.write(shardRecordJson(r));
 }
 
 std::vector<std::string> mergeInputs(const std::vector<std::string>& args) {
   std::vector<std::string> shards;
-  const bool pattern = args.size() == 1 && io::ShardPattern::looksLikePattern(args[0]);
+  const bool pattern = args.size() == 1 && ShardPattern::looksLikePattern(args[0]);
   if (pattern) {
     shards = expandMergePattern(args[0]);
   } else {
@@ -311,22 +311,22 @@ std::vector<std::string> mergeInputs(const std::vector<std::string>& args) {
   for (size_t i = 0; i < shards.size(); ++i) {
     const std::string field = "SHARD[" + std::to_string(i + 1) + "]";
     const std::string& path = shards[i];
-    const fs::path recordPath = io::shardRecordPath(path);
+    const fs::path recordPath = shardRecordPath(path);
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(recordPath, ec))) continue;
-    io::ShardRecord r;
+    ShardRecord r;
     try {
-      r = io::readShardRecord(recordPath);
-    } catch (const io::ShardRecordError& e) {
-      throw InputError(field, path,
+      r = readShardRecord(recordPath);
+    } catch (const ShardRecordError& e) {
+      throw JobInputError(field, path,
                        "its shard record '" + io::shortText(recordPath.string(), 120) + "' " + e.what() +
                            " (not a record that sample writes; remove it or sample the shard again)");
     }
     for (const auto& f : r.files) {
       const fs::path p = f.role == "data" ? fs::path(path) : f.role == "sidecar" ? fs::path(path + ".json") : fs::path();
       if (p.empty()) continue;  // a glTF buffer: glTF files are not merged
-      if (const std::string why = io::verifyShardFile(f, p); !why.empty()) {
-        throw InputError(field, path,
+      if (const std::string why = verifyShardFile(f, p); !why.empty()) {
+        throw JobInputError(field, path,
                          "does not verify against its shard record '" + io::shortText(recordPath.string(), 120) +
                              "': " + why + "; sample the shard again");
       }
@@ -334,7 +334,7 @@ std::vector<std::string> mergeInputs(const std::vector<std::string>& args) {
     // CSV carries no job line, so only the record shows a missing last shard (other formats: merge
     // checks their headers, with the same words).
     if (ext0 == ".csv" && static_cast<size_t>(r.shardCount) != shards.size()) {
-      throw InputError(field, path,
+      throw JobInputError(field, path,
                        "is shard " + kn(r.shardIndex, r.shardCount) + " of a job of " + std::to_string(r.shardCount) +
                            " shards (its shard record), but " + std::to_string(shards.size()) +
                            (shards.size() == 1 ? " was" : " were") + " given (give all N shards, in order)");
@@ -343,4 +343,4 @@ std::vector<std::string> mergeInputs(const std::vector<std::string>& args) {
   return shards;
 }
 
-}  // namespace shapespline::cli
+}  // namespace shapespline::jobs

@@ -12,7 +12,7 @@
 #include <functional>
 #include <string>
 
-namespace shapespline::cli {
+namespace shapespline::jobs {
 
 struct ShardChoice {
   int index = 1, count = 1;  // K of N
@@ -29,4 +29,4 @@ ShardChoice shardFromEnvironment(const EnvLookup& env, const std::string& shardC
 // --shard-count is refused unless --shard is auto.
 ShardChoice parseShardOption(const std::string& shard, const std::string& shardCount);
 
-}  // namespace shapespline::cli
+}  // namespace shapespline::jobs

@@ -1,4 +1,4 @@
-#include <shapespline/io/merge.h>
+#include <shapespline/jobs/merge.h>
 
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/json_depth.h>
@@ -6,7 +6,7 @@
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
-#include <shapespline/io/shard_record.h>
+#include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/welded_formats.h>
 #include <shapespline/io/welded_mesh.h>
 
@@ -25,7 +25,47 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
+
+// What the merge reads and writes is io's: the formats, their headers and the atomic output set.
+using io::AtomicFile;
+using io::JobMetadata;
+using io::MeshInfo;
+using io::MetadataError;
+using io::OutputFormat;
+using io::OutputSet;
+using io::RawSidecar;
+using io::ShardInfo;
+using io::SpanWindow;
+using io::WeldGrid;
+using io::WeldedNumbering;
+using io::escapeText;
+using io::fieldName;
+using io::isGltf;
+using io::jsonDepthWithin;
+using io::kMeshLinePrefix;
+using io::kObjJobPrefix;
+using io::kObjSourcePrefix;
+using io::kPlyJobPrefix;
+using io::kPlySourcePrefix;
+using io::kRawSidecarVersion;
+using io::meshInfoLine;
+using io::metadataDifference;
+using io::metadataFromJson;
+using io::npyHeader;
+using io::objHeader;
+using io::objLinesPerVertex;
+using io::outputFormatFromPath;
+using io::outputFormatName;
+using io::parseMeshInfoLine;
+using io::parseShardInfoLine;
+using io::plyConnectivityHeader;
+using io::plyInfoComments;
+using io::spanWindow;
+using io::wholeJobOf;
+using io::writeObjConnectivity;
+using io::writePlyConnectivity;
+using io::writeRawSidecar;
 
 MergeError::MergeError(std::string field, std::string value, std::string rule)
     : std::invalid_argument(field + ": " + rule + (value.empty() ? "" : " (got " + value + ")")),
@@ -1119,4 +1159,4 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
   return result;
 }
 
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs

@@ -1,6 +1,6 @@
-#include <shapespline/io/shard_pattern.h>
+#include <shapespline/jobs/shard_pattern.h>
 
-namespace shapespline::io {
+namespace shapespline::jobs {
 
 namespace {
 
@@ -124,4 +124,4 @@ std::optional<std::pair<uint64_t, uint64_t>> ShardPattern::match(std::string_vie
   return std::pair{k.value_or(0), n.value_or(0)};
 }
 
-}  // namespace shapespline::io
+}  // namespace shapespline::jobs
