@@ -18,6 +18,7 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <nlohmann/json.hpp>
 
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
@@ -27,6 +28,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <span>
 
@@ -374,16 +376,29 @@ class Viewer {
     if (!controls_.panel) return;
     const SurfaceModel& m = cpu_.model();
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
-    ImGui::Begin("shapespline");
+    // The panel takes the size of its content (no label or widget clipped at any window size), with
+    // sliders of a fixed width in font units and wrapped text no wider than the sliders' rows.
+    ImGui::Begin("shapespline", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    const float em = ImGui::GetFontSize();
+    ImGui::PushItemWidth(14 * em);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 22 * em);
+    ImVec2 contentMax(0, 0);  // the lower right corner of everything drawn, for panelBounds_
+    auto note = [&] {
+      const ImVec2 q = ImGui::GetItemRectMax();
+      contentMax = ImVec2(std::max(contentMax.x, q.x), std::max(contentMax.y, q.y));
+    };
     ImGui::Text("%s, %d x %d net", std::string(traits_.name).c_str(), m.rows, m.cols);
+    note();
     ImGui::Text("mesh: %s", mesh_->name().c_str());
+    note();
     ImGui::Text("frame %.2f ms, %llu triangles", frameMs_, static_cast<unsigned long long>(triangles_));
+    note();
     ImGui::Separator();
     if (traits_.usesLambda) {
       const LambdaDomain d = lambdaDomain(controls_.family);
       const double hi = std::isfinite(d.hi) ? d.hi : d.lo + 16.0;  // GB: no upper bound, the slider needs one
       ImGui::SliderScalar("lambda", ImGuiDataType_Double, &controls_.family.lambda, &d.lo, &hi, "%.3f");
+      note();
     }
     if (traits_.usesMu) {
       std::vector<double>& mu = controls_.family.mu;
@@ -392,25 +407,39 @@ class Viewer {
         const double lo = 0.0, hi = 1.0;
         if (ImGui::SliderScalar(("mu" + std::to_string(i)).c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.4f"))
           moveMu(mu, controls_.family.order, i, v);
+        note();
       }
     }
     if (traits_.usesAlpha) {
       if (controls_.picked >= 0) {
         ImGui::Text("point (%d, %d)", controls_.picked / m.cols, controls_.picked % m.cols);
+        note();
         double a = controls_.alpha[controls_.picked];
         const double lo = 0.001, hi = 1.0;
         if (ImGui::SliderScalar("alpha", ImGuiDataType_Double, &a, &lo, &hi, "%.3f")) setPickedAlpha(a);
+        note();
       } else {
         ImGui::TextDisabled("click a control point to edit its alpha");
+        note();
       }
     }
     ImGui::SliderFloat("tolerance (px)", &controls_.tolerancePx, 0.25f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+    note();
     const bool canWire = pipelines_.triangleWireframe() || mesh_->name().rfind("fixed", 0) == 0;
     ImGui::BeginDisabled(!canWire);
     ImGui::Checkbox("wireframe", &controls_.wireframe);
+    note();
     ImGui::EndDisabled();
     ImGui::Checkbox("control net", &controls_.net);
-    if (!error_.empty()) ImGui::TextWrapped("%s", error_.c_str());
+    note();
+    if (!error_.empty()) {
+      ImGui::TextWrapped("%s", error_.c_str());
+      note();
+    }
+    ImGui::PopTextWrapPos();
+    ImGui::PopItemWidth();
+    const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    panelBounds_ = {true, pos, ImVec2(pos.x + size.x, pos.y + size.y), contentMax, ImGui::GetStyle().WindowPadding};
     ImGui::End();
   }
 
@@ -467,9 +496,25 @@ class Viewer {
       for (size_t k = 0; k < rgba.size(); k += 4) std::swap(rgba[k], rgba[k + 2]);
     const std::filesystem::path path = options_.screenshotDir / name;
     io::writePng(path, int(e.width), int(e.height), rgba, false);
+    if (panelBounds_.shown) savePanelBounds(path, e);
     if (!options_.quiet)
       std::fprintf(stderr, "shapespline: view: wrote %s (%u x %u, %llu triangles)\n", path.c_str(), e.width, e.height,
                    static_cast<unsigned long long>(mesh_->triangleCount()));
+  }
+
+  // NAME.png's panel as NAME.panel.json: {"framebuffer": [w, h], "window": [x0, y0, x1, y1],
+  // "content_max": [x, y], "padding": [x, y]} (pixels; ImGui's window padding inside its edges).
+  void savePanelBounds(const std::filesystem::path& png, VkExtent2D e) const {
+    const PanelBounds& b = panelBounds_;
+    const nlohmann::json j = {{"framebuffer", {e.width, e.height}},
+                              {"window", {b.windowMin.x, b.windowMin.y, b.windowMax.x, b.windowMax.y}},
+                              {"content_max", {b.contentMax.x, b.contentMax.y}},
+                              {"padding", {b.padding.x, b.padding.y}}};
+    std::filesystem::path path = png;
+    path.replace_extension(".panel.json");
+    std::ofstream out(path);
+    out << j.dump() << "\n";
+    if (!out.flush()) throw std::runtime_error("cannot write " + path.string());
   }
 
   // One frame; `capture` names the screenshot to save of it. Returns false when the swapchain was
@@ -499,6 +544,7 @@ class Viewer {
 
     gui_.newFrame();
     handleMouse();
+    panelBounds_ = {};
     panel();
     if (const std::string error = applyControls(); !error.empty()) error_ = error;
 
@@ -598,6 +644,12 @@ class Viewer {
   uint64_t frameCount_ = 0, triangles_ = 0;
   double frameMs_ = 0.0;
   Clock::time_point lastFrame_, lastStats_;
+  // Where this frame's panel stands, in pixels: its window and the lower right corner of its content
+  // (written beside a screenshot, so that a test can check that nothing is clipped).
+  struct PanelBounds {
+    bool shown = false;
+    ImVec2 windowMin, windowMax, contentMax, padding;
+  } panelBounds_;
 };
 
 }  // namespace

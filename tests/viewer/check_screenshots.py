@@ -1,6 +1,10 @@
 """Checks the screenshots of tests/viewer/viewer_test.sh: the surface covers a good part of the
 first one, each edit (lambda, alpha of a picked point, camera, wireframe) changes the scene, and the
-panel draws where it stands. Usage: check_screenshots.py DIR."""
+panel draws where it stands. Usage: check_screenshots.py DIR.
+check_screenshots.py DIR NAME...: the views of one model only (check_views).
+check_screenshots.py --panel DIR NAME...: the panel of NAME.png fits its content and the window
+(check_panel, from NAME.panel.json, which the viewer writes beside a screenshot with the panel)."""
+import json
 import sys
 from pathlib import Path
 
@@ -43,7 +47,44 @@ def check_views(folder, names):
     return failures
 
 
+PANEL_DARK = 0.6  # of the panel's pixels are ImGui's dark window background or text on it
+
+
+def check_panel(folder, names):
+    """The panel's window lies inside the framebuffer, everything it draws (labels included) lies
+    inside the window's padding, and the screenshot shows the panel where the viewer says it is."""
+    failures = []
+    for name in names:
+        bounds = json.loads((folder / (name + ".panel.json")).read_text())
+        img = load(folder, name + ".png")
+        width, height = bounds["framebuffer"]
+        x0, y0, x1, y1 = bounds["window"]
+        cx, cy = bounds["content_max"]
+        px, py = bounds["padding"]
+        print(f"{name}: {width}x{height}, panel [{x0:.0f}, {x1:.0f}] x [{y0:.0f}, {y1:.0f}], "
+              f"content to ({cx:.0f}, {cy:.0f}), padding ({px:.0f}, {py:.0f})")
+        if img.shape[:2] != (height, width):
+            failures.append(f"{name}: the screenshot is {img.shape[1]}x{img.shape[0]}, the framebuffer {width}x{height}")
+            continue
+        if x0 < 0 or y0 < 0 or x1 > width or y1 > height:
+            failures.append(f"{name}: the panel [{x0}, {x1}] x [{y0}, {y1}] leaves the {width}x{height} window")
+        if cx > x1 - px + 0.5 or cy > y1 - py + 0.5:
+            failures.append(f"{name}: the content reaches ({cx}, {cy}), past the panel's inner edge "
+                            f"({x1 - px}, {y1 - py}): a label or widget is clipped")
+        inside = img[int(y0) + 1:int(y1) - 1, int(x0) + 1:int(x1) - 1]
+        dark = float((inside.max(axis=2) < 0.3).mean()) if inside.size else 0.0
+        print(f"{name}: {dark:.3f} of the panel's pixels are dark")
+        if dark < PANEL_DARK:
+            failures.append(f"{name}: only {dark:.3f} of the pixels where the panel stands are the panel's")
+    return failures
+
+
 def main():
+    if sys.argv[1] == "--panel":  # check_screenshots.py --panel FOLDER NAME...
+        failures = check_panel(Path(sys.argv[2]), sys.argv[3:])
+        for f in failures:
+            print("FAIL:", f)
+        return 1 if failures else 0
     folder = Path(sys.argv[1])
     if len(sys.argv) > 2:  # check_screenshots.py FOLDER NAME...: check_views only
         failures = check_views(folder, sys.argv[2:])

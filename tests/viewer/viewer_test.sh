@@ -3,7 +3,8 @@
 # its alpha, moves the camera, turns the wireframe and the panel on, and saves a screenshot after
 # each step; check_screenshots.py checks them (surface present, each edit changes the image, the
 # panel is drawn). --validation makes any Vulkan validation message fail the run. A bad script line
-# must fail with exit 2 before any window opens. A NURBS torus session follows.
+# must fail with exit 2 before any window opens. A NURBS torus session follows, then the panel at
+# 1024 x 640 and 1920 x 1080 with every control it can show: it fits its content and the window.
 # Usage: viewer_test.sh SHAPESPLINE SOURCE_DIR. Exit 77 (skip) only when Xvfb is missing.
 set -euo pipefail
 bin=$1
@@ -21,7 +22,7 @@ cleanup() {
 trap cleanup EXIT
 
 # -displayfd: Xvfb takes a free display number itself and writes it (tests may run in parallel).
-Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp 3>"$tmp/display" >"$tmp/xvfb.log" 2>&1 &
+Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp 3>"$tmp/display" >"$tmp/xvfb.log" 2>&1 &
 xvfb_pid=$!
 for _ in $(seq 100); do
   [[ -s "$tmp/display" ]] && break
@@ -100,4 +101,19 @@ for knot_model in nurbs_torus bspline_surface; do
   cat "$tmp/$knot_model.out"
   if grep -qi "validation\|\[vulkan" "$tmp/$knot_model.out"; then echo "FAIL: validation output"; exit 1; fi
   /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/$knot_model" nurbs nurbs_orbit
+done
+
+# The panel at the window sizes people use: every label and widget inside it, it inside the window.
+cat >"$tmp/panel.txt" <<'SCRIPT'
+pick-point 2 2
+alpha 0.1
+frames 3
+screenshot panel.png
+quit
+SCRIPT
+for size in 1024x640 1920x1080; do
+  "$bin" view "$model" --size "$size" --script "$tmp/panel.txt" --screenshot-dir "$tmp/panel_$size" --validation \
+    >"$tmp/panel_$size.out" 2>&1 || { cat "$tmp/panel_$size.out"; echo "FAIL: the $size panel session failed"; exit 1; }
+  if grep -qi "validation\|\[vulkan" "$tmp/panel_$size.out"; then cat "$tmp/panel_$size.out"; echo "FAIL: validation output"; exit 1; fi
+  /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" --panel "$tmp/panel_$size" panel
 done
