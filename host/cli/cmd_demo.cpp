@@ -1,9 +1,15 @@
 // `shapespline demo`: no input needed. Writes built-in example models (the same as
-// examples/models/) and their samples as OBJ and SVG into ./shapespline-demo/, and prints the list.
+// examples/models/) and their samples as OBJ and SVG into ./shapespline-demo/, then a labelled
+// contact sheet of the α-EB surface at its three λ (rendered on the Vulkan device, lavapipe will do),
+// and prints the list and where to look first.
+#include <shapespline/cli/cmd_render.h>
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/png_writer.h>
+#include <shapespline/render/painter.h>
+#include <shapespline/vk/error.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -92,15 +98,50 @@ void writeDemo(const DemoArgs& a) {
     }
   }
   outputs.commit();
+
+  // The contact sheet is a second output set: without a Vulkan device (or libpng) the models and
+  // samples above still stand, and the demo says why the picture is missing.
+  const std::string sheet = (std::filesystem::path(a.dir) / "contact_sheet.png").string();
+  std::string sheetMissing;
+  if (!io::pngSupported()) {
+    sheetMissing = "this build has no libpng";
+  } else {
+    RenderArgs r;
+    r.model = (std::filesystem::path(a.dir) / "surface_aeb_lambda_0.json").string();
+    r.output = sheet;
+    r.size = "480x360";
+    r.sweep = "lambda=-2,0,1";
+    r.controlNet = true;
+    r.quiet = true;
+    try {
+      io::OutputSet picture;
+      renderModel(r, picture);
+      picture.commit();
+      written.push_back(sheet);
+    } catch (const render::NoRenderDeviceError& e) {
+      sheetMissing = e.what();
+    } catch (const vk::VulkanError& e) {
+      sheetMissing = std::string("the Vulkan device failed: ") + e.what();
+    }
+  }
+
   std::printf("shapespline demo wrote %zu files:\n", written.size());
   for (const auto& w : written) std::printf("  %s\n", w.c_str());
+  if (sheetMissing.empty()) {
+    std::printf("Look first at %s: the alpha-EB surface at lambda = -2, 0, 1, one labelled tile each.\n",
+                sheet.c_str());
+  } else {
+    std::fprintf(stderr, "shapespline: notice: no %s: %s\n", sheet.c_str(), sheetMissing.c_str());
+  }
+  std::printf("Then: the .svg plots in a browser, the .obj meshes in any mesh viewer, the .json models with\n"
+              "`shapespline render MODEL -o out.png` or `shapespline view MODEL`.\n");
 }
 
 }  // namespace
 
 void registerDemo(CLI::App& app) {
   auto a = std::make_shared<DemoArgs>();
-  CLI::App* sub = app.add_subcommand("demo", "Write example models and their samples (OBJ, SVG) into ./shapespline-demo/.");
+  CLI::App* sub = app.add_subcommand("demo", "Write example models, their samples (OBJ, SVG) and a rendered contact sheet (PNG) into ./shapespline-demo/.");
   sub->add_option("--dir", a->dir, "output folder (default ./shapespline-demo)");
   sub->add_option("--device", a->device, "cpu (default), auto or vulkan (as in sample)");
   sub->footer(kExitCodeHelp);

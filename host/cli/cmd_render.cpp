@@ -6,6 +6,7 @@
 // tile (render::Camera::fit), below the label band.
 #include "tile_labels.h"
 
+#include <shapespline/cli/cmd_render.h>
 #include <shapespline/cli/common.h>
 #include <shapespline/core/family.h>
 #include <shapespline/core/curve.h>
@@ -25,14 +26,6 @@
 
 namespace shapespline::cli {
 namespace {
-
-struct RenderArgs {
-  std::string model, output, size = "800x600", view, sweep;
-  std::optional<double> lambda;
-  bool wireframe = false, controlNet = false, quiet = false;
-  int rate = 16;
-  GivenOptions given;
-};
 
 struct Sweep {
   bool alpha = false;              // else λ
@@ -123,7 +116,9 @@ class TileLabeller {
   std::optional<LabelFont> font_;
 };
 
-void runRender(const RenderArgs& a) {
+}  // namespace
+
+void renderModel(const RenderArgs& a, io::OutputSet& outputs) {
   const auto [w, h] = parseImageSize(a.size, "--size", 16);
   const Sweep sweep = parseSweep(a.sweep);
   if (a.rate < 1 || a.rate > 256) throw InputError("--rate", std::to_string(a.rate), "expected 1..256 segments per patch edge");
@@ -152,7 +147,6 @@ void runRender(const RenderArgs& a) {
   if (!io::pngSupported()) throw std::runtime_error("this build has no libpng; render cannot write PNG files");
   // Opened before any rendering: a bad -o is bad input (exit 2), and the old PNG is replaced only
   // by a complete new one.
-  io::OutputSet outputs;
   outputs.reads(a.model, "MODEL");
   io::AtomicFile& png = outputs.add(a.output, "-o");
 
@@ -232,8 +226,15 @@ void runRender(const RenderArgs& a) {
   }
   // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).
   io::writePng(png, sheet.cols * w, sheet.rows * h, sheet.rgba, false);
-  outputs.commit();
   if (!a.quiet) std::fprintf(stderr, "shapespline: wrote %s (%d x %d)\n", a.output.c_str(), sheet.cols * w, sheet.rows * h);
+}
+
+namespace {
+
+void runRender(const RenderArgs& a) {
+  io::OutputSet outputs;
+  renderModel(a, outputs);
+  outputs.commit();
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ Painter::Painter(int width, int height) {
   try {
     ctx_ = vk::Context::create();
   } catch (const vk::NoDeviceError& e) {
-    throw std::runtime_error("render needs a Vulkan device with a graphics queue: " + e.reason());
+    throw NoRenderDeviceError("render needs a Vulkan device with a graphics queue: " + e.reason());
   }
   renderer_ = std::make_unique<OffscreenRenderer>(ctx_, width, height);
 }

@@ -15,10 +15,15 @@ namespace shapespline::render {
 
 class SurfaceDrawing;
 
+// No Vulkan device to draw with: "render needs a Vulkan device with a graphics queue: REASON".
+class NoRenderDeviceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class Painter {
  public:
-  // Throws std::runtime_error("render needs a Vulkan device with a graphics queue: REASON") when
-  // there is no device, VulkanError for other failures.
+  // Throws NoRenderDeviceError when there is no device, VulkanError for other failures.
   Painter(int width, int height);
   ~Painter();
   Painter(const Painter&) = delete;

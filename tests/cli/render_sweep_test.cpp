@@ -2,7 +2,8 @@
 // text in the band at its top (dark grey label pixels there, different pixels for different
 // values, the same for the same value), the model fills the tile below the label (the bounding box
 // of its pixels spans at least kMinFill of the tile's width or height) and stays clear of every
-// tile edge; a single render fills its image and has no label. Surfaces and curves.
+// tile edge; a single render fills its image and has no label. Surfaces and curves, and the
+// contact sheet `demo` writes.
 #include "cli_runner.h"
 #include "output_checks.h"
 
@@ -75,16 +76,10 @@ TileFacts tileFacts(const Rgb& sheet, int tx, int ty, int w, int h) {
   return f;
 }
 
-// Renders a sheet of `count` tiles on cols x rows and checks each; returns their facts (row-major).
-// A sheet's tiles past the last value stay blank.
-std::vector<TileFacts> renderSheet(const std::string& args, int count, int cols, int rows, int w, int h,
-                                   std::string* err = nullptr) {
-  ScratchDir dir("render_sweep");
-  const CliResult r = runCli(args + " --size " + std::to_string(w) + "x" + std::to_string(h) + " -o sheet.png",
-                             dir.path(), dir.path());
-  EXPECT_EQ(r.rc, 0) << r.err;
-  if (err) *err = r.err;
-  const Rgb sheet = readPng(dir / "sheet.png");
+// Checks each of a sheet's `count` tiles on cols x rows (`what` names the sheet in failures);
+// returns their facts (row-major). A sheet's tiles past the last value stay blank.
+std::vector<TileFacts> sheetTiles(const Rgb& sheet, const std::string& what, int count, int cols, int rows, int w,
+                                  int h) {
   EXPECT_EQ(sheet.width, cols * w);
   EXPECT_EQ(sheet.height, rows * h);
   std::vector<TileFacts> tiles;
@@ -92,7 +87,7 @@ std::vector<TileFacts> renderSheet(const std::string& args, int count, int cols,
   for (int ty = 0; ty < rows; ++ty)
     for (int tx = 0; tx < cols; ++tx) {
       const TileFacts f = tileFacts(sheet, tx, ty, w, h);
-      const std::string name = args + ": tile " + std::to_string(ty * cols + tx + 1);
+      const std::string name = what + ": tile " + std::to_string(ty * cols + tx + 1);
       if (ty * cols + tx >= count) {
         EXPECT_TRUE(f.x1 < 0 && f.labelBottom < 0) << name << ": a tile past the last value is not blank";
         continue;
@@ -110,6 +105,17 @@ std::vector<TileFacts> renderSheet(const std::string& args, int count, int cols,
       tiles.push_back(f);
     }
   return tiles;
+}
+
+// Renders `args` as a sheet of `count` tiles of w x h on cols x rows and checks each.
+std::vector<TileFacts> renderSheet(const std::string& args, int count, int cols, int rows, int w, int h,
+                                   std::string* err = nullptr) {
+  ScratchDir dir("render_sweep");
+  const CliResult r = runCli(args + " --size " + std::to_string(w) + "x" + std::to_string(h) + " -o sheet.png",
+                             dir.path(), dir.path());
+  EXPECT_EQ(r.rc, 0) << r.err;
+  if (err) *err = r.err;
+  return sheetTiles(readPng(dir / "sheet.png"), args, count, cols, rows, w, h);
 }
 
 void expectLabelled(const std::vector<TileFacts>& tiles, const std::string& what) {
@@ -165,6 +171,38 @@ TEST(RenderSweepCli, SingleRenderFillsTheImageWithoutALabel) {
     ASSERT_EQ(tiles.size(), 1u) << model;
     EXPECT_EQ(tiles[0].labelPixels, 0) << model << ": a single render has no label";
   }
+}
+
+// `demo` ends with a contact sheet of its α-EB surface at λ = -2, 0, 1 (three labelled 480 x 360
+// tiles) and says to look there first.
+TEST(DemoContactSheet, ThreeLabelledTilesOfTheSurface) {
+  REQUIRE_VULKAN();
+  ScratchDir dir("demo_sheet");
+  const CliResult r = runCli("demo", dir.path(), dir.path());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "  shapespline-demo/contact_sheet.png\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Look first at shapespline-demo/contact_sheet.png")) << r.out;
+  const auto tiles = sheetTiles(readPng(dir / "shapespline-demo" / "contact_sheet.png"), "demo", 3, 3, 1, 480, 360);
+  ASSERT_EQ(tiles.size(), 3u);
+  expectLabelled(tiles, "demo sheet");
+  EXPECT_NE(tiles[0].labelArea, tiles[1].labelArea);
+  EXPECT_NE(tiles[1].labelArea, tiles[2].labelArea);
+}
+
+// Without a Vulkan driver the demo still writes its models and samples, says why the sheet is
+// missing, and succeeds.
+TEST(DemoContactSheet, WithoutVulkanTheRestIsWrittenAndTheSheetNamed) {
+  ScratchDir dir("demo_no_vulkan");
+  const auto out = dir / "_stdout.txt", err = dir / "_stderr.txt";
+  const CliResult r = runCaptured("cd " + quote(dir.path().string()) + " && VK_ICD_FILENAMES=/nonexistent.json " +
+                                      quote(SHAPESPLINE_CLI) + " demo >" + quote(out.string()) + " 2>" +
+                                      quote(err.string()),
+                                  out, err);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "notice: no shapespline-demo/contact_sheet.png: render needs a Vulkan device")) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "shapespline-demo" / "contact_sheet.png"));
+  EXPECT_FALSE(contains(r.out, "Look first")) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "shapespline-demo" / "surface_aeb_lambda_0.obj"));
 }
 
 }  // namespace
