@@ -132,10 +132,7 @@ void requireFinite(const GridChunk& c, size_t firstPoint, size_t pointCount, boo
 // --fields a,b,...: sampled fields by name (io::fieldName); the point is always written.
 FieldMask parseFields(const std::string& text, bool surface, bool withFlags) {
   if (withFlags) throw InputError("--fields", text, "give either --fields or --derivatives/--normals");
-  const FieldMask allowed = surface ? fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                          fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                          fieldBit(Field::Normal)
-                                    : fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
+  const FieldMask allowed = surface ? kSurfaceFields : kCurveFields;
   FieldMask mask = fieldBit(Field::Point);
   size_t pos = 0;
   while (pos <= text.size()) {

@@ -2,6 +2,7 @@
 
 #include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
+#include <shapespline/core/value_text.h>
 
 #include <algorithm>
 #include <charconv>
@@ -14,13 +15,6 @@ namespace shapespline {
 
 namespace {
 
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
-
 [[noreturn]] void throwSpan(int span, SpanRange r) {
   throw std::out_of_range("span " + std::to_string(span) + " outside the valid span range [" +
                           std::to_string(r.first) + ", " + std::to_string(r.last) + "]");
@@ -29,13 +23,7 @@ std::string fmt(double x) {
 void checkLocal(const char* name, double t) {
   // Written so that NaN fails too.
   if (!(t >= 0.0 && t <= 1.0))
-    throw std::out_of_range(std::string(name) + " = " + fmt(t) + " outside the local parameter range [0, 1]");
-}
-
-// Shortest text that reads back as x (error values: "1e-310", not 17 digits of a subnormal).
-std::string shortest(double x) {
-  char buf[32];
-  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
+    throw std::out_of_range(std::string(name) + " = " + preciseText(t) + " outside the local parameter range [0, 1]");
 }
 
 int wrap(int i, int n) { return ((i % n) + n) % n; }
@@ -68,9 +56,9 @@ glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alp
   if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
     const glm::dvec3 d = p - node;
     const double dist = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
-    throw ModelError(field(), shortest(alpha),
+    throw ModelError(field(), shortestText(alpha),
                      "alpha is so small that V = P + ((1-alpha)/alpha)(P - node) exceeds the fp64 range (|P - node| = " +
-                         shortest(dist) +
+                         shortestText(dist) +
                          "; docs/math.md section 4.2): alpha must be at least about |P - node| / 1.8e308");
   }
   return v;
@@ -218,8 +206,8 @@ CurvePoint Curve::evaluate(int span, double t) const {
   if (knotVector()) {
     const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
     if (!(b > a))
-      throw std::out_of_range("span " + std::to_string(span) + " is the empty knot interval [" + fmt(a) + ", " +
-                              fmt(b) + "]");
+      throw std::out_of_range("span " + std::to_string(span) + " is the empty knot interval [" + preciseText(a) + ", " +
+                              preciseText(b) + "]");
     const BSplineCurvePoint p = evalBSplineCurve(bspline_, a + t * (b - a));
     return {p.point, p.d1, p.d2};
   }
@@ -229,7 +217,7 @@ CurvePoint Curve::evaluate(int span, double t) const {
 CurvePoint Curve::evaluateAt(double u) const {
   const auto [lo, hi] = parameterRange();
   if (!(u >= lo && u <= hi))
-    throw std::out_of_range("u = " + fmt(u) + " outside the parameter range [" + fmt(lo) + ", " + fmt(hi) + "]");
+    throw std::out_of_range("u = " + preciseText(u) + " outside the parameter range [" + preciseText(lo) + ", " + preciseText(hi) + "]");
   if (knotVector()) {
     // At the knot parameter itself, not a + t (b - a): evalBSplineCurve finds the span of spanAt.
     const BSplineCurvePoint p = evalBSplineCurve(bspline_, u);

@@ -1,4 +1,5 @@
 #include <shapespline/core/extension.h>
+#include <shapespline/core/value_text.h>
 
 #include <glm/geometric.hpp>
 
@@ -9,14 +10,7 @@
 namespace shapespline {
 namespace {
 
-std::string text(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
-}
-
-std::string text(const glm::dvec3& p) { return "[" + text(p.x) + ", " + text(p.y) + ", " + text(p.z) + "]"; }
+std::string pointText(const glm::dvec3& p) { return "[" + preciseText(p.x) + ", " + preciseText(p.y) + ", " + preciseText(p.z) + "]"; }
 
 // Shape of a knot-vector curve and right clamping (docs/math.md §10.1, §11). Returns b.
 double checkRightClamped(int order, std::span<const double> knots, int count, const std::string& field) {
@@ -27,24 +21,24 @@ double checkRightClamped(int order, std::span<const double> knots, int count, co
     throw ModelError(field, "length " + std::to_string(knots.size()), "knot vector length must be N + order");
   for (size_t i = 1; i < knots.size(); ++i)
     if (!(knots[i] >= knots[i - 1]))
-      throw ModelError(field + "[" + std::to_string(i) + "]", text(knots[i]), "knots must be non-decreasing");
+      throw ModelError(field + "[" + std::to_string(i) + "]", preciseText(knots[i]), "knots must be non-decreasing");
   const int n = count - 1;
   const double b = knots[static_cast<size_t>(n + 1)];
   for (int i = n + 2; i <= n + order; ++i)
     if (knots[static_cast<size_t>(i)] != b)
-      throw ModelError(field + "[" + std::to_string(i) + "]", text(knots[static_cast<size_t>(i)]),
-                       "the curve must be right-clamped: t_{n+1} = ... = t_{n+k} = " + text(b));
+      throw ModelError(field + "[" + std::to_string(i) + "]", preciseText(knots[static_cast<size_t>(i)]),
+                       "the curve must be right-clamped: t_{n+1} = ... = t_{n+k} = " + preciseText(b));
   // Algorithm U divides by t_{i+r+1} − t_i and needs t_i < b for i <= n (docs/math.md §10.2).
   if (!(knots[static_cast<size_t>(n)] < b))
-    throw ModelError(field + "[" + std::to_string(n) + "]", text(knots[static_cast<size_t>(n)]),
-                     "no interior knot may equal the end parameter b = " + text(b) + " (knot multiplicity above the order)");
+    throw ModelError(field + "[" + std::to_string(n) + "]", preciseText(knots[static_cast<size_t>(n)]),
+                     "no interior knot may equal the end parameter b = " + preciseText(b) + " (knot multiplicity above the order)");
   if (!(knots[static_cast<size_t>(order - 1)] < b)) throw ModelError(field, "", "the domain must be non-empty");
   return b;
 }
 
 void checkFinite(const glm::dvec3& p, const std::string& field) {
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-    throw ModelError(field, text(p), "coordinates must be finite");
+    throw ModelError(field, pointText(p), "coordinates must be finite");
 }
 
 // Given parameters: m values, strictly increasing, u_1 > b (docs/math.md §10.3, §11).
@@ -54,11 +48,11 @@ void checkGivenU(const std::vector<double>& u, size_t m, double b) {
                      "one parameter per target (" + std::to_string(m) + ")");
   for (size_t s = 0; s < u.size(); ++s) {
     const std::string field = "parametrization.u[" + std::to_string(s) + "]";
-    if (!std::isfinite(u[s])) throw ModelError(field, text(u[s]), "parameters must be finite");
+    if (!std::isfinite(u[s])) throw ModelError(field, preciseText(u[s]), "parameters must be finite");
     const double prev = s == 0 ? b : u[s - 1];
     if (!(u[s] > prev))
-      throw ModelError(field, text(u[s]),
-                       s == 0 ? "u_1 must be greater than the end parameter b = " + text(b)
+      throw ModelError(field, preciseText(u[s]),
+                       s == 0 ? "u_1 must be greater than the end parameter b = " + preciseText(b)
                               : "parameters must be strictly increasing");
   }
 }
@@ -113,7 +107,7 @@ ExtensionResult extendRational(const BSplineCurveData& curve, std::span<const gl
   for (size_t i = 0; i < out.curve.points.size(); ++i) {
     const double wi = w.curve.points[i].x;
     if (!(wi > 0.0) || !std::isfinite(wi))
-      throw ModelError("weights[" + std::to_string(i) + "]", text(wi),
+      throw ModelError("weights[" + std::to_string(i) + "]", preciseText(wi),
                        "the rational extension gives this control point a weight that is not positive; choose other "
                        "target parameters (--u)");
     out.curve.points[i] /= wi;
@@ -135,9 +129,9 @@ BSplineCurveData unclampRight(const BSplineCurveData& curve, std::span<const dou
   for (size_t l = 0; l < newRightKnots.size(); ++l) {
     const std::string field = "new_right_knots[" + std::to_string(l) + "]";
     if (!std::isfinite(newRightKnots[l]) || !(newRightKnots[l] > b))
-      throw ModelError(field, text(newRightKnots[l]), "new knots must be finite and greater than b = " + text(b));
+      throw ModelError(field, preciseText(newRightKnots[l]), "new knots must be finite and greater than b = " + preciseText(b));
     if (l > 0 && !(newRightKnots[l] >= newRightKnots[l - 1]))
-      throw ModelError(field, text(newRightKnots[l]), "new knots must be non-decreasing");
+      throw ModelError(field, preciseText(newRightKnots[l]), "new knots must be non-decreasing");
   }
   const int n = count - 1;
   BSplineCurveData out = curve;
@@ -217,10 +211,10 @@ ExtensionResult extendCurve(const BSplineCurveData& curve, std::span<const glm::
     const std::string field = "targets[" + std::to_string(s) + "]";
     checkFinite(targets[s], field);
     if (targets[s] == end)
-      throw ModelError(field, text(targets[s]), "targets must be distinct from the curve's end point P_n");
+      throw ModelError(field, pointText(targets[s]), "targets must be distinct from the curve's end point P_n");
     for (size_t r = 0; r < s; ++r)
       if (targets[s] == targets[r])
-        throw ModelError(field, text(targets[s]),
+        throw ModelError(field, pointText(targets[s]),
                          "targets must be distinct from each other (equal to targets[" + std::to_string(r) + "])");
   }
   std::vector<double> u;

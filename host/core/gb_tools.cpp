@@ -1,6 +1,7 @@
 #include <shapespline/core/gb_tools.h>
 
 #include <shapespline/core/span_basis.h>
+#include <shapespline/core/value_text.h>
 
 #include <glm/geometric.hpp>
 
@@ -13,13 +14,6 @@ namespace shapespline {
 namespace {
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-
-std::string text(double v) {
-  std::ostringstream os;
-  os.precision(17);
-  os << v;
-  return os.str();
-}
 
 // P_{j-1}, P_j, P_{j+1}, P_{j+2} of span j after validating the model and the span (docs/math.md §11).
 struct SpanPoints {
@@ -176,7 +170,7 @@ GbFitResult gbConstrainedModify(const CurveModel& gbCurve, int span, glm::dvec2 
   const SpanPoints s = spanPoints(gbCurve, span);
   const SpanBasis cubic = gbSpanBasis(0.0);
   if (!std::isfinite(target.x) || !std::isfinite(target.y))
-    throw ModelError("target", text(target.x) + ", " + text(target.y), "target coordinates must be finite");
+    throw ModelError("target", preciseText(target.x) + ", " + preciseText(target.y), "target coordinates must be finite");
 
   double scale = 0.0;
   for (const auto& q : s.p) scale = std::max({scale, std::abs(q.x), std::abs(q.y)});
@@ -223,8 +217,8 @@ GbFitResult gbConstrainedModify(const CurveModel& gbCurve, int span, glm::dvec2 
   if (!(g0 >= 0.0 && g1 <= 0.0)) {
     result.reachable = false;
     result.reason = "target not reachable on span " + std::to_string(span) +
-                    ": it must lie between the lambda-paths of t = 0 and t = 1 (sigma*F(0) = " + text(g0) +
-                    " must be >= 0 and sigma*F(1) = " + text(g1) + " <= 0)";
+                    ": it must lie between the lambda-paths of t = 0 and t = 1 (sigma*F(0) = " + preciseText(g0) +
+                    " must be >= 0 and sigma*F(1) = " + preciseText(g1) + " <= 0)";
     return result;
   }
 
@@ -248,7 +242,7 @@ GbFitResult gbConstrainedModify(const CurveModel& gbCurve, int span, glm::dvec2 
   if (!admissible(w)) {
     result.reachable = false;
     result.reason = "target not reachable on span " + std::to_string(span) + ": the bisection gives t0 = " +
-                    text(t0) + " with w = " + text(w) + " outside (0, 3] (lambda0 = 12(1-w)/w must be >= -8)";
+                    preciseText(t0) + " with w = " + preciseText(w) + " outside (0, 3] (lambda0 = 12(1-w)/w must be >= -8)";
     return result;
   }
   result.reachable = true;

@@ -39,10 +39,6 @@ namespace {
 
 using namespace sampler;
 
-constexpr FieldMask kCurveFields = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                     fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                     fieldBit(Field::Normal);
 
 bool wants(FieldMask mask, Field f) { return (mask & fieldBit(f)) != 0; }
 

@@ -19,6 +19,11 @@ enum class Field : uint32_t { Point = 0, D1, D2, Du, Dv, Duu, Duv, Dvv, Normal, 
 inline constexpr int kFieldCount = static_cast<int>(Field::Count);
 using FieldMask = uint32_t;
 constexpr FieldMask fieldBit(Field f) { return 1u << static_cast<uint32_t>(f); }
+// Every field a curve / a surface has.
+inline constexpr FieldMask kCurveFields = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
+inline constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
+                                            fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
+                                            fieldBit(Field::Normal);
 
 enum class Precision { Float, Double };
 

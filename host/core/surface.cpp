@@ -3,6 +3,7 @@
 #include <shapespline/core/huge_pages.h>
 #include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
+#include <shapespline/core/value_text.h>
 
 #include <glm/geometric.hpp>
 
@@ -19,20 +20,13 @@ static_assert(kNormalShift == pm::kNormalShift && kNormalDegeneracy == pm::kNorm
 
 namespace {
 
-std::string fmt(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
-
 std::string rangeText(const SpanRange& r) {
   return "[" + std::to_string(r.first) + ", " + std::to_string(r.last) + "]";
 }
 
 void checkLocal(const char* name, double t) {
   if (!(t >= 0.0 && t <= 1.0))
-    throw std::out_of_range(std::string(name) + " = " + fmt(t) + " outside the local parameter range [0, 1]");
+    throw std::out_of_range(std::string(name) + " = " + preciseText(t) + " outside the local parameter range [0, 1]");
 }
 
 // A patch-net index sequence for one direction, plus the knot interval range for B-splines.
@@ -401,8 +395,8 @@ SurfacePoint Surface::evaluateAt(double U, double V) const {
   const auto [ulo, uhi] = parameterRangeU();
   const auto [vlo, vhi] = parameterRangeV();
   if (!(U >= ulo && U <= uhi) || !(V >= vlo && V <= vhi))
-    throw std::out_of_range("(U, V) = (" + fmt(U) + ", " + fmt(V) + ") outside the parameter range [" + fmt(ulo) +
-                            ", " + fmt(uhi) + "] x [" + fmt(vlo) + ", " + fmt(vhi) + "]");
+    throw std::out_of_range("(U, V) = (" + preciseText(U) + ", " + preciseText(V) + ") outside the parameter range [" + preciseText(ulo) +
+                            ", " + preciseText(uhi) + "] x [" + preciseText(vlo) + ", " + preciseText(vhi) + "]");
   int i = 0, j = 0;
   double u = 0.0, v = 0.0;
   patchAt(U, V, i, j, u, v);

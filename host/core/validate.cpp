@@ -1,4 +1,5 @@
 #include <shapespline/core/validate.h>
+#include <shapespline/core/value_text.h>
 
 #include <charconv>
 #include <cmath>
@@ -7,15 +8,6 @@
 namespace shapespline {
 
 namespace {
-
-// Shortest text that reads back as the same double, so the message shows what was parsed.
-std::string num(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
 
 std::string idx(const std::string& base, size_t i) { return base + "[" + std::to_string(i) + "]"; }
 
@@ -36,32 +28,32 @@ void checkOrder(int order, Construction c, const std::string& field) {
 
 void checkLambda(const FamilySpec& f) {
   const double l = f.lambda;
-  if (!std::isfinite(l)) fail("lambda", num(l), "lambda must be a finite number");
+  if (!std::isfinite(l)) fail("lambda", shortestText(l), "lambda must be a finite number");
   const double lo = lambdaDomain(f).lo;
   switch (f.construction) {
     case Construction::ExtendedBSpline:
     case Construction::AlphaEB: {
       const int k = f.degree;
       if (l < lo || l > 1.0)
-        fail("lambda", num(l),
-             "Xu-Wang degree-" + std::to_string(k) + " lambda must lie in [" + num(lo) + ", 1] (docs/math.md §2.2)");
+        fail("lambda", shortestText(l),
+             "Xu-Wang degree-" + std::to_string(k) + " lambda must lie in [" + shortestText(lo) + ", 1] (docs/math.md §2.2)");
       return;
     }
     case Construction::GB:
       // -12 is a pole and (-12,-8) gives negative weights (docs/math.md §7.1); no upper bound.
-      if (l < lo) fail("lambda", num(l), "GB lambda must be >= -8 (docs/math.md §7.1)");
+      if (l < lo) fail("lambda", shortestText(l), "GB lambda must be >= -8 (docs/math.md §7.1)");
       return;
     case Construction::UBP: {
       if (l < lo || l > 1.0)
-        fail("lambda", num(l),
-             "UBP order-" + std::to_string(f.order) + " lambda must lie in [lambda_min = " + num(lo) +
+        fail("lambda", shortestText(l),
+             "UBP order-" + std::to_string(f.order) + " lambda must lie in [lambda_min = " + shortestText(lo) +
                  ", 1] (docs/math.md §8.2)");
       return;
     }
     case Construction::GUBP:
     case Construction::BSpline:
       // These families have no lambda; a non-zero one means the caller meant another family.
-      if (l != 0.0) fail("lambda", num(l), "lambda is not used by construction " + cname(f.construction));
+      if (l != 0.0) fail("lambda", shortestText(l), "lambda is not used by construction " + cname(f.construction));
       return;
   }
 }
@@ -76,7 +68,7 @@ void checkMu(const FamilySpec& f) {
          "GUBP order " + std::to_string(k) + " needs exactly floor(k/2)+1 = " + std::to_string(want) + " mu values");
   for (size_t i = 0; i < f.mu.size(); ++i) {
     const double m = f.mu[i];
-    if (!std::isfinite(m) || m < 0.0 || m > 1.0) fail(idx("mu", i), num(m), "each mu must lie in [0, 1]");
+    if (!std::isfinite(m) || m < 0.0 || m > 1.0) fail(idx("mu", i), shortestText(m), "each mu must lie in [0, 1]");
   }
   double even = 0.0, odd = 0.0;
   for (int i = 0; i <= k; ++i) {
@@ -85,7 +77,7 @@ void checkMu(const FamilySpec& f) {
   }
   constexpr double kSumTol = 1e-9;
   if (std::abs(even - 1.0) > kSumTol || std::abs(odd - 1.0) > kSumTol)
-    fail("mu", "even sum " + num(even) + ", odd sum " + num(odd),
+    fail("mu", "even sum " + shortestText(even) + ", odd sum " + shortestText(odd),
          "GUBP parity sums of the full symmetric mu vector must both equal 1 (docs/math.md §9)");
 }
 
@@ -111,9 +103,9 @@ std::string minRule(Construction c, int order, bool closed, const std::string& w
 void checkKnotRange(const std::vector<double>& t, const std::string& field) {
   for (size_t i = 1; i < t.size(); ++i)
     if (!std::isfinite(t[i] - t[0]))
-      fail(idx(field, i), num(t[i]),
-           "knot differences must be finite in fp64 (t_" + std::to_string(i) + " - t_0 = " + num(t[i]) + " - (" +
-               num(t[0]) + ") overflows)");
+      fail(idx(field, i), shortestText(t[i]),
+           "knot differences must be finite in fp64 (t_" + std::to_string(i) + " - t_0 = " + shortestText(t[i]) + " - (" +
+               shortestText(t[0]) + ") overflows)");
 }
 
 // Full B-spline knot vector of n control points and order k (docs/math.md §10.1). `field` is the JSON path
@@ -125,21 +117,21 @@ void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::s
          "knot vector length must be N + order = " + std::to_string(n) + " + " + std::to_string(k) + " = " +
              std::to_string(want));
   for (size_t i = 0; i < t.size(); ++i)
-    if (!std::isfinite(t[i])) fail(idx(field, i), num(t[i]), "knots must be finite numbers");
+    if (!std::isfinite(t[i])) fail(idx(field, i), shortestText(t[i]), "knots must be finite numbers");
   for (size_t i = 1; i < t.size(); ++i)
     if (t[i] < t[i - 1])
-      fail(idx(field, i), num(t[i]), "knots must be non-decreasing (previous knot " + num(t[i - 1]) + ")");
+      fail(idx(field, i), shortestText(t[i]), "knots must be non-decreasing (previous knot " + shortestText(t[i - 1]) + ")");
   for (size_t i = 0; i < t.size();) {
     size_t j = i;
     while (j < t.size() && t[j] == t[i]) ++j;
     if (j - i > static_cast<size_t>(k))
-      fail(idx(field, i), num(t[i]),
+      fail(idx(field, i), shortestText(t[i]),
            "knot multiplicity " + std::to_string(j - i) + " exceeds the order " + std::to_string(k));
     i = j;
   }
   const double a = t[static_cast<size_t>(k - 1)], b = t[n];
   if (!(a < b))
-    fail(field, "t_{k-1} = " + num(a) + ", t_N = " + num(b), "the domain must be non-empty: t_{k-1} < t_N");
+    fail(field, "t_{k-1} = " + shortestText(a) + ", t_N = " + shortestText(b), "the domain must be non-empty: t_{k-1} < t_N");
   checkKnotRange(t, field);
 }
 
@@ -148,7 +140,7 @@ void checkKnotVector(const std::vector<double>& t, size_t n, int k, const std::s
 template <class FieldName>
 void checkAlphaValue(double a, FieldName field) {
   if (!std::isfinite(a) || a <= 0.0 || a > 1.0)
-    fail(field(), num(a), a == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
+    fail(field(), shortestText(a), a == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
 }
 
 }  // namespace
@@ -210,10 +202,10 @@ namespace {
 // evaluation sums).
 template <class FieldName>
 void checkWeight(double w, const glm::dvec3& p, FieldName field) {
-  if (!std::isfinite(w) || !(w > 0.0)) fail(field(), num(w), "a weight must be a positive finite number");
+  if (!std::isfinite(w) || !(w > 0.0)) fail(field(), shortestText(w), "a weight must be a positive finite number");
   const glm::dvec3 h = w * p;
   if (!std::isfinite(h.x) || !std::isfinite(h.y) || !std::isfinite(h.z))
-    fail(field(), num(w), "weight times point overflows fp64 (the homogeneous point w P must be finite)");
+    fail(field(), shortestText(w), "weight times point overflows fp64 (the homogeneous point w P must be finite)");
 }
 
 // Weights belong to knot-vector B-splines only, one per point.
@@ -242,9 +234,9 @@ void validateCurve(const CurveModel& m) {
   for (size_t i = 0; i < n; ++i) {
     for (int d = 0; d < m.dimension; ++d)
       if (!std::isfinite(m.points[i][d]))
-        fail(idx(idx("points", i), static_cast<size_t>(d)), num(m.points[i][d]), "coordinates must be finite numbers");
+        fail(idx(idx("points", i), static_cast<size_t>(d)), shortestText(m.points[i][d]), "coordinates must be finite numbers");
     if (m.dimension == 2 && m.points[i].z != 0.0)
-      fail(idx("points", i), "z = " + num(m.points[i].z), "points of a 2-D curve must carry z = 0");
+      fail(idx("points", i), "z = " + shortestText(m.points[i].z), "points of a 2-D curve must carry z = 0");
   }
 
   if (c == Construction::AlphaEB) {
@@ -269,11 +261,11 @@ void validateCurve(const CurveModel& m) {
       fail("knots", std::to_string(m.knots.size()) + " knots",
            "span knots must number spans + 1 = " + std::to_string(spans + 1));
     for (size_t i = 0; i < m.knots.size(); ++i)
-      if (!std::isfinite(m.knots[i])) fail(idx("knots", i), num(m.knots[i]), "knots must be finite numbers");
+      if (!std::isfinite(m.knots[i])) fail(idx("knots", i), shortestText(m.knots[i]), "knots must be finite numbers");
     for (size_t i = 1; i < m.knots.size(); ++i)
       if (!(m.knots[i] > m.knots[i - 1]))
-        fail(idx("knots", i), num(m.knots[i]),
-             "span knots must be strictly increasing (previous knot " + num(m.knots[i - 1]) + ")");
+        fail(idx("knots", i), shortestText(m.knots[i]),
+             "span knots must be strictly increasing (previous knot " + shortestText(m.knots[i - 1]) + ")");
     checkKnotRange(m.knots, "knots");
   } else if (c == Construction::BSpline) {
     if (m.closed) fail("closed", "true", "a bspline with a knot vector must be open (closed = false)");
@@ -288,7 +280,7 @@ void validateCurve(const CurveModel& m) {
 void checkTrim(const SurfaceModel& m, int orderU, int orderV) {
   const TrimLoops& t = m.trim;
   if (!std::isfinite(t.tolerance) || t.tolerance < 0.0)
-    fail("trim.tolerance", num(t.tolerance), "the trim tolerance must be a finite number >= 0");
+    fail("trim.tolerance", shortestText(t.tolerance), "the trim tolerance must be a finite number >= 0");
   const double u0 = m.knotsU[static_cast<size_t>(orderU - 1)], u1 = m.knotsU[static_cast<size_t>(m.rows)];
   const double v0 = m.knotsV[static_cast<size_t>(orderV - 1)], v1 = m.knotsV[static_cast<size_t>(m.cols)];
   for (size_t l = 0; l < t.loops.size(); ++l) {
@@ -298,11 +290,11 @@ void checkTrim(const SurfaceModel& m, int orderU, int orderV) {
     for (size_t p = 0; p < t.loops[l].size(); ++p) {
       const glm::dvec2 q = t.loops[l][p];
       if (!std::isfinite(q.x) || !std::isfinite(q.y))
-        fail(idx(loop, p), num(q.x) + ", " + num(q.y), "trim points must be finite numbers");
+        fail(idx(loop, p), shortestText(q.x) + ", " + shortestText(q.y), "trim points must be finite numbers");
       if (q.x < u0 - t.tolerance || q.x > u1 + t.tolerance || q.y < v0 - t.tolerance || q.y > v1 + t.tolerance)
-        fail(idx(loop, p), num(q.x) + ", " + num(q.y),
-             "trim points must lie in the knot domain [" + num(u0) + ", " + num(u1) + "] x [" + num(v0) + ", " +
-                 num(v1) + "] (within the tolerance)");
+        fail(idx(loop, p), shortestText(q.x) + ", " + shortestText(q.y),
+             "trim points must lie in the knot domain [" + shortestText(u0) + ", " + shortestText(u1) + "] x [" + shortestText(v0) + ", " +
+                 shortestText(v1) + "] (within the tolerance)");
     }
   }
 }
@@ -327,7 +319,7 @@ void validateSurface(const SurfaceModel& m) {
       for (int d = 0; d < 3; ++d)
         if (!std::isfinite(m.at(i, j)[d]))
           fail(idx(idx(idx("points", static_cast<size_t>(i)), static_cast<size_t>(j)), static_cast<size_t>(d)),
-               num(m.at(i, j)[d]), "coordinates must be finite numbers");
+               shortestText(m.at(i, j)[d]), "coordinates must be finite numbers");
 
   if (c == Construction::AlphaEB) {
     if (m.alpha.empty()) fail("alpha", "missing", "alpha is required for alpha_eb");

@@ -20,11 +20,6 @@ namespace shapespline::gpu {
 
 class PlanePool;
 
-inline constexpr FieldMask kCurveFields = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-inline constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                            fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                            fieldBit(Field::Normal);
-
 // A descriptor set of `pipe` with every binding at the dummy buffer (validation wants a valid
 // descriptor for bindings a variant does not use).
 vk::DescriptorSet makeSet(KernelSet& k, const vk::ComputePipeline& pipe);

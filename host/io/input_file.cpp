@@ -23,10 +23,6 @@ constexpr std::size_t kMaxKeyChars = 32;      // one key inside such a path
 constexpr std::size_t kMaxReasonChars = 200;  // nlohmann's parse error text (it quotes the last token)
 constexpr int kMaxShownDepth = 4;             // shortValue prints deeper containers as "..."
 
-[[noreturn]] void fail(std::string field, std::string value, std::string rule) {
-  throw ModelError(std::move(field), std::move(value), std::move(rule));
-}
-
 const char* fileKind(mode_t mode) {
   if (S_ISDIR(mode)) return "a directory";
   if (S_ISFIFO(mode)) return "a FIFO";
@@ -76,9 +72,9 @@ class LimitSax {
     Frame& f = frames_.back();
     f.key = k;
     if (++f.count > kMaxJsonObjectKeys)
-      fail(path(), "more than " + std::to_string(kMaxJsonObjectKeys) + " keys",
+      throw ModelError(path(), "more than " + std::to_string(kMaxJsonObjectKeys) + " keys",
            "JSON objects are limited to " + std::to_string(kMaxJsonObjectKeys) + " keys");
-    if (!f.keys.insert(k).second) fail(path(), "(repeated)", "duplicate key in a JSON object");
+    if (!f.keys.insert(k).second) throw ModelError(path(), "(repeated)", "duplicate key in a JSON object");
     return dom_.key(k);
   }
   // A template, as in nlohmann's parser: it throws `e` by its static type (json::parse_error).
@@ -98,7 +94,7 @@ class LimitSax {
   void open(bool object) {
     addElement();
     if (frames_.size() >= static_cast<std::size_t>(kMaxJsonDepth))
-      fail(path(), "more than " + std::to_string(kMaxJsonDepth) + " levels",
+      throw ModelError(path(), "more than " + std::to_string(kMaxJsonDepth) + " levels",
            "JSON nesting is limited to " + std::to_string(kMaxJsonDepth) + " levels");
     frames_.push_back({object, 0, {}, {}});
   }
@@ -110,7 +106,7 @@ class LimitSax {
   void addElement() {
     if (frames_.empty() || frames_.back().object) return;
     if (++frames_.back().count > kMaxJsonArrayLength)
-      fail(path(), "more than " + std::to_string(kMaxJsonArrayLength) + " elements",
+      throw ModelError(path(), "more than " + std::to_string(kMaxJsonArrayLength) + " elements",
            "JSON arrays are limited to " + std::to_string(kMaxJsonArrayLength) + " elements");
   }
 
@@ -189,7 +185,7 @@ InputFd::InputFd(const std::filesystem::path& path, const std::string& field) {
   }
   if (!S_ISREG(st.st_mode)) {
     ::close(fd_);
-    fail(field, shortText(path.string()), std::string("is not a regular file (it is ") + fileKind(st.st_mode) + ")");
+    throw ModelError(field, shortText(path.string()), std::string("is not a regular file (it is ") + fileKind(st.st_mode) + ")");
   }
   size_ = st.st_size < 0 ? 0 : static_cast<std::uint64_t>(st.st_size);
 }
@@ -198,7 +194,7 @@ InputFd::~InputFd() { ::close(fd_); }
 
 std::string readInputFile(const std::filesystem::path& path, const std::string& field, std::uint64_t maxBytes) {
   const InputFd f(path, field);
-  if (f.size() > maxBytes) fail(field, std::to_string(f.size()) + " bytes", tooLarge(maxBytes));
+  if (f.size() > maxBytes) throw ModelError(field, std::to_string(f.size()) + " bytes", tooLarge(maxBytes));
 
   // One byte more than fstat reports, so that the read meeting end of file needs no reallocation.
   std::string bytes(static_cast<std::size_t>(f.size()) + 1, '\0');
@@ -206,9 +202,9 @@ std::string readInputFile(const std::filesystem::path& path, const std::string& 
   for (;;) {
     if (used == bytes.size()) {
       // The file grew since fstat (or reports size 0, as some special files do): read on, bounded.
-      if (used > maxBytes) fail(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
+      if (used > maxBytes) throw ModelError(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
       bytes.resize(static_cast<std::size_t>(std::min<std::uint64_t>(maxBytes + 1, used + (std::size_t{1} << 16))));
-      if (used == bytes.size()) fail(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
+      if (used == bytes.size()) throw ModelError(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
     }
     const ssize_t n = ::read(f.get(), bytes.data() + used, bytes.size() - used);
     if (n < 0) {
@@ -218,7 +214,7 @@ std::string readInputFile(const std::filesystem::path& path, const std::string& 
     if (n == 0) break;
     used += static_cast<std::size_t>(n);
   }
-  if (used > maxBytes) fail(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
+  if (used > maxBytes) throw ModelError(field, "more than " + std::to_string(maxBytes) + " bytes", tooLarge(maxBytes));
   bytes.resize(used);
   return bytes;
 }
@@ -237,7 +233,7 @@ json parseJsonText(std::string_view text, const std::string& documentField, cons
       const std::size_t from = at > 20 ? at - 20 : 0;
       if (from < text.size()) near = "near \"" + printable(text.substr(from, 40)) + "\"";
     }
-    fail(documentField, shortText(near), "malformed JSON: " + printable(shortText(e.what(), kMaxReasonChars)));
+    throw ModelError(documentField, shortText(near), "malformed JSON: " + printable(shortText(e.what(), kMaxReasonChars)));
   }
 }
 

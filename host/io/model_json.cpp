@@ -30,11 +30,8 @@ std::string shortDump(const json& j) { return shortValue(j); }
 
 std::string idx(const std::string& base, size_t i) { return base + "[" + std::to_string(i) + "]"; }
 
-[[noreturn]] void fail(std::string field, std::string value, std::string rule) {
-  throw ModelError(std::move(field), std::move(value), std::move(rule));
-}
 [[noreturn]] void failJson(std::string field, const json& value, std::string rule) {
-  fail(std::move(field), shortDump(value), std::move(rule));
+  throw ModelError(std::move(field), shortDump(value), std::move(rule));
 }
 
 std::optional<Construction> constructionFromName(const std::string& s) {
@@ -78,7 +75,7 @@ double getNumber(const json& j, const std::string& field) {
   if (!j.is_number()) failJson(field, j, "must be a number");
   const double v = j.get<double>();
   // nlohmann cannot read NaN/inf from text, but a json built in code can hold them.
-  if (!std::isfinite(v)) fail(field, shortDump(j), "must be a finite number");
+  if (!std::isfinite(v)) throw ModelError(field, shortDump(j), "must be a finite number");
   return v;
 }
 
@@ -131,19 +128,19 @@ std::filesystem::path referencedFile(const json& ref, const std::string& key, co
     failJson(key, ref, "an array reference is {\"npy\": \"FILE.npy\"}, a file name relative to the model file");
   const std::string name = ref.at("npy").get<std::string>();
   if (!files)
-    fail(key, shortText(name), "array files are read only for a model file (the name is relative to its folder)");
-  if (name.empty()) fail(key, "\"\"", "the .npy file name is empty");
+    throw ModelError(key, shortText(name), "array files are read only for a model file (the name is relative to its folder)");
+  if (name.empty()) throw ModelError(key, "\"\"", "the .npy file name is empty");
   const std::filesystem::path rel(name);
   const std::filesystem::path file = files->folder / rel;
   if (files->allowOutside) return file;
   const std::string outside = " is outside the model file's folder (allow it with --allow-outside-arrays)";
-  if (rel.is_absolute()) fail(key, shortText(name), "an absolute path" + outside);
+  if (rel.is_absolute()) throw ModelError(key, shortText(name), "an absolute path" + outside);
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::canonical(files->folder.empty() ? "." : files->folder, ec);
   const std::filesystem::path real = std::filesystem::weakly_canonical(file, ec);
-  if (ec) fail(key, shortText(name), "cannot resolve the path: " + ec.message());
+  if (ec) throw ModelError(key, shortText(name), "cannot resolve the path: " + ec.message());
   const std::filesystem::path up = real.lexically_relative(dir);
-  if (up.empty() || *up.begin() == "..") fail(key, shortText(name), "the file (after links)" + outside);
+  if (up.empty() || *up.begin() == "..") throw ModelError(key, shortText(name), "the file (after links)" + outside);
   return file;
 }
 
@@ -165,9 +162,9 @@ NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays,
     arrays->files.push_back(file);
     return a;
   } catch (const std::invalid_argument& e) {
-    fail(key, name, e.what());
+    throw ModelError(key, name, e.what());
   } catch (const std::runtime_error& e) {
-    fail(key, name, e.what());
+    throw ModelError(key, name, e.what());
   }
 }
 
@@ -185,17 +182,17 @@ NpyArray referencedArray(const json& ref, const std::string& key, ModelArrays* a
   if (std::none_of(shapes.begin(), shapes.end(), fits)) {
     std::string got = "(";
     for (size_t d = 0; d < a.shape.size(); ++d) got += (d ? ", " : "") + std::to_string(a.shape[d]);
-    fail(key, name + " of shape " + got + (a.shape.size() == 1 ? ",)" : ")"), shapeRule);
+    throw ModelError(key, name + " of shape " + got + (a.shape.size() == 1 ? ",)" : ")"), shapeRule);
   }
   for (std::uint64_t d : a.shape)
-    if (d > kMaxArrayExtent) fail(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
+    if (d > kMaxArrayExtent) throw ModelError(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
   for (size_t k = 0; k < a.values.size(); ++k) {
     if (std::isfinite(a.values[k])) continue;
     std::vector<std::uint64_t> index(a.shape.size());
     for (size_t d = a.shape.size(), rest = k; d-- > 0; rest /= a.shape[d]) index[d] = rest % a.shape[d];
     std::string at;
     for (std::uint64_t i : index) at.append(1, '[').append(std::to_string(i)).append(1, ']');
-    fail(key + at, name, "must be a finite number (the array holds " + std::to_string(a.values[k]) + ")");
+    throw ModelError(key + at, name, "must be a finite number (the array holds " + std::to_string(a.values[k]) + ")");
   }
   return a;
 }
@@ -219,7 +216,7 @@ std::optional<double> scalarAlpha(const json& a) {
   if (!a.is_number()) return std::nullopt;
   const double v = getNumber(a, "alpha");
   if (!(v > 0.0 && v <= 1.0))
-    fail("alpha", shortDump(a), v == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
+    throw ModelError("alpha", shortDump(a), v == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
   return v;
 }
 
@@ -272,7 +269,7 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
     } else {
       if (!a.is_array()) failJson("alpha", a, "alpha must be a number or an array of one number per point");
       if (a.size() != m.points.size())
-        fail("alpha", std::to_string(a.size()) + " values",
+        throw ModelError("alpha", std::to_string(a.size()) + " values",
              "alpha array length must equal the number of points (" + std::to_string(m.points.size()) + ")");
       m.alpha = getNumberArray(a, "alpha", "numbers");
     }
@@ -284,7 +281,7 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
       m.weights = referencedPerPoint(w, "weights", files, m.points.size());
     } else {
       if (!w.is_array() || w.size() != m.points.size())
-        fail("weights", w.is_array() ? std::to_string(w.size()) + " values" : shortDump(w),
+        throw ModelError("weights", w.is_array() ? std::to_string(w.size()) + " values" : shortDump(w),
              "weights must be an array of one number per point (" + std::to_string(m.points.size()) + ")");
       m.weights = getNumberArray(w, "weights", "numbers");
     }
@@ -297,12 +294,12 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
 std::vector<double> readVertexRows(const json& a, const std::string& key, const std::string& what, int rows, int cols) {
   const std::string shape = std::to_string(rows) + " x " + std::to_string(cols);
   if (!a.is_array() || a.size() != static_cast<size_t>(rows))
-    fail(key, a.is_array() ? std::to_string(a.size()) + " rows" : shortDump(a),
+    throw ModelError(key, a.is_array() ? std::to_string(a.size()) + " rows" : shortDump(a),
          what + " of rows shaped like points (" + shape + ")");
   std::vector<double> out;
   for (size_t i = 0; i < a.size(); ++i) {
     if (!a[i].is_array() || a[i].size() != static_cast<size_t>(cols))
-      fail(idx(key, i), a[i].is_array() ? std::to_string(a[i].size()) + " values" : shortDump(a[i]),
+      throw ModelError(idx(key, i), a[i].is_array() ? std::to_string(a[i].size()) + " values" : shortDump(a[i]),
            "each " + key + " row must have one number per column (" + std::to_string(cols) + ")");
     const auto row = getNumberArray(a[i], idx(key, i), "numbers");
     out.insert(out.end(), row.begin(), row.end());
@@ -321,7 +318,7 @@ void readSurfacePoints(const json& pts, SurfaceModel& m) {
     if (!row.is_array()) failJson(rowField, row, "each row must be an array of [x, y, z] points");
     if (i == 0) m.cols = static_cast<int>(row.size());
     if (row.size() != static_cast<size_t>(m.cols))
-      fail(rowField, std::to_string(row.size()) + " points",
+      throw ModelError(rowField, std::to_string(row.size()) + " points",
            "all rows must have equal length (points[0] has " + std::to_string(m.cols) + ")");
     for (size_t j = 0; j < row.size(); ++j) {
       glm::dvec3 p;
@@ -450,14 +447,14 @@ Model parseModel(const json& doc, ModelArrays* arrays) {
   for (const char* k : {"name", "comment"})
     if (doc.contains(k) && !doc.at(k).is_string()) failJson(k, doc.at(k), "must be a string");
 
-  if (!doc.contains("kind")) fail("kind", "(missing)", "kind is required: \"curve\" or \"surface\"");
+  if (!doc.contains("kind")) throw ModelError("kind", "(missing)", "kind is required: \"curve\" or \"surface\"");
   const json& kindJ = doc.at("kind");
   if (!kindJ.is_string() || (kindJ != "curve" && kindJ != "surface"))
     failJson("kind", kindJ, "kind must be \"curve\" or \"surface\"");
   const bool surface = kindJ == "surface";
 
   if (!doc.contains("construction"))
-    fail("construction", "(missing)", "construction is required: one of " + constructionNames());
+    throw ModelError("construction", "(missing)", "construction is required: one of " + constructionNames());
   const json& consJ = doc.at("construction");
   const auto cons = consJ.is_string() ? constructionFromName(consJ.get<std::string>()) : std::nullopt;
   if (!cons)
@@ -469,7 +466,7 @@ Model parseModel(const json& doc, ModelArrays* arrays) {
 
   const std::string cname(constructionName(c));
   auto require = [&](const char* key, bool needed) {
-    if (needed && !doc.contains(key)) fail(key, "(missing)", std::string(key) + " is required for " + cname);
+    if (needed && !doc.contains(key)) throw ModelError(key, "(missing)", std::string(key) + " is required for " + cname);
   };
   const FamilyTraits& traits = familyOf(c);
   require("degree", traits.usesDegree);

@@ -1,4 +1,5 @@
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/core/value_text.h>
 #include <shapespline/io/welded_mesh.h>
 
 #include <shapespline/io/number_text.h>
@@ -64,14 +65,9 @@ std::pair<int, int> SampleLayout::itemIndex(size_t item) const {
 
 namespace {
 
-std::string shortest(double v) {
-  char buf[kMaxNumberChars];
-  return std::string(buf, writeNumber(buf, v));
-}
-
 [[noreturn]] void nonFinite(const std::string& what, double value, size_t item) {
   throw DerivedValueError(what + " of item " + std::to_string(item) +
-                          " is not finite; nothing was written (got " + shortest(value) + ")");
+                          " is not finite; nothing was written (got " + shortestText(value) + ")");
 }
 
 // start + s (end - start), kept inside [start, end]: rounding may step past an end, and past
@@ -117,7 +113,7 @@ void SampleLayout::checkDerivedValues() const {
     for (size_t k = 0; k < ranges.size(); ++k) {
       const auto [a, b] = ranges[k];
       for (double x : {a, b, b - a})
-        if (!std::isfinite(x)) nonFinite(std::string(name) + " interval [" + shortest(a) + ", " + shortest(b) + "]", x, k);
+        if (!std::isfinite(x)) nonFinite(std::string(name) + " interval [" + shortestText(a) + ", " + shortestText(b) + "]", x, k);
     }
     if (!ranges.empty() && !std::isfinite(ranges.back().second - ranges.front().first)) {
       const double range = ranges.back().second - ranges.front().first;

@@ -200,10 +200,9 @@ std::optional<ShardInfo> parseShardInfoLine(std::string_view line) {
   s.job = std::string(t[2]);
   if (t[3] != "curve" && t[3] != "surface") return std::nullopt;
   s.surface = t[3] == "surface";
-  constexpr uint64_t kMaxItems = (uint64_t{1} << 62) - 1;
-  const auto kn = parsePair(t[5], "/", 1'000'000'000);
-  const auto range = parsePair(t[7], "..", kMaxItems);
-  const auto total = parseU64(t[9], kMaxItems);
+  const auto kn = parsePair(t[5], "/", kMaxShardCount);
+  const auto range = parsePair(t[7], "..", kMaxItemCount);
+  const auto total = parseU64(t[9], kMaxItemCount);
   const auto grid = parsePair(t[11], "x", 65536);
   if (!kn || !range || !total || !grid) return std::nullopt;
   if (kn->first < 1 || kn->first > kn->second || range->first > range->second || range->second > *total) {
@@ -258,9 +257,8 @@ std::optional<MeshInfo> parseMeshInfoLine(std::string_view line) {
       t[3] != "items" || t[5] != "closed" || t[7] != "orientation") {
     return std::nullopt;
   }
-  constexpr uint64_t kMaxItems = (uint64_t{1} << 62) - 1;
-  const auto items = parsePair(t[4], "x", kMaxItems);
-  if (!items || items->first == 0 || items->second == 0 || items->first > kMaxItems / items->second) return std::nullopt;
+  const auto items = parsePair(t[4], "x", kMaxItemCount);
+  if (!items || items->first == 0 || items->second == 0 || items->first > kMaxItemCount / items->second) return std::nullopt;
   MeshInfo m;
   m.patchesU = items->first;
   m.patchesV = items->second;

@@ -19,6 +19,12 @@
 
 namespace shapespline::io {
 
+// The bounds of every job line, raw sidecar and shard record: shards 1 <= K <= N <= kMaxShardCount,
+// item numbers and counts up to kMaxItemCount (below 2^62, so that products with small factors
+// and sums of two stay in 64 bits).
+inline constexpr uint64_t kMaxShardCount = 1'000'000'000;
+inline constexpr uint64_t kMaxItemCount = (uint64_t{1} << 62) - 1;
+
 // 16 lowercase hex digits. Equal for every shard of one job (and the unsharded job), different when
 // the model, samples per item, fields, computed precision or output format differ.
 std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);

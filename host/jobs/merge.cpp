@@ -84,7 +84,6 @@ namespace {
 constexpr size_t kMaxLineBytes = 64 * 1024;       // OBJ/CSV lines; shapespline writes < 1 KiB
 constexpr size_t kMaxPlyHeaderBytes = 64 * 1024;
 constexpr int kMaxSidecarDepth = 16;
-constexpr uint64_t kMaxItems = (uint64_t{1} << 62) - 1;
 
 // A path as shown in a message: escaped (one line) and at most ~60 characters, keeping the end
 // (the file name).
@@ -660,7 +659,7 @@ MergeResult mergeObj(const std::vector<std::string>& shards, AtomicFile& out) {
     // Index part `s` of vertex slot `slot` -> absolute index in the merged file.
     auto absolute = [&](std::string_view s, int slot) {
       const bool negative = !s.empty() && s[0] == '-';
-      const auto v = parseCount(negative ? s.substr(1) : s, kMaxItems);
+      const auto v = parseCount(negative ? s.substr(1) : s, io::kMaxItemCount);
       if (!v || *v == 0) {
         refuse(w, at() + "has the index " + snippet(s) + " (expected a nonzero integer within the file)");
       }
@@ -968,13 +967,13 @@ RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
   if (r.u64("grid.points_per_item", 0, uint64_t{1} << 40) != i.pointsPerItem()) {
     r.inconsistent("\"grid.points_per_item\"");
   }
-  i.totalItems = r.u64("items.total", 0, kMaxItems);
+  i.totalItems = r.u64("items.total", 0, io::kMaxItemCount);
   i.firstItem = r.u64("items.first", 0, i.totalItems);
   i.itemCount = r.u64("items.count", 0, i.totalItems - i.firstItem);
   s.itemsV = r.u64("items.items_v", 1, std::max<uint64_t>(1, i.totalItems));
   if (!i.surface && s.itemsV != 1) r.inconsistent("\"items.items_v\" of a curve must be 1");
   if (i.totalItems % s.itemsV != 0) r.inconsistent("\"items.total\" is not a multiple of \"items.items_v\"");
-  i.shardCount = static_cast<int>(r.u64("shard.count", 1, 1'000'000'000));
+  i.shardCount = static_cast<int>(r.u64("shard.count", 1, io::kMaxShardCount));
   i.shardIndex = static_cast<int>(r.u64("shard.index", 1, static_cast<uint64_t>(i.shardCount)));
   i.job = r.str("job");
   if (i.job.size() != 16 || i.job.find_first_not_of("0123456789abcdef") != std::string::npos) {
@@ -1000,8 +999,8 @@ RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
     r.inconsistent("\"counts\" do not follow from the item range, grid and fields");
   }
   const SpanWindow win = spanWindow(i.firstItem, i.itemCount, s.itemsV);
-  s.spansUOffset = r.u64("items.spans_u_offset", 0, kMaxItems);
-  s.spansVOffset = r.u64("items.spans_v_offset", 0, kMaxItems);
+  s.spansUOffset = r.u64("items.spans_u_offset", 0, io::kMaxItemCount);
+  s.spansVOffset = r.u64("items.spans_v_offset", 0, io::kMaxItemCount);
   s.spansU = r.ints("items.spans_u");
   s.spansV = r.ints("items.spans_v");
   if (s.spansUOffset != win.row0 || s.spansU.size() != win.row1 - win.row0 || s.spansVOffset != win.col0 ||

@@ -1,5 +1,7 @@
-#include <shapespline/jobs/job_input_error.h>
 #include <shapespline/jobs/scheduler_env.h>
+
+#include <shapespline/io/shard_info.h>
+#include <shapespline/jobs/job_input_error.h>
 
 #include <cstdint>
 #include <cstdlib>
@@ -8,7 +10,6 @@
 namespace shapespline::jobs {
 namespace {
 
-constexpr uint64_t kMaxShards = 1'000'000'000;
 constexpr size_t kMaxDigits = 10;
 
 const char* const kId = "SLURM_ARRAY_TASK_ID";
@@ -36,7 +37,7 @@ std::optional<uint64_t> number(const EnvLookup& env, const char* name) {
 
 uint64_t parseCount(const std::string& text, const std::string& field) {
   const uint64_t n = parseNumber(text, field);
-  if (n < 1 || n > kMaxShards) throw JobInputError(field, text, "the shard count must be in [1, 1000000000]");
+  if (n < 1 || n > io::kMaxShardCount) throw JobInputError(field, text, "the shard count must be in [1, 1000000000]");
   return n;
 }
 
@@ -106,7 +107,7 @@ ShardChoice fromSlurm(const EnvLookup& env, const std::string& shardCountOption)
                      "must lie in [SLURM_ARRAY_TASK_MIN, SLURM_ARRAY_TASK_MAX] = [" + std::to_string(first) + ", " +
                          std::to_string(last) + "]");
   }
-  if (n > kMaxShards) {
+  if (n > io::kMaxShardCount) {
     throw JobInputError(kMax, std::to_string(last),
                      "gives " + std::to_string(n) + " shards (MAX - MIN + 1); at most 1000000000 are allowed");
   }
@@ -166,7 +167,7 @@ ShardChoice parseShardOption(const std::string& text, const std::string& shardCo
   char* e2 = nullptr;
   const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
   const long long k = std::strtoll(a.c_str(), &e1, 10), n = std::strtoll(b.c_str(), &e2, 10);
-  if (a.empty() || b.empty() || *e1 || *e2 || n < 1 || k < 1 || k > n || n > 1'000'000'000) {
+  if (a.empty() || b.empty() || *e1 || *e2 || n < 1 || k < 1 || k > n || n > io::kMaxShardCount) {
     throw JobInputError("--shard", text, rule);
   }
   return {static_cast<int>(k), static_cast<int>(n), ""};

@@ -23,7 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr uint64_t kMaxShards = 1'000'000'000;
 constexpr size_t kMaxDistinctCounts = 16;
 
 std::string formatName(io::OutputFormat f) {
@@ -185,9 +184,9 @@ std::vector<std::string> expandMergePattern(const std::string& text) {
   std::error_code ec;
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const auto m = p.match(it->path().filename().string());
-    if (!m || m->first < 1 || m->first > kMaxShards) continue;
+    if (!m || m->first < 1 || m->first > io::kMaxShardCount) continue;
     if (p.hasCount()) {
-      if (m->second < 1 || m->second > kMaxShards || m->first > m->second) continue;
+      if (m->second < 1 || m->second > io::kMaxShardCount || m->first > m->second) continue;
       counts.insert(m->second);
       if (counts.size() > kMaxDistinctCounts) break;
     }
@@ -207,7 +206,7 @@ std::vector<std::string> expandMergePattern(const std::string& text) {
     }
     n = *counts.begin();
     why = "{count} of the files present";
-  } else if (const auto stated = shardCountOfFile(p.expand(1, 0)); stated && *stated >= 1 && *stated <= kMaxShards) {
+  } else if (const auto stated = shardCountOfFile(p.expand(1, 0)); stated && *stated >= 1 && *stated <= io::kMaxShardCount) {
     n = *stated;
     why = "shard 1 says so";
   } else {

@@ -1,6 +1,7 @@
 #include <shapespline/jobs/shard_record.h>
 
 #include <shapespline/io/json_depth.h>
+#include <shapespline/io/shard_info.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -24,7 +25,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxRecordDepth = 16;
-constexpr uint64_t kMaxItems = uint64_t{1} << 62;
 constexpr uint64_t kMaxCount = std::numeric_limits<uint64_t>::max();
 
 bool isHex(std::string_view s, size_t n) {
@@ -126,7 +126,7 @@ ShardRecord parseShardRecord(std::string_view text) {
   r.shardCount = static_cast<int>(u64(shard, "count", 1, 1'000'000'000, "shard"));
   r.shardIndex = static_cast<int>(u64(shard, "index", 1, static_cast<uint64_t>(r.shardCount), "shard"));
   const nlohmann::json& items = member(doc, "items", "");
-  r.totalItems = u64(items, "total", 0, kMaxItems, "items");
+  r.totalItems = u64(items, "total", 0, io::kMaxItemCount, "items");
   r.firstItem = u64(items, "first", 0, r.totalItems, "items");
   r.itemCount = u64(items, "count", 0, r.totalItems - r.firstItem, "items");
   r.points = u64(doc, "points", 0, kMaxCount);

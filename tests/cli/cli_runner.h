@@ -90,5 +90,10 @@ inline CliResult runCli(const std::string& args, const std::filesystem::path& sc
 }
 
 inline std::string examplesDir() { return std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models"; }
+// examples/models/NAME.
+inline std::string exampleModel(const std::string& name) { return examplesDir() + "/" + name; }
+
+// Debian's interpreter, the one that sees python3-numpy (another python3 may come first on PATH).
+inline constexpr const char* kPython = "/usr/bin/python3";
 
 }  // namespace shapespline::test

@@ -26,8 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string example(const std::string& name) { return std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models/" + name; }
-
 struct KnotModel {
   const char* file;
   bool surface;
@@ -75,10 +73,10 @@ TEST(CliDeviceChoice, KnotVectorSampleOnTheGpuMatchesTheCpu) {
       const std::string common = std::string(" --derivatives -q --precision ") + (fp32 ? "float" : "double") +
                                  (m.surface ? " --grid 7" : " --samples 9");
       const std::string what = std::string(m.file) + " " + file;
-      const CliResult gpu = runCli("sample " + quote(example(m.file)) + " -o gpu_" + file +
+      const CliResult gpu = runCli("sample " + quote(exampleModel(m.file)) + " -o gpu_" + file +
                                        " --device vulkan --require-device" + common, dir.path(), dir.path());
       ASSERT_EQ(gpu.rc, 0) << what << ": " << gpu.err;
-      const CliResult cpu = runCli("sample " + quote(example(m.file)) + " -o cpu_" + file + " --device cpu" + common,
+      const CliResult cpu = runCli("sample " + quote(exampleModel(m.file)) + " -o cpu_" + file + " --device cpu" + common,
                                    dir.path(), dir.path());
       ASSERT_EQ(cpu.rc, 0) << what << ": " << cpu.err;
 
@@ -120,10 +118,10 @@ TEST(CliDeviceChoice, KnotVectorEvalOnTheGpuMatchesTheCpu) {
       const std::string at = curve ? "curve_at.json" : "surface_at.json";
       const std::string common = std::string(" --at ") + at + " -q --precision " + (fp32 ? "float" : "double");
       const std::string what = std::string(m.file) + (fp32 ? " fp32" : " fp64");
-      const CliResult gpu = runCli("eval " + quote(example(m.file)) + common + " --device vulkan --require-device",
+      const CliResult gpu = runCli("eval " + quote(exampleModel(m.file)) + common + " --device vulkan --require-device",
                                    dir.path(), dir.path());
       ASSERT_EQ(gpu.rc, 0) << what << ": " << gpu.err;
-      const CliResult cpu = runCli("eval " + quote(example(m.file)) + common + " --device cpu", dir.path(), dir.path());
+      const CliResult cpu = runCli("eval " + quote(exampleModel(m.file)) + common + " --device cpu", dir.path(), dir.path());
       ASSERT_EQ(cpu.rc, 0) << what << ": " << cpu.err;
       const json g = json::parse(gpu.out).at("samples"), c = json::parse(cpu.out).at("samples");
       ASSERT_EQ(g.size(), c.size()) << what;
@@ -143,7 +141,7 @@ TEST(CliDeviceChoice, KnotVectorEvalOnTheGpuMatchesTheCpu) {
 
 TEST(CliDeviceChoice, AutoIsTheDefaultAndABadDeviceNamesTheChoices) {
   ScratchDir dir("device_auto");
-  const std::string model = quote(example("open_aeb.json"));
+  const std::string model = quote(exampleModel("open_aeb.json"));
   const CliResult byDefault = runCli("sample " + model + " -o d.f64 --samples 5 -q", dir.path(), dir.path());
   const CliResult byAuto = runCli("sample " + model + " -o a.f64 --samples 5 -q --device auto", dir.path(), dir.path());
   ASSERT_EQ(byDefault.rc, 0) << byDefault.err;

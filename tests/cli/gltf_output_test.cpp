@@ -34,8 +34,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kPython = "/usr/bin/python3";
-
 std::string validatorScript() { return std::string(SHAPESPLINE_SOURCE_DIR) + "/tests/tools/gltf/validate.js"; }
 
 // Why the external readers cannot run here (CI installs all of them: scripts/setup.sh), or "".

@@ -16,8 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string example(const std::string& name) { return examplesDir() + "/" + name; }
-
 // `shapespline ARGS` run in `dir` (relative paths resolve there).
 CliResult runIn(const ScratchDir& dir, const std::string& args) { return runCli(args, dir.path(), dir.path()); }
 
@@ -39,7 +37,7 @@ void expectRefused(const CliResult& r, const ScratchDir& dir, const std::string&
 
 TEST(CliOutputIsNotAnInput, SampleRefusesItsModelAsDataSidecarBufferOrRecord) {
   ScratchDir dir("io_sample");
-  const std::string model = readText(example("surface_aeb.json"));
+  const std::string model = readText(exampleModel("surface_aeb.json"));
   struct Case {
     std::string modelName, args;
   };
@@ -62,7 +60,7 @@ TEST(CliOutputIsNotAnInput, SampleRefusesItsModelAsDataSidecarBufferOrRecord) {
 
 TEST(CliOutputIsNotAnInput, ASymlinkOrAHardLinkToTheModelIsTheModel) {
   ScratchDir dir("io_links");
-  const std::string model = readText(example("surface_aeb.json"));
+  const std::string model = readText(exampleModel("surface_aeb.json"));
   writeText(dir / "m.json", model);
   fs::create_symlink(dir / "m.json", dir / "soft.ply");
   fs::create_hard_link(dir / "m.json", dir / "hard.ply");
@@ -79,7 +77,7 @@ TEST(CliOutputIsNotAnInput, ASymlinkOrAHardLinkToTheModelIsTheModel) {
 
 TEST(CliOutputIsNotAnInput, ExtendGbFitAndMergeRefuseTheirInputs) {
   ScratchDir dir("io_others");
-  const std::string curve = readText(example("clamped_bspline.json"));
+  const std::string curve = readText(exampleModel("clamped_bspline.json"));
   writeText(dir / "c.json", curve);
   size_t before = dir.entries().size();
   expectRefused(runIn(dir, "extend c.json --to 10,2 -o c.json"), dir, "-o", "MODEL", dir / "c.json", curve, before,
@@ -87,15 +85,15 @@ TEST(CliOutputIsNotAnInput, ExtendGbFitAndMergeRefuseTheirInputs) {
   expectRefused(runIn(dir, "extend c.json --to 10,2 -o e.json --svg ./c.json"), dir, "--svg", "MODEL", dir / "c.json",
                 curve, before, "extend --svg");
 
-  const std::string surface = readText(example("bspline_surface.json"));
-  const std::string target = readText(example("bspline_surface_target.json"));
+  const std::string surface = readText(exampleModel("bspline_surface.json"));
+  const std::string target = readText(exampleModel("bspline_surface_target.json"));
   writeText(dir / "s.json", surface);
   writeText(dir / "t.json", target);
   before = dir.entries().size();
   expectRefused(runIn(dir, "extend s.json --to-curve t.json -o t.json"), dir, "-o", "--to-curve[0]", dir / "t.json",
                 target, before, "extend --to-curve");
 
-  const std::string gb = readText(example("gb_curve.json"));
+  const std::string gb = readText(exampleModel("gb_curve.json"));
   writeText(dir / "g.json", gb);
   before = dir.entries().size();
   expectRefused(runIn(dir, "gb-fit g.json --span 1 --through 1,1 -o g.json"), dir, "-o", "MODEL", dir / "g.json", gb,
@@ -123,7 +121,7 @@ TEST(CliOutputIsNotAnInput, ExtendGbFitAndMergeRefuseTheirInputs) {
 TEST(CliOutputIsNotAnInput, RenderRefusesItsModel) {
   REQUIRE_VULKAN();
   ScratchDir dir("io_render");
-  const std::string model = readText(example("surface_aeb.json"));
+  const std::string model = readText(exampleModel("surface_aeb.json"));
   writeText(dir / "mm.json", model);
   const size_t before = dir.entries().size();
   expectRefused(runIn(dir, "render mm.json -o mm.json --size 64x64"), dir, "-o", "MODEL", dir / "mm.json", model,
@@ -132,7 +130,7 @@ TEST(CliOutputIsNotAnInput, RenderRefusesItsModel) {
 
 TEST(CliOutputIsNotAnInput, ViewRefusesAScreenshotOverItsModelOrScript) {
   ScratchDir dir("io_view");
-  const std::string model = readText(example("surface_aeb.json"));
+  const std::string model = readText(exampleModel("surface_aeb.json"));
   writeText(dir / "m.png", model);
   writeText(dir / "s.png", "frames 1\nscreenshot s.png\nquit\n");
   writeText(dir / "t.txt", "frames 1\nscreenshot m.png\nquit\n");
@@ -295,7 +293,7 @@ TEST(CliQueriesOutsideTheModel, GlobalParametersOutsideTheRangeAreExit2NamingThe
   for (const char* u : {"1e9", "1e300", "-0.5", "1.0000001"}) {
     writeText(dir / "at.json", std::string(R"({"samples": [{"u": 0.5}, {"u": )") + u + "}]}");
     for (const std::string& device : devices) {
-      const CliResult r = runIn(dir, "eval " + quote(example("clamped_bspline.json")) + " --at at.json " + device);
+      const CliResult r = runIn(dir, "eval " + quote(exampleModel("clamped_bspline.json")) + " --at at.json " + device);
       EXPECT_EQ(r.rc, 2) << u << " " << device << ": " << r.err;
       EXPECT_TRUE(contains(r.err, "--at.samples[1].u: must be in the model's parameter range [0, 1]")) << r.err;
       EXPECT_TRUE(r.out.empty()) << r.out;
@@ -364,8 +362,8 @@ struct Inapplicable {
 
 TEST(CliInapplicableOptions, AreExit2NamingTheOptionAndTheReason) {
   ScratchDir dir("inapplicable");
-  const std::string surface = quote(example("bspline_surface.json")), target = quote(example("bspline_surface_target.json"));
-  const std::string curve = quote(example("open_aeb.json")), bspline = quote(example("clamped_bspline.json"));
+  const std::string surface = quote(exampleModel("bspline_surface.json")), target = quote(exampleModel("bspline_surface_target.json"));
+  const std::string curve = quote(exampleModel("open_aeb.json")), bspline = quote(exampleModel("clamped_bspline.json"));
   const std::vector<Inapplicable> cases = {
       {"extend " + surface + " --to-curve " + target + " -o e.json --svg s.svg", "--svg", "does not apply to surfaces"},
       {"basis --family bspline --order 4 --lambda 2", "--lambda", "does not apply to --family bspline"},
@@ -396,7 +394,7 @@ TEST(CliInapplicableOptions, AreExit2NamingTheOptionAndTheReason) {
 TEST(CliInapplicableOptions, ViewScreenshotDirNeedsAScriptThatTakesScreenshots) {
   ScratchDir dir("inapplicable_view");
   writeText(dir / "quit.txt", "quit\n");
-  const CliResult r = runIn(dir, "view " + quote(example("surface_aeb.json")) + " --script quit.txt --screenshot-dir shots");
+  const CliResult r = runIn(dir, "view " + quote(exampleModel("surface_aeb.json")) + " --script quit.txt --screenshot-dir shots");
   if (contains(r.err, "this build has no viewer")) GTEST_SKIP() << "no viewer in this build";
   EXPECT_EQ(r.rc, 2) << r.err;
   EXPECT_TRUE(contains(r.err, "--screenshot-dir: does not apply without a --script that takes screenshots")) << r.err;

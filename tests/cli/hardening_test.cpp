@@ -19,8 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string example(const std::string& name) { return examplesDir() + "/" + name; }
-
 // `shapespline <args>` with extra environment (`env`: "NAME=value ...") and an optional file size
 // limit in KiB (ulimit -f, applied by bash to the exec'd binary; SIGXFSZ keeps its default action,
 // so the binary must ignore it itself).
@@ -82,8 +80,8 @@ void expectSameBytes(const FormatCase& c, const std::string& device, const std::
 }
 
 TEST(CliHardeningDeterminism, CpuEveryFormatAcrossRunsThreadsAndChunks) {
-  const std::string curve = example("open_aeb.json"), closed = example("butterfly_aeb.json");
-  const std::string surface = example("surface_aeb.json");
+  const std::string curve = exampleModel("open_aeb.json"), closed = exampleModel("butterfly_aeb.json");
+  const std::string surface = exampleModel("surface_aeb.json");
   const std::vector<std::pair<std::string, FormatCase>> cases = {
       {"curve_obj", {curve, "c.obj", "--samples 7"}},
       {"curve_ply", {curve, "c.ply", "--samples 7 --derivatives"}},
@@ -103,7 +101,7 @@ TEST(CliHardeningDeterminism, CpuEveryFormatAcrossRunsThreadsAndChunks) {
 
 TEST(CliHardeningDeterminism, VulkanAcrossRunsAndChunks) {
   REQUIRE_VULKAN();
-  const std::string curve = example("open_aeb.json"), surface = example("surface_aeb.json");
+  const std::string curve = exampleModel("open_aeb.json"), surface = exampleModel("surface_aeb.json");
   for (const char* precision : {"double", "float"}) {
     const std::string ext = std::string(precision) == "double" ? ".f64" : ".f32";
     const std::string dev = std::string("--device vulkan --require-device --precision ") + precision;
@@ -117,7 +115,7 @@ TEST(CliHardeningDeterminism, VulkanAcrossRunsAndChunks) {
 TEST(CliHardeningDeterminism, ChunkAndThreadOptionsAreValidated) {
   ScratchDir dir("det_opts");
   for (const char* bad : {"--threads -1", "--threads 5000", "--chunk-points -3", "--chunk-points 99999999999"}) {
-    const CliResult r = sample(example("open_aeb.json"), dir / "o", "c.obj", std::string("--device cpu ") + bad);
+    const CliResult r = sample(exampleModel("open_aeb.json"), dir / "o", "c.obj", std::string("--device cpu ") + bad);
     EXPECT_EQ(r.rc, 2) << bad << ": " << r.err;
     EXPECT_TRUE(contains(r.err, std::string(bad).substr(0, std::string(bad).find(' ')))) << r.err;
     EXPECT_TRUE(entries(dir / "o").empty()) << joined(entries(dir / "o"));
@@ -142,26 +140,26 @@ TEST(CliHardeningFaults, AllocationFailureAndDeviceLossAreExit3WithNoOutput) {
   for (const std::string env : {"SHAPESPLINE_FAULT=alloc", "SHAPESPLINE_FAULT=alloc:4"}) {
     for (const char* file : {"c.obj", "c.f64"}) {
       const fs::path out = dir / ("out" + std::to_string(k++));
-      const CliResult r = sample(example("open_aeb.json"), out, file, "--device vulkan --samples 9", env);
+      const CliResult r = sample(exampleModel("open_aeb.json"), out, file, "--device vulkan --samples 9", env);
       expectCleanFailure(r, 3, {"error: vulkan: ", "VK_ERROR_OUT_OF_DEVICE_MEMORY", "injected", "--chunk-points",
                                 "no output written"},
                          out, env + " " + file);
     }
     const fs::path out = dir / ("out" + std::to_string(k++));
-    const CliResult r = sample(example("surface_aeb.json"), out, "s.ply", "--device vulkan --precision float --grid 4", env);
+    const CliResult r = sample(exampleModel("surface_aeb.json"), out, "s.ply", "--device vulkan --precision float --grid 4", env);
     expectCleanFailure(r, 3, {"error: vulkan: ", "VK_ERROR_OUT_OF_DEVICE_MEMORY"}, out, env + " surface");
   }
   // Device loss (vk/fault.h): list evaluation (`eval`, vk::OneShot) and grid streaming (`sample`,
   // the evaluator's chunk ring) both fail cleanly.
   writeText(dir / "at.json", R"({"samples": [{"span": 0, "t": 0.5}]})");
-  const CliResult r = run("eval " + quote(example("open_aeb.json")) + " --at at.json --device vulkan", dir.path(),
+  const CliResult r = run("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device vulkan", dir.path(),
                           "SHAPESPLINE_FAULT=device_lost");
   EXPECT_EQ(r.rc, 3) << r.err;
   EXPECT_TRUE(contains(r.err, "error: vulkan: ") && contains(r.err, "VK_ERROR_DEVICE_LOST")) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   for (const char* file : {"c.obj", "c.f64"}) {
     const fs::path out = dir / ("lost" + std::to_string(k++));
-    const CliResult q = sample(example("open_aeb.json"), out, file, "--device vulkan --samples 9",
+    const CliResult q = sample(exampleModel("open_aeb.json"), out, file, "--device vulkan --samples 9",
                                "SHAPESPLINE_FAULT=device_lost");
     expectCleanFailure(q, 3, {"error: vulkan: ", "VK_ERROR_DEVICE_LOST"}, out, std::string("device_lost ") + file);
   }
@@ -170,29 +168,29 @@ TEST(CliHardeningFaults, AllocationFailureAndDeviceLossAreExit3WithNoOutput) {
 TEST(CliHardeningFaults, NoDeviceFallsBackToTheCpuUnlessTheDeviceIsRequired) {
   ScratchDir dir("fault_nodev");
   for (const char* file : {"s.obj", "s.f64"}) {
-    const CliResult cpu = sample(example("surface_aeb.json"), dir / "cpu", file, "--device cpu --grid 4 -q");
+    const CliResult cpu = sample(exampleModel("surface_aeb.json"), dir / "cpu", file, "--device cpu --grid 4 -q");
     ASSERT_EQ(cpu.rc, 0) << cpu.err;
     const CliResult r =
-        sample(example("surface_aeb.json"), dir / "fb", file, "--device vulkan --grid 4", "SHAPESPLINE_FAULT=no_device");
+        sample(exampleModel("surface_aeb.json"), dir / "fb", file, "--device vulkan --grid 4", "SHAPESPLINE_FAULT=no_device");
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_TRUE(contains(r.err, "notice: no Vulkan device")) << r.err;
     EXPECT_TRUE(contains(r.err, "falling back to the CPU")) << r.err;
     EXPECT_TRUE(readText(dir / "fb" / file) == readText(dir / "cpu" / file)) << file << ": fallback output differs";
 
     const fs::path out = dir / (std::string("req_") + file);
-    const CliResult q = sample(example("surface_aeb.json"), out, file, "--device vulkan --require-device --grid 4",
+    const CliResult q = sample(exampleModel("surface_aeb.json"), out, file, "--device vulkan --require-device --grid 4",
                                "SHAPESPLINE_FAULT=no_device");
     expectCleanFailure(q, 3, {"--require-device", "no Vulkan device", "injected"}, out, "require-device");
   }
   writeText(dir / "at.json", R"({"samples": [{"span": 0, "t": 0.5}]})");
-  const CliResult e = run("eval " + quote(example("open_aeb.json")) + " --at at.json --device vulkan --require-device",
+  const CliResult e = run("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device vulkan --require-device",
                           dir.path(), "SHAPESPLINE_FAULT=no_device");
   EXPECT_EQ(e.rc, 3) << e.err;
   EXPECT_TRUE(e.out.empty());
   // Knot-vector B-splines have no GPU kernel: with --require-device that is an error too.
   if (vulkanDevice()) {
     const fs::path out = dir / "knots";
-    const CliResult k = sample(example("clamped_bspline.json"), out, "k.obj", "--device vulkan --require-device");
+    const CliResult k = sample(exampleModel("clamped_bspline.json"), out, "k.obj", "--device vulkan --require-device");
     if (k.rc != 0) expectCleanFailure(k, 3, {"--require-device"}, out, "knot-vector");
   }
 }
@@ -202,11 +200,11 @@ TEST(CliHardeningFaults, FullDiskIsExit3WithNoPartialFile) {
   // ~2 MB of CSV / ~1 MB of f64 against a 64 KiB file size limit: the first flush fails with EFBIG.
   for (const char* file : {"c.csv", "c.f64", "c.obj", "c.ply"}) {
     const fs::path out = dir / (std::string("o_") + file);
-    const CliResult r = sample(example("open_aeb.json"), out, file, "--device cpu --samples 20000 --derivatives", "", 64);
+    const CliResult r = sample(exampleModel("open_aeb.json"), out, file, "--device cpu --samples 20000 --derivatives", "", 64);
     expectCleanFailure(r, 3, {"-o: cannot write", "File too large", "temporary file was removed"}, out, file);
   }
   // A small job fits under the limit: the limit itself is not what fails.
-  const CliResult ok = sample(example("open_aeb.json"), dir / "small", "c.csv", "--device cpu --samples 5", "", 64);
+  const CliResult ok = sample(exampleModel("open_aeb.json"), dir / "small", "c.csv", "--device cpu --samples 5", "", 64);
   EXPECT_EQ(ok.rc, 0) << ok.err;
 }
 
@@ -222,7 +220,7 @@ TEST(CliHardeningFaults, UnwritableOutputIsExit2NamingO) {
                         Case{"/proc/shapespline_hardening.obj", "cannot create a file"},
                         Case{"/proc/self/c.obj", "cannot create a file"},
                         Case{(dir / "sub").string() + "/", "unknown extension"}}) {
-    const CliResult r = run("sample " + quote(example("open_aeb.json")) + " -o " + quote(c.path) + " --device cpu",
+    const CliResult r = run("sample " + quote(exampleModel("open_aeb.json")) + " -o " + quote(c.path) + " --device cpu",
                             dir / "sub");
     EXPECT_EQ(r.rc, 2) << c.path << ": " << r.err;
     EXPECT_TRUE(contains(r.err, "error: -o: ")) << c.path << ": " << r.err;
@@ -234,7 +232,7 @@ TEST(CliHardeningFaults, UnwritableOutputIsExit2NamingO) {
   // An existing device (reached through a symlink with a known extension) is refused, never replaced.
   fs::create_directory(dir / "dev");
   fs::create_symlink("/dev/full", dir / "dev" / "full.obj");
-  const CliResult r = run("sample " + quote(example("open_aeb.json")) + " -o full.obj --device cpu", dir / "dev");
+  const CliResult r = run("sample " + quote(exampleModel("open_aeb.json")) + " -o full.obj --device cpu", dir / "dev");
   EXPECT_EQ(r.rc, 2) << r.err;
   EXPECT_TRUE(contains(r.err, "-o: ") && contains(r.err, "not a regular file")) << r.err;
   EXPECT_TRUE(fs::is_symlink(dir / "dev" / "full.obj"));
@@ -245,7 +243,7 @@ TEST(CliHardeningFaults, UnwritableOutputIsExit2NamingO) {
   if (::geteuid() != 0) {
     fs::create_directory(dir / "ro");
     fs::permissions(dir / "ro", fs::perms::owner_read | fs::perms::owner_exec);
-    const CliResult q = run("sample " + quote(example("open_aeb.json")) + " -o ro/c.obj --device cpu", dir.path());
+    const CliResult q = run("sample " + quote(exampleModel("open_aeb.json")) + " -o ro/c.obj --device cpu", dir.path());
     EXPECT_EQ(q.rc, 2) << q.err;
     EXPECT_TRUE(contains(q.err, "-o: ")) << q.err;
     fs::permissions(dir / "ro", fs::perms::owner_all);
@@ -259,15 +257,15 @@ TEST(CliHardeningFaults, InjectedNanNeverReachesAFile) {
   for (const auto& dev : devices) {
     for (const char* file : {"c.obj", "c.ply", "c.csv", "c.f32", "c.f64", "c.svg"}) {
       const fs::path out = dir / ("o" + std::to_string(std::hash<std::string>{}(dev + file)));
-      const CliResult r = sample(example("open_aeb.json"), out, file, dev + " --samples 6", "SHAPESPLINE_FAULT=nan");
+      const CliResult r = sample(exampleModel("open_aeb.json"), out, file, dev + " --samples 6", "SHAPESPLINE_FAULT=nan");
       expectCleanFailure(r, 3, {"error: point: ", "non-finite", "nothing was written"}, out, dev + " " + file);
     }
     const fs::path out = dir / ("s" + std::to_string(std::hash<std::string>{}(dev)));
-    const CliResult r = sample(example("surface_aeb.json"), out, "s.obj", dev + " --grid 4", "SHAPESPLINE_FAULT=nan");
+    const CliResult r = sample(exampleModel("surface_aeb.json"), out, "s.obj", dev + " --grid 4", "SHAPESPLINE_FAULT=nan");
     expectCleanFailure(r, 3, {"non-finite"}, out, dev + " surface");
   }
   writeText(dir / "at.json", R"({"samples": [{"span": 0, "t": 0.5}]})");
-  const CliResult e = run("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path(),
+  const CliResult e = run("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device cpu", dir.path(),
                           "SHAPESPLINE_FAULT=nan");
   EXPECT_EQ(e.rc, 3) << e.err;
   EXPECT_TRUE(contains(e.err, "non-finite")) << e.err;

@@ -17,8 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string example(const std::string& name) { return examplesDir() + "/" + name; }
-
 // `shapespline <args>` in `scratch`, killed after `seconds` (rc 124 then), with the address space
 // limited to `memoryKiB` (0: unlimited) so that an unbounded read fails instead of exhausting memory.
 CliResult runBounded(const std::string& args, const fs::path& scratch, int seconds = 20, long memoryKiB = 0) {
@@ -61,7 +59,7 @@ TEST(InputLimits, DeeplyNestedValueOfAnUnknownKeyIsRefused) {
 TEST(InputLimits, DeeplyNestedAtFileIsRefused) {
   ScratchDir dir("limits_deep_at");
   writeText(dir / "at.json", "{\"samples\": [" + nested(100'000) + "]}");
-  const CliResult r = runBounded("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path());
+  const CliResult r = runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device cpu", dir.path());
   expectShortError(r, "--at.samples[0]", "JSON nesting is limited to 64 levels");
   EXPECT_TRUE(r.out.empty());
 }
@@ -70,7 +68,7 @@ TEST(InputLimits, DeeplyNestedTargetCurveIsRefused) {
   ScratchDir dir("limits_deep_curve");
   writeText(dir / "c.json", "[" + nested(100'000) + "]");
   const CliResult r =
-      runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path());
+      runBounded("extend " + quote(exampleModel("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path());
   expectShortError(r, "--to-curve[0][0]", "JSON nesting is limited to 64 levels");
   EXPECT_FALSE(fs::exists(dir / "e.json"));
 }
@@ -79,11 +77,11 @@ TEST(InputLimits, DeeplyNestedTargetCurveIsRefused) {
 TEST(InputLimits, NestedValuesInErrorsAreShortened) {
   ScratchDir dir("limits_nested_value");
   writeText(dir / "at.json", "{\"samples\": [" + nested(60) + "]}");
-  expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path()),
+  expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device cpu", dir.path()),
                    "--at.samples[0]", "must be an object (got [[[[");
   writeText(dir / "c.json", "[" + nested(60) + "]");
   expectShortError(
-      runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path()),
+      runBounded("extend " + quote(exampleModel("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path()),
       "--to-curve[0].points[0]", "must be [x, y, z] (got [[[[");
 }
 
@@ -95,14 +93,14 @@ TEST(InputLimits, HugeValuesAreNotEchoed) {
   for (int i = 0; i < 200'000; ++i) big += (i ? ",1" : "1");
   big += "]";
   writeText(dir / "at.json", "{\"samples\": [" + big + "]}");
-  expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path()),
+  expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device cpu", dir.path()),
                    "--at.samples[0]", "must be an object (got [1,1,1");
   writeText(dir / "at2.json", "{\"samples\": [{\"span\": 0, \"t\": " + big + "}]}");
-  expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at at2.json --device cpu", dir.path()),
+  expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at at2.json --device cpu", dir.path()),
                    "--at.samples[0].t", "must be a number");
   writeText(dir / "c.json", "[[1, 2, \"" + std::string(300'000, 'x') + "\"]]");
   expectShortError(
-      runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path()),
+      runBounded("extend " + quote(exampleModel("bspline_surface.json")) + " --to-curve c.json -o e.json", dir.path()),
       "--to-curve[0].points[0]", "must hold finite numbers");
   writeText(dir / "m.json",
             "{\"kind\": \"curve\", \"construction\": \"bspline\", \"order\": 3, \"points\": " + big + "}");
@@ -113,15 +111,15 @@ TEST(InputLimits, HugeCommandLineValuesAreNotEchoed) {
   ScratchDir dir("limits_huge_arg");
   const std::string junk(100'000, '7');
   expectShortError(
-      runBounded("extend " + quote(example("clamped_bspline.json")) + " --to 1,2,x" + junk + " -o e.json", dir.path()),
+      runBounded("extend " + quote(exampleModel("clamped_bspline.json")) + " --to 1,2,x" + junk + " -o e.json", dir.path()),
       "--to[0]", "expected comma-separated numbers");
   expectShortError(
-      runBounded("sample " + quote(example("open_aeb.json")) + " -o out.ply --threads x" + junk, dir.path()),
+      runBounded("sample " + quote(exampleModel("open_aeb.json")) + " -o out.ply --threads x" + junk, dir.path()),
       "--threads", "could not convert");
   // Values the subcommands check themselves are cut in the one error printer (main.cpp).
-  expectShortError(runBounded("sample " + quote(example("surface_aeb.json")) + " -o out.ply --grid 1" + junk, dir.path()),
+  expectShortError(runBounded("sample " + quote(exampleModel("surface_aeb.json")) + " -o out.ply --grid 1" + junk, dir.path()),
                    "--grid", "expected a positive integer");
-  expectShortError(runBounded("sample " + quote(example("open_aeb.json")) + " -o out.ply --device x" + junk, dir.path()),
+  expectShortError(runBounded("sample " + quote(exampleModel("open_aeb.json")) + " -o out.ply --device x" + junk, dir.path()),
                    "--device", "");
 }
 
@@ -145,10 +143,10 @@ TEST(InputLimits, FifoInputsAreRefusedWithoutBlocking) {
   const auto start = std::chrono::steady_clock::now();
   expectShortError(runBounded("sample fifo -o out.ply --device cpu", dir.path(), 10), "MODEL",
                    "is not a regular file (it is a FIFO)");
-  expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at fifo --device cpu", dir.path(), 10),
+  expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at fifo --device cpu", dir.path(), 10),
                    "--at", "is not a regular file (it is a FIFO)");
   expectShortError(
-      runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve fifo -o e.json", dir.path(), 10),
+      runBounded("extend " + quote(exampleModel("bspline_surface.json")) + " --to-curve fifo -o e.json", dir.path(), 10),
       "--to-curve[0]", "is not a regular file (it is a FIFO)");
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
 }
@@ -171,17 +169,17 @@ TEST(InputLimits, OversizedFilesAreRefusedBeforeReading) {
   fs::resize_file(dir / "big.json", (32u << 20) + 1);  // sparse: costs no disk
   expectShortError(runBounded("sample big.json -o out.ply --device cpu", dir.path()), "MODEL",
                    "input files are limited to 32 MiB (33554432 bytes) (got 33554433 bytes)");
-  expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at big.json --device cpu", dir.path()),
+  expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at big.json --device cpu", dir.path()),
                    "--at", "input files are limited to 32 MiB");
   expectShortError(
-      runBounded("extend " + quote(example("bspline_surface.json")) + " --to-curve big.json -o e.json", dir.path()),
+      runBounded("extend " + quote(exampleModel("bspline_surface.json")) + " --to-curve big.json -o e.json", dir.path()),
       "--to-curve[0]", "input files are limited to 32 MiB");
 }
 
 TEST(InputLimits, MissingFilesStillExitTwo) {
   ScratchDir dir("limits_missing");
   expectShortError(runBounded("sample none.json -o out.ply --device cpu", dir.path()), "MODEL", "cannot read");
-  expectShortError(runBounded("eval " + quote(example("open_aeb.json")) + " --at none.json --device cpu", dir.path()),
+  expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at none.json --device cpu", dir.path()),
                    "--at", "cannot open the file");
 }
 
@@ -256,7 +254,7 @@ TEST(InputLimits, TooManySamplesAreRefused) {
   std::string doc = "{\"samples\": [{}";
   for (int i = 0; i < 1'000'000; ++i) doc += ",{}";
   writeText(dir / "at.json", doc + "]}");
-  const CliResult r = runBounded("eval " + quote(example("open_aeb.json")) + " --at at.json --device cpu", dir.path());
+  const CliResult r = runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at at.json --device cpu", dir.path());
   expectShortError(r, "--at", "a sample list holds at most 1000000 samples (got 1000001 samples)");
 }
 
@@ -264,7 +262,7 @@ TEST(InputLimits, TooManySamplesAreRefused) {
 
 TEST(ArgumentErrors, ConversionErrorsNameTheOption) {
   ScratchDir dir("args_conversion");
-  const std::string m = quote(example("open_aeb.json"));
+  const std::string m = quote(exampleModel("open_aeb.json"));
   for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
            {"sample " + m + " -o out.ply --threads abc", "--threads"},
            {"sample " + m + " -o out.ply --chunk-points 1e99", "--chunk-points"}}) {
@@ -278,7 +276,7 @@ TEST(ArgumentErrors, ConversionErrorsNameTheOption) {
 
 TEST(ArgumentErrors, OtherParseErrorsUseTheErrorPrefix) {
   ScratchDir dir("args_other");
-  const std::string m = quote(example("open_aeb.json"));
+  const std::string m = quote(exampleModel("open_aeb.json"));
   for (const auto& [args, start] : std::vector<std::pair<std::string, std::string>>{
            {"sample " + m + " -o out.ply --threads", "shapespline: error: --threads: "},
            {"sample -o out.ply", "shapespline: error: MODEL: "},

@@ -21,10 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string model(const std::string& name) { return examplesDir() + "/" + name; }
-
 // `sample MODEL -o DIR/NAME OPTS --device cpu -q`; asserts success.
-void sampleTo(const ScratchDir& dir, const std::string& modelPath, const std::string& name, const std::string& opts) {
+void sampleOnCpuTo(const ScratchDir& dir, const std::string& modelPath, const std::string& name, const std::string& opts) {
   const CliResult r = runCli("sample " + quote(modelPath) + " -o " + quote((dir / name).string()) + " " + opts +
                                  " --device cpu -q",
                              dir.path());
@@ -63,10 +61,10 @@ std::vector<std::string> shardNames(const std::string& stem, const std::string& 
 // Samples the whole job and its N shards; returns the shard file names.
 std::vector<std::string> wholeAndShards(const ScratchDir& dir, const std::string& modelPath, const std::string& ext,
                                         const std::string& opts, int n) {
-  sampleTo(dir, modelPath, "whole." + ext, opts);
+  sampleOnCpuTo(dir, modelPath, "whole." + ext, opts);
   const auto names = shardNames("part", ext, n);
   for (int k = 1; k <= n; ++k) {
-    sampleTo(dir, modelPath, names[static_cast<size_t>(k - 1)],
+    sampleOnCpuTo(dir, modelPath, names[static_cast<size_t>(k - 1)],
              opts + " --shard " + std::to_string(k) + "/" + std::to_string(n));
   }
   return names;
@@ -93,7 +91,7 @@ TEST(CliMerge, EveryFormatMergesToTheUnshardedFileByteForByte) {
   for (const Job& j : jobs) {
     SCOPED_TRACE(j.model + " ." + j.ext + " " + j.opts + " x" + std::to_string(j.shards));
     ScratchDir dir("merge_identity");
-    const auto parts = wholeAndShards(dir, model(j.model), j.ext, j.opts, j.shards);
+    const auto parts = wholeAndShards(dir, exampleModel(j.model), j.ext, j.opts, j.shards);
     const CliResult r = merge(dir, "merged." + j.ext, parts);
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_EQ(readText(dir / ("merged." + j.ext)), readText(dir / ("whole." + j.ext)));
@@ -112,23 +110,23 @@ TEST(CliMerge, EveryFormatMergesToTheUnshardedFileByteForByte) {
 
 TEST(CliMerge, ShardSidecarListsOnlyItsOwnItems) {
   ScratchDir dir("merge_sidecar");
-  sampleTo(dir, model("butterfly_aeb.json"), "whole.f64", "--samples 3");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "whole.f64", "--samples 3");
   const json whole = json::parse(readText(dir / "whole.f64.json"));
   const size_t total = whole["items"]["total"].get<size_t>();
   ASSERT_GE(total, 4u);
   EXPECT_EQ(whole["items"]["spans_u"].size(), total);
   // 1000 shards of ~20 spans: most are empty and must list no span at all.
-  sampleTo(dir, model("butterfly_aeb.json"), "empty.f64", "--samples 3 --shard 1/1000");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "empty.f64", "--samples 3 --shard 1/1000");
   const json empty = json::parse(readText(dir / "empty.f64.json"));
   EXPECT_EQ(empty["items"]["count"], 0);
   EXPECT_EQ(empty["items"]["spans_u"].size(), 0u) << empty["items"].dump();
-  sampleTo(dir, model("butterfly_aeb.json"), "half.f64", "--samples 3 --shard 2/2");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "half.f64", "--samples 3 --shard 2/2");
   const json half = json::parse(readText(dir / "half.f64.json"));
   const size_t first = half["items"]["first"].get<size_t>(), count = half["items"]["count"].get<size_t>();
   ASSERT_EQ(half["items"]["spans_u"].size(), count);
   for (size_t k = 0; k < count; ++k) EXPECT_EQ(half["items"]["spans_u"][k], whole["items"]["spans_u"][first + k]);
   // Surfaces: the rows (u) the shard touches, and the columns of its row when it stays in one.
-  sampleTo(dir, model("surface_aeb.json"), "s.f64", "--grid 2 --shard 2/16");
+  sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "s.f64", "--grid 2 --shard 2/16");
   const json s = json::parse(readText(dir / "s.f64.json"));
   EXPECT_EQ(s["items"]["count"], 1);
   EXPECT_EQ(s["items"]["spans_u"].size(), 1u);
@@ -171,8 +169,8 @@ TEST(CliMerge, PlyCountsThatOverflowAreRefused) {
 TEST(CliMerge, ObjIndicesNearInt64MaxAndGarbageAreRefused) {
   ScratchDir dir("merge_obj_overflow");
   // Per-item shards: their polylines' indices are parsed and renumbered.
-  sampleTo(dir, model("butterfly_aeb.json"), "p1.obj", "--samples 3 --shard 1/2 --mesh-layout per-item");
-  sampleTo(dir, model("butterfly_aeb.json"), "p2.obj", "--samples 3 --shard 2/2 --mesh-layout per-item");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "p1.obj", "--samples 3 --shard 1/2 --mesh-layout per-item");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "p2.obj", "--samples 3 --shard 2/2 --mesh-layout per-item");
   const std::string good = readText(dir / "p2.obj");
   const size_t l = good.find("\nl ");
   ASSERT_NE(l, std::string::npos);
@@ -196,14 +194,14 @@ TEST(CliMerge, ShardsOfDifferentJobsAreRefused) {
     SCOPED_TRACE(ext);
     const std::string e = ext;
     const std::string opts = "--samples 4";
-    sampleTo(dir, model("butterfly_aeb.json"), "a1." + e, opts + " --shard 1/2");
-    sampleTo(dir, model("butterfly_aeb.json"), "a2." + e, opts + " --shard 2/2");
-    sampleTo(dir, model("open_aeb.json"), "b2." + e, opts + " --shard 2/2");        // another model
-    sampleTo(dir, model("butterfly_aeb.json"), "c2." + e, "--samples 5 --shard 2/2");  // other arguments
-    sampleTo(dir, model("butterfly_aeb.json"), "d2." + e, opts + " --derivatives --shard 2/2");
-    sampleTo(dir, model("butterfly_aeb.json"), "e1." + e, opts + " --shard 1/3");
-    sampleTo(dir, model("butterfly_aeb.json"), "e2." + e, opts + " --shard 2/3");
-    sampleTo(dir, model("butterfly_aeb.json"), "f2." + e, opts + " --precision float --shard 2/2");
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "a1." + e, opts + " --shard 1/2");
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "a2." + e, opts + " --shard 2/2");
+    sampleOnCpuTo(dir, exampleModel("open_aeb.json"), "b2." + e, opts + " --shard 2/2");        // another model
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "c2." + e, "--samples 5 --shard 2/2");  // other arguments
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "d2." + e, opts + " --derivatives --shard 2/2");
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "e1." + e, opts + " --shard 1/3");
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "e2." + e, opts + " --shard 2/3");
+    sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "f2." + e, opts + " --precision float --shard 2/2");
     expectRefused(merge(dir, "m." + e, {"a1." + e, "b2." + e}), "SHARD[2]", "another job");
     expectRefused(merge(dir, "m." + e, {"a1." + e, "c2." + e}), "SHARD[2]", "another job");
     expectRefused(merge(dir, "m." + e, {"a1." + e, "d2." + e}), "SHARD[2]", "another job");
@@ -222,8 +220,8 @@ TEST(CliMerge, TruncatedExtendedAndNonRegularShardsAreRefused) {
   for (const char* ext : {"ply", "obj", "f64", "csv"}) {
     SCOPED_TRACE(ext);
     const std::string e = ext;
-    sampleTo(dir, model("surface_aeb.json"), "p1." + e, "--grid 3 --shard 1/2");
-    sampleTo(dir, model("surface_aeb.json"), "p2." + e, "--grid 3 --shard 2/2");
+    sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "p1." + e, "--grid 3 --shard 1/2");
+    sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "p2." + e, "--grid 3 --shard 2/2");
     const std::string good = readText(dir / ("p2." + e));
     writeText(dir / ("t2." + e), good.substr(0, good.size() - 5));
     if (e == "f64") {  // the data cut or extended beside an intact sidecar
@@ -244,8 +242,8 @@ TEST(CliMerge, TruncatedExtendedAndNonRegularShardsAreRefused) {
 
 TEST(CliMerge, BrokenSidecarsAreRefusedWithExit2) {
   ScratchDir dir("merge_sidecar_broken");
-  sampleTo(dir, model("butterfly_aeb.json"), "p1.f64", "--samples 3 --shard 1/2");
-  sampleTo(dir, model("butterfly_aeb.json"), "p2.f64", "--samples 3 --shard 2/2");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "p1.f64", "--samples 3 --shard 1/2");
+  sampleOnCpuTo(dir, exampleModel("butterfly_aeb.json"), "p2.f64", "--samples 3 --shard 2/2");
   const std::string good = readText(dir / "p2.f64.json");
   const json g = json::parse(good);
   json wrongCount = g;
@@ -270,10 +268,10 @@ TEST(CliMerge, BrokenSidecarsAreRefusedWithExit2) {
 
 TEST(CliMerge, CsvShardsOutOfOrderOrOverlappingAreRefused) {
   ScratchDir dir("merge_csv");
-  sampleTo(dir, model("surface_aeb.json"), "p1.csv", "--grid 3 --shard 1/2");
-  sampleTo(dir, model("surface_aeb.json"), "p2.csv", "--grid 3 --shard 2/2");
-  sampleTo(dir, model("surface_aeb.json"), "q2.csv", "--grid 3 --derivatives --shard 2/2");
-  sampleTo(dir, model("surface_aeb.json"), "r2.csv", "--grid 4 --shard 2/2");
+  sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "p1.csv", "--grid 3 --shard 1/2");
+  sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "p2.csv", "--grid 3 --shard 2/2");
+  sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "q2.csv", "--grid 3 --derivatives --shard 2/2");
+  sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "r2.csv", "--grid 4 --shard 2/2");
   expectRefused(merge(dir, "m.csv", {"p2.csv", "p1.csv"}), "SHARD[2]", "order");
   expectRefused(merge(dir, "m.csv", {"p1.csv", "p1.csv"}), "SHARD[2]", "order");
   expectRefused(merge(dir, "m.csv", {"p1.csv", "q2.csv"}), "SHARD[2]", "header");
@@ -287,10 +285,10 @@ TEST(CliMerge, ModelPathIsEscapedInPlyAndObjHeaders) {
   ScratchDir dir("merge_escape");
   const fs::path sub = dir / "x\nv 1 2 3\nend_header\ny";
   fs::create_directories(sub);
-  fs::copy_file(model("butterfly_aeb.json"), sub / "m.json");
+  fs::copy_file(exampleModel("butterfly_aeb.json"), sub / "m.json");
   const std::string path = (sub / "m.json").string();
-  sampleTo(dir, path, "c.obj", "--samples 3");
-  sampleTo(dir, path, "c.ply", "--samples 3");
+  sampleOnCpuTo(dir, path, "c.obj", "--samples 3");
+  sampleOnCpuTo(dir, path, "c.ply", "--samples 3");
   const std::string obj = readText(dir / "c.obj");
   EXPECT_FALSE(contains(obj, "\nv 1 2 3\n")) << obj.substr(0, 200);
   EXPECT_TRUE(contains(obj, "x\\nv 1 2 3\\nend_header\\ny")) << obj.substr(0, 200);
@@ -298,8 +296,8 @@ TEST(CliMerge, ModelPathIsEscapedInPlyAndObjHeaders) {
   EXPECT_EQ(ply.find("\nend_header\n"), ply.rfind("\nend_header\n"));
   EXPECT_FALSE(contains(ply, "\nv 1 2 3\n"));
   // Shards with that path still merge into the unsharded file.
-  sampleTo(dir, path, "p1.ply", "--samples 3 --shard 1/2");
-  sampleTo(dir, path, "p2.ply", "--samples 3 --shard 2/2");
+  sampleOnCpuTo(dir, path, "p1.ply", "--samples 3 --shard 1/2");
+  sampleOnCpuTo(dir, path, "p2.ply", "--samples 3 --shard 2/2");
   ASSERT_EQ(merge(dir, "m.ply", {"p1.ply", "p2.ply"}).rc, 0);
   EXPECT_EQ(readText(dir / "m.ply"), ply);
 }
@@ -324,8 +322,8 @@ TEST(CliMerge, MergeStreamsInBoundedMemory) {
   ScratchDir dir("merge_memory");
   for (int k = 1; k <= 2; ++k) {
     const std::string kn = std::to_string(k) + "/2";
-    sampleTo(dir, model("surface_aeb.json"), "p" + std::to_string(k) + ".f64", "--grid 600 --shard " + kn);
-    sampleTo(dir, model("surface_aeb.json"), "t" + std::to_string(k) + ".f64", "--grid 2 --shard " + kn);
+    sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "p" + std::to_string(k) + ".f64", "--grid 600 --shard " + kn);
+    sampleOnCpuTo(dir, exampleModel("surface_aeb.json"), "t" + std::to_string(k) + ".f64", "--grid 2 --shard " + kn);
   }
   ASSERT_GT(fs::file_size(dir / "p1.f64"), 60u << 20);
   const long baseKiB = mergeRssKiB(dir, "t.f64", {"t1.f64", "t2.f64"});

@@ -22,10 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kPython = "/usr/bin/python3";
-
-std::string model(const std::string& name) { return examplesDir() + "/" + name; }
-
 void sampleTo(const ScratchDir& dir, const std::string& modelPath, const std::string& name, const std::string& opts) {
   const CliResult r =
       runCli("sample " + quote(modelPath) + " -o " + quote((dir / name).string()) + " " + opts + " -q", dir.path());
@@ -147,8 +143,8 @@ void python(const ScratchDir& dir, const std::string& body, const std::vector<st
 // The torus: 8 x 6 patches, closed in u and v; S x S samples per patch give 8 (S-1) x 6 (S-1) points.
 TEST(WeldedMesh, ClosedTorusIsWatertightAndFacesOutwards) {
   ScratchDir dir("mesh_ClosedTorusIsWatertightAndFacesOutwards");
-  sampleTo(dir, model("torus_aeb.json"), "t.obj", "--grid 7x5 --device cpu");
-  sampleTo(dir, model("torus_aeb.json"), "t.ply", "--grid 7x5 --device cpu");
+  sampleTo(dir, exampleModel("torus_aeb.json"), "t.obj", "--grid 7x5 --device cpu");
+  sampleTo(dir, exampleModel("torus_aeb.json"), "t.ply", "--grid 7x5 --device cpu");
   python(dir, R"PY(
 for path in sys.argv[1:]:
     boundary, euler, volume = check_mesh(path, 8 * 6 * 6 * 4, True, True)
@@ -164,11 +160,11 @@ print('OK')
 // winding and the normals, and says so in the mesh line.
 TEST(WeldedMesh, InwardTorusIsReversed) {
   ScratchDir dir("mesh_InwardTorusIsReversed");
-  std::string text = readText(model("torus_aeb.json"));
+  std::string text = readText(exampleModel("torus_aeb.json"));
   const CliResult r = runCaptured(std::string(kPython) + " -c " +
                                       quote("import json,sys; m=json.load(open(sys.argv[1])); m['points']=m['points'][::-1];"
                                             " m['alpha']=m['alpha'][::-1]; json.dump(m, open(sys.argv[2],'w'))") +
-                                      " " + quote(model("torus_aeb.json")) + " " + quote((dir / "inward.json").string()) +
+                                      " " + quote(exampleModel("torus_aeb.json")) + " " + quote((dir / "inward.json").string()) +
                                       " >" + quote((dir / "_o").string()) + " 2>" + quote((dir / "_e").string()),
                                   dir / "_o", dir / "_e");
   ASSERT_EQ(r.rc, 0) << r.err;
@@ -185,8 +181,8 @@ print('OK')
 TEST(WeldedMesh, OpenSurfaceHasItsBoundaryOnly) {
   ScratchDir dir("mesh_OpenSurfaceHasItsBoundaryOnly");
   // surface_aeb.json: 4 x 4 patches, open.
-  sampleTo(dir, model("surface_aeb.json"), "s.ply", "--grid 6x4 --device cpu");
-  sampleTo(dir, model("surface_aeb.json"), "s.obj", "--grid 6x4 --device cpu --precision float");
+  sampleTo(dir, exampleModel("surface_aeb.json"), "s.ply", "--grid 6x4 --device cpu");
+  sampleTo(dir, exampleModel("surface_aeb.json"), "s.obj", "--grid 6x4 --device cpu --precision float");
   python(dir, R"PY(
 rows, cols = 4 * 5 + 1, 4 * 3 + 1
 for path in sys.argv[1:]:
@@ -205,7 +201,7 @@ print('OK')
 // at the alpha = 1 vertex, where the patches' diagonal limits differ and the mean is a convention.
 TEST(WeldedMesh, VerticesEqualEval) {
   ScratchDir dir("mesh_VerticesEqualEval");
-  sampleTo(dir, model("surface_aeb.json"), "s.ply", "--grid 5 --device cpu");
+  sampleTo(dir, exampleModel("surface_aeb.json"), "s.ply", "--grid 5 --device cpu");
   python(dir, R"PY(
 import subprocess
 v, vn, vt, tris, lines = read_ply(sys.argv[1])
@@ -236,7 +232,7 @@ for k, r in enumerate(rows):
 assert worst_p <= 1e-12 * 4, worst_p
 print('OK', worst_p, worst_n)
 )PY",
-         {(dir / "s.ply").string(), SHAPESPLINE_CLI, (dir / "at.json").string(), model("surface_aeb.json")});
+         {(dir / "s.ply").string(), SHAPESPLINE_CLI, (dir / "at.json").string(), exampleModel("surface_aeb.json")});
 }
 
 void expectShardsMerge(const ScratchDir& dir, const std::string& modelPath, const std::string& ext,
@@ -256,10 +252,10 @@ void expectShardsMerge(const ScratchDir& dir, const std::string& modelPath, cons
 TEST(WeldedMesh, ShardsAreMeshesAndMergeByteForByte) {
   ScratchDir dir("mesh_ShardsAreMeshesAndMergeByteForByte");
   for (const std::string ext : {"obj", "ply"}) {
-    expectShardsMerge(dir, model("torus_aeb.json"), ext, "--grid 5x4 --device cpu", 5);
-    expectShardsMerge(dir, model("surface_aeb.json"), ext, "--grid 4 --device cpu --precision float", 3);
-    expectShardsMerge(dir, model("butterfly_aeb.json"), ext, "--samples 7 --device cpu", 4);
-    expectShardsMerge(dir, model("open_aeb.json"), ext, "--samples 5 --device cpu", 2);
+    expectShardsMerge(dir, exampleModel("torus_aeb.json"), ext, "--grid 5x4 --device cpu", 5);
+    expectShardsMerge(dir, exampleModel("surface_aeb.json"), ext, "--grid 4 --device cpu --precision float", 3);
+    expectShardsMerge(dir, exampleModel("butterfly_aeb.json"), ext, "--samples 7 --device cpu", 4);
+    expectShardsMerge(dir, exampleModel("open_aeb.json"), ext, "--samples 5 --device cpu", 2);
   }
   // A shard on its own: a mesh whose every vertex is used and every index is in range.
   python(dir, R"PY(
@@ -271,7 +267,7 @@ print('OK')
 )PY",
          {(dir / "part1.obj").string(), (dir / "part2.ply").string()});
   // And a surface shard: the torus in 3 parts.
-  sampleTo(dir, model("torus_aeb.json"), "torus2.ply", "--grid 4 --device cpu --shard 2/3");
+  sampleTo(dir, exampleModel("torus_aeb.json"), "torus2.ply", "--grid 4 --device cpu --shard 2/3");
   python(dir, R"PY(
 v, vn, vt, tris, lines = read(sys.argv[1])
 assert tris and set(i for t in tris for i in t) == set(range(len(v)))
@@ -283,16 +279,16 @@ print('OK')
 TEST(WeldedMesh, GpuFloatShardsMergeByteForByte) {
   if (!vulkanDevice()) GTEST_SKIP() << "no Vulkan device";
   ScratchDir dir("mesh_GpuFloatShardsMergeByteForByte");
-  expectShardsMerge(dir, model("torus_aeb.json"), "ply", "--grid 6 --device vulkan --require-device --precision float", 4);
-  expectShardsMerge(dir, model("surface_aeb.json"), "obj", "--grid 5 --device vulkan --require-device --precision float", 3);
+  expectShardsMerge(dir, exampleModel("torus_aeb.json"), "ply", "--grid 6 --device vulkan --require-device --precision float", 4);
+  expectShardsMerge(dir, exampleModel("surface_aeb.json"), "obj", "--grid 5 --device vulkan --require-device --precision float", 3);
 }
 
 TEST(WeldedMesh, ClosedCurveIsOneLoop) {
   ScratchDir dir("mesh_ClosedCurveIsOneLoop");
   // butterfly_aeb.json: a closed curve of 20 spans; open_aeb.json: an open one.
-  sampleTo(dir, model("butterfly_aeb.json"), "c.obj", "--samples 6 --device cpu");
-  sampleTo(dir, model("butterfly_aeb.json"), "c.ply", "--samples 6 --device cpu");
-  sampleTo(dir, model("open_aeb.json"), "o.obj", "--samples 6 --device cpu");
+  sampleTo(dir, exampleModel("butterfly_aeb.json"), "c.obj", "--samples 6 --device cpu");
+  sampleTo(dir, exampleModel("butterfly_aeb.json"), "c.ply", "--samples 6 --device cpu");
+  sampleTo(dir, exampleModel("open_aeb.json"), "o.obj", "--samples 6 --device cpu");
   python(dir, R"PY(
 for path in sys.argv[1:3]:
     v, vn, vt, tris, lines = read(path)
@@ -314,8 +310,8 @@ print('OK')
 TEST(WeldedMesh, AssimpReadsTheWeldedPly) {
   if (std::system("command -v assimp >/dev/null 2>&1") != 0) GTEST_SKIP() << "assimp-utils missing (scripts/setup.sh)";
   ScratchDir dir("mesh_AssimpReadsTheWeldedPly");
-  sampleTo(dir, model("torus_aeb.json"), "t.ply", "--grid 5 --device cpu");
-  sampleTo(dir, model("torus_aeb.json"), "t.obj", "--grid 5 --device cpu");
+  sampleTo(dir, exampleModel("torus_aeb.json"), "t.ply", "--grid 5 --device cpu");
+  sampleTo(dir, exampleModel("torus_aeb.json"), "t.obj", "--grid 5 --device cpu");
   const CliResult r = runCaptured("assimp info " + quote((dir / "t.ply").string()) + " >" + quote((dir / "_o").string()) +
                                       " 2>" + quote((dir / "_e").string()),
                                   dir / "_o", dir / "_e");
@@ -335,8 +331,8 @@ TEST(WeldedMesh, AssimpReadsTheWeldedPly) {
 
 TEST(WeldedMesh, PerItemLayoutKeepsEveryPatch) {
   ScratchDir dir("mesh_PerItemLayoutKeepsEveryPatch");
-  sampleTo(dir, model("surface_aeb.json"), "p.obj", "--grid 4 --device cpu --mesh-layout per-item");
-  sampleTo(dir, model("surface_aeb.json"), "p.ply", "--grid 4 --device cpu --mesh-layout per-item");
+  sampleTo(dir, exampleModel("surface_aeb.json"), "p.obj", "--grid 4 --device cpu --mesh-layout per-item");
+  sampleTo(dir, exampleModel("surface_aeb.json"), "p.ply", "--grid 4 --device cpu --mesh-layout per-item");
   python(dir, R"PY(
 for path in sys.argv[1:]:
     v, vn, vt, tris, lines = read(path)
@@ -344,11 +340,11 @@ for path in sys.argv[1:]:
 print('OK')
 )PY",
          {(dir / "p.obj").string(), (dir / "p.ply").string()});
-  const CliResult bad = runCli("sample " + quote(model("surface_aeb.json")) + " -o x.obj --mesh-layout soup", dir.path());
+  const CliResult bad = runCli("sample " + quote(exampleModel("surface_aeb.json")) + " -o x.obj --mesh-layout soup", dir.path());
   EXPECT_EQ(bad.rc, 2);
   EXPECT_TRUE(contains(bad.err, "--mesh-layout")) << bad.err;
   EXPECT_TRUE(contains(bad.err, "welded or per-item")) << bad.err;
-  const CliResult raw = runCli("sample " + quote(model("surface_aeb.json")) + " -o x.f32 --mesh-layout per-item", dir.path());
+  const CliResult raw = runCli("sample " + quote(exampleModel("surface_aeb.json")) + " -o x.f32 --mesh-layout per-item", dir.path());
   EXPECT_EQ(raw.rc, 2);
   EXPECT_FALSE(fs::exists(dir / "x.obj"));
   EXPECT_FALSE(fs::exists(dir / "x.f32"));
@@ -359,9 +355,9 @@ print('OK')
 TEST(WeldedMesh, MismatchedWeldedShardsAreRefused) {
   ScratchDir dir("mesh_mismatch");
   for (const std::string ext : {"obj", "ply"}) {
-    sampleTo(dir, model("torus_aeb.json"), "a1." + ext, "--grid 4 --device cpu --shard 1/2");
-    sampleTo(dir, model("torus_aeb.json"), "a2." + ext, "--grid 4 --device cpu --shard 2/2");
-    sampleTo(dir, model("torus_aeb.json"), "p2." + ext, "--grid 4 --device cpu --shard 2/2 --mesh-layout per-item");
+    sampleTo(dir, exampleModel("torus_aeb.json"), "a1." + ext, "--grid 4 --device cpu --shard 1/2");
+    sampleTo(dir, exampleModel("torus_aeb.json"), "a2." + ext, "--grid 4 --device cpu --shard 2/2");
+    sampleTo(dir, exampleModel("torus_aeb.json"), "p2." + ext, "--grid 4 --device cpu --shard 2/2 --mesh-layout per-item");
     auto merge = [&](const std::string& second) {
       return runCli("merge " + quote((dir / ("a1." + ext)).string()) + " " + quote((dir / second).string()) + " -o " +
                         quote((dir / ("m." + ext)).string()),

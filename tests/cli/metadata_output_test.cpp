@@ -18,8 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kPython = "/usr/bin/python3";
-
 #define REQUIRE_PYTHON() \
   if (!fs::exists(kPython)) GTEST_SKIP() << kPython << " is missing"
 
@@ -143,7 +141,7 @@ void expectSidecarOfWhole(const ScratchDir& dir, const std::string& merged, cons
   EXPECT_EQ(readText(dir / (merged + ".json")), text);
 }
 
-CliResult merge(const ScratchDir& dir, const std::string& out, const std::vector<std::string>& shards) {
+CliResult mergeIn(const ScratchDir& dir, const std::string& out, const std::vector<std::string>& shards) {
   std::string args = "merge -o " + quote(out);
   for (const auto& s : shards) args += " " + quote(s);
   return runCli(args, dir.path(), dir.path());
@@ -166,7 +164,7 @@ TEST(MetadataOutput, ShardsMergeWithTheMetadataIntact) {
       EXPECT_EQ(json::parse(readText(dir / (shards.back() + ".json")))["metadata"],
                 json::parse(readText(dir / ("whole." + ext + ".json")))["metadata"]);
     }
-    const CliResult r = merge(dir, "merged." + ext, shards);
+    const CliResult r = mergeIn(dir, "merged." + ext, shards);
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_EQ(readText(dir / ("merged." + ext)), readText(dir / ("whole." + ext)));
     expectSidecarOfWhole(dir, "merged." + ext, "whole." + ext);
@@ -213,7 +211,7 @@ TEST(MetadataOutput, LargeNetsSummariseAlpha) {
     shards.push_back("part" + std::to_string(k) + ".f64");
     sampleOk(dir, "big.json", shards.back(), opts + " --shard " + std::to_string(k) + "/2");
   }
-  const CliResult r = merge(dir, "merged.f64", shards);
+  const CliResult r = mergeIn(dir, "merged.f64", shards);
   ASSERT_EQ(r.rc, 0) << r.err;
   EXPECT_EQ(readText(dir / "merged.f64"), readText(dir / "whole.f64"));
   expectSidecarOfWhole(dir, "merged.f64", "whole.f64");
@@ -227,7 +225,7 @@ TEST(MetadataOutput, ShardsWithOtherMetadataAreRefusedByKey) {
   const std::string opts = "--grid 2 --device cpu";
   sampleOk(dir, "surface.json", "p1.f64", opts + " --shard 1/2");
   sampleOk(dir, "copy.json", "p2.f64", opts + " --shard 2/2");
-  const CliResult r = merge(dir, "m.f64", {"p1.f64", "p2.f64"});
+  const CliResult r = mergeIn(dir, "m.f64", {"p1.f64", "p2.f64"});
   EXPECT_EQ(r.rc, 2) << r.err;
   EXPECT_TRUE(contains(r.err, "SHARD[2]")) << r.err;
   EXPECT_TRUE(contains(r.err, "metadata.model_file")) << r.err;
@@ -240,12 +238,12 @@ TEST(MetadataOutput, ShardsWithOtherMetadataAreRefusedByKey) {
   json side = json::parse(readText(dir / "q2.f64.json"));
   side["metadata"]["singular_vertices"] = json::array();
   writeText(dir / "q2.f64.json", side.dump(2));
-  const CliResult edited = merge(dir, "m.f64", {"p1.f64", "q2.f64"});
+  const CliResult edited = mergeIn(dir, "m.f64", {"p1.f64", "q2.f64"});
   EXPECT_EQ(edited.rc, 2) << edited.err;
   EXPECT_TRUE(contains(edited.err, "metadata.singular_vertices")) << edited.err;
   side.erase("metadata");
   writeText(dir / "q2.f64.json", side.dump(2));
-  const CliResult missing = merge(dir, "m.f64", {"p1.f64", "q2.f64"});
+  const CliResult missing = mergeIn(dir, "m.f64", {"p1.f64", "q2.f64"});
   EXPECT_EQ(missing.rc, 2) << missing.err;
   EXPECT_TRUE(contains(missing.err, "metadata")) << missing.err;
   EXPECT_FALSE(fs::exists(dir / "m.f64"));

@@ -16,8 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kPython = "/usr/bin/python3";
-
 // Writes the models and arrays of these tests into argv[1] (a model folder) and argv[2] (a
 // folder beside it, for the outside-the-folder cases).
 constexpr const char* kMakeArrays = R"PY(

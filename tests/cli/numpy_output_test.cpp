@@ -19,8 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kPython = "/usr/bin/python3";
-
 // Skips unless Debian's interpreter with numpy is there (CI installs both: scripts/setup.sh).
 bool numpyMissing(std::string* why) {
   if (!fs::exists(kPython)) {
@@ -40,10 +38,8 @@ bool numpyMissing(std::string* why) {
     if (numpyMissing(&why_)) GTEST_SKIP() << why_; \
   } while (0)
 
-std::string model(const std::string& name) { return examplesDir() + "/" + name; }
-
 void sampleTo(const ScratchDir& dir, const std::string& modelName, const std::string& name, const std::string& opts) {
-  const CliResult r = runCli("sample " + quote(model(modelName)) + " -o " + quote((dir / name).string()) + " " + opts +
+  const CliResult r = runCli("sample " + quote(exampleModel(modelName)) + " -o " + quote((dir / name).string()) + " " + opts +
                                  " --device cpu -q",
                              dir.path());
   ASSERT_EQ(r.rc, 0) << name << ": " << r.err;

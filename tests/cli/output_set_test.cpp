@@ -54,8 +54,6 @@ mode_t modeOf(const fs::path& p) {
   return st.st_mode & 07777;
 }
 
-std::string example(const std::string& name) { return examplesDir() + "/" + name; }
-
 bool vulkanDevice() {
   static const bool yes = [] {
     ScratchDir dir("outset_probe");
@@ -78,7 +76,7 @@ TEST(OutputSetCli, SamePathTwiceIsRefused) {
   const std::vector<std::pair<std::string, std::string>> jobs = {
       {"basis --family gb --lambda 0.5", "basis"},
       {"gb-fit gb.json --span 1 --through " + std::string(kGbThrough), "gb-fit"},
-      {"extend " + quote(example("clamped_bspline.json")) + " --to 10,4", "extend"},
+      {"extend " + quote(exampleModel("clamped_bspline.json")) + " --to 10,4", "extend"},
   };
   for (const auto& [job, name] : jobs) {
     for (const std::string& second : {std::string("d/X"), std::string("./d/../d/X")}) {
@@ -92,7 +90,7 @@ TEST(OutputSetCli, SamePathTwiceIsRefused) {
 
 TEST(OutputSetCli, FailedSidecarRenameKeepsTheOldRawSet) {
   ScratchDir dir("outset_raw");
-  const std::string model = quote(example("gb_curve.json"));
+  const std::string model = quote(exampleModel("gb_curve.json"));
   ASSERT_EQ(run("sample " + model + " -o a.f32 --samples 8 --device cpu -q", dir.path()).rc, 0);
   const std::string oldData = readText(dir / "a.f32"), oldSide = readText(dir / "a.f32.json");
   // The second rename of the commit (the sidecar) fails.
@@ -120,7 +118,7 @@ TEST(OutputSetCli, FailedSvgRenameKeepsTheOldModelAndPlot) {
   const std::vector<std::string> jobs = {
       "basis --family gb --lambda 0.5 -o X.csv --svg X.svg",
       "gb-fit gb.json --span 1 --through " + std::string(kGbThrough) + " -o M.json --svg M.svg",
-      "extend " + quote(example("clamped_bspline.json")) + " --to 10,4 -o M.json --svg M.svg",
+      "extend " + quote(exampleModel("clamped_bspline.json")) + " --to 10,4 -o M.json --svg M.svg",
   };
   for (const auto& job : jobs) {
     const CliResult r = run(job, dir.path(), "SHAPESPLINE_IO_FAULT=rename:2");
@@ -137,7 +135,7 @@ TEST(OutputSetCli, FailedSvgRenameKeepsTheOldModelAndPlot) {
 // the same job (before issue 12 about a third of the races ended mixed).
 TEST(OutputSetCli, ConcurrentWritersOfOneOutputNeverMix) {
   ScratchDir dir("outset_race");
-  const std::string model = quote(example("gb_curve.json"));
+  const std::string model = quote(exampleModel("gb_curve.json"));
   const std::string a = quote(cli()) + " sample " + model + " -o r.f32 --samples 8 --device cpu -q";
   const std::string b = quote(cli()) + " sample " + model + " -o r.f32 --samples 16 --device cpu -q";
   int mixed = 0;
@@ -159,7 +157,7 @@ TEST(OutputSetCli, SymlinkPlantedAtTheOldTemporaryNameIsNotFollowed) {
   // bash -c '...; exec shapespline': the binary keeps bash's pid, so $$ is the pid the old
   // predictable name OUT.tmp.<pid> used.
   const std::string cmd = "cd " + quote(dir.path().string()) + " && bash -c 'ln -s victim out.csv.tmp.$$ && exec " +
-                          quote(cli()) + " sample " + quote(example("gb_curve.json")) +
+                          quote(cli()) + " sample " + quote(exampleModel("gb_curve.json")) +
                           " -o out.csv --device cpu -q' 2>/dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
   EXPECT_TRUE(readText(dir / "victim") == "precious\n") << "the symlink's target was overwritten";
@@ -171,10 +169,10 @@ TEST(OutputSetCli, ReplacedOutputKeepsItsMode) {
   ScratchDir dir("outset_mode");
   writeText(dir / "out.csv", "old\n");
   fs::permissions(dir / "out.csv", fs::perms(0600));
-  ASSERT_EQ(run("sample " + quote(example("gb_curve.json")) + " -o out.csv --device cpu -q", dir.path()).rc, 0);
+  ASSERT_EQ(run("sample " + quote(exampleModel("gb_curve.json")) + " -o out.csv --device cpu -q", dir.path()).rc, 0);
   EXPECT_NE(readText(dir / "out.csv"), "old\n");
   EXPECT_EQ(modeOf(dir / "out.csv"), 0600u);
-  ASSERT_EQ(run("sample " + quote(example("gb_curve.json")) + " -o new.csv --device cpu -q", dir.path(), "umask 027;")
+  ASSERT_EQ(run("sample " + quote(exampleModel("gb_curve.json")) + " -o new.csv --device cpu -q", dir.path(), "umask 027;")
                 .rc,
             0);
   EXPECT_EQ(modeOf(dir / "new.csv"), 0640u);
@@ -217,7 +215,7 @@ TEST(OutputSetCli, SignalsRemoveTheTemporaryFiles) {
     fs::create_directories(dir / "out");
     // A job of many seconds (16 patches of 1024 x 1024 on one thread), interrupted once its
     // temporary files exist.
-    const pid_t pid = spawnCli({"sample", example("surface_aeb.json"), "-o", (dir / "out" / "s.f32").string(),
+    const pid_t pid = spawnCli({"sample", exampleModel("surface_aeb.json"), "-o", (dir / "out" / "s.f32").string(),
                                 "--grid", "1024", "--device", "cpu", "--threads", "1", "-q"},
                                dir / "err.txt");
     ASSERT_GT(pid, 0);
@@ -262,7 +260,7 @@ TEST(OutputSetCli, RenderBadOutputPathIsBadInput) {
   ScratchDir dir("outset_render_path");
   fs::create_directories(dir / "adir");
   for (const std::string& out : {std::string("missing/x.png"), std::string("adir")}) {
-    const CliResult r = run("render " + quote(example("gb_curve.json")) + " -o " + out, dir.path());
+    const CliResult r = run("render " + quote(exampleModel("gb_curve.json")) + " -o " + out, dir.path());
     EXPECT_EQ(r.rc, 2) << out << ": " << r.err;
     EXPECT_TRUE(contains(r.err, "shapespline: error: -o: '" + out + "':")) << r.err;
   }
@@ -274,11 +272,11 @@ TEST(OutputSetCli, RenderNeverDestroysTheOldPng) {
   const std::string old(1500, 'o');  // under the 2 KiB limit below; the new PNG is about 5 KB
   writeText(dir / "x.png", old);
   fs::permissions(dir / "x.png", fs::perms(0600));
-  const CliResult r = run("render " + quote(example("gb_curve.json")) + " -o x.png -q", dir.path(), "ulimit -f 2;");
+  const CliResult r = run("render " + quote(exampleModel("gb_curve.json")) + " -o x.png -q", dir.path(), "ulimit -f 2;");
   EXPECT_EQ(r.rc, 3) << r.err;
   EXPECT_TRUE(readText(dir / "x.png") == old) << "the old PNG was overwritten in place";
   EXPECT_EQ(entries(dir.path()), (std::vector<std::string>{"x.png"}));
-  const CliResult ok = run("render " + quote(example("gb_curve.json")) + " -o x.png -q", dir.path());
+  const CliResult ok = run("render " + quote(exampleModel("gb_curve.json")) + " -o x.png -q", dir.path());
   ASSERT_EQ(ok.rc, 0) << ok.err;
   EXPECT_TRUE(readText(dir / "x.png").substr(1, 3) == "PNG");
   EXPECT_EQ(modeOf(dir / "x.png"), 0600u);
@@ -293,7 +291,7 @@ TEST(OutputSetCli, StdoutWriteFailureIsExit3) {
   const std::vector<std::string> jobs = {
       "basis --family gb --lambda 0.5",
       "gb-fit gb.json --span 1 --through " + std::string(kGbThrough),
-      "extend " + quote(example("clamped_bspline.json")) + " --to 10,4 -o ext.json",
+      "extend " + quote(exampleModel("clamped_bspline.json")) + " --to 10,4 -o ext.json",
       "info",
       "eval gb.json --at at.json --device cpu",
   };

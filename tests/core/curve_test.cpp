@@ -26,10 +26,8 @@ namespace {
 using glm::dvec3;
 using test::kFp64Rel;
 
-// Finite differences: central, step 2^-14. Truncation is h^2/6 |C'''| ~ 1e-9 * |C'''|; rounding
-// eps/h ~ 4e-12 * |C|. kFdRel leaves two orders of magnitude above both for the nets used here.
-constexpr double kFdStep = 1.0 / 16384.0;
-constexpr double kFdRel = 1e-6;
+using test::kFdRel;  // finite differences (support/tolerances.h)
+using test::kFdStep;
 // Interior local parameters (avoid the S breakpoints 1/3, 2/3 and the span ends).
 const double kInteriorT[] = {0.1, 0.3, 0.5, 0.71, 0.93};
 // Local parameters including the ends.

@@ -24,10 +24,6 @@ namespace {
 
 using glm::dvec3;
 
-constexpr FieldMask kCurveFields = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-constexpr FieldMask kSurfaceFields = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                     fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                     fieldBit(Field::Normal);
 // Normals of a net scaled by a power of ten agree with the unscaled ones to this (angle in radians).
 constexpr double kNormalScaleTolerance = 1e-9;
 
@@ -59,13 +55,13 @@ struct Samples {
 };
 
 // The families with the ends of their parameter ranges (docs/math.md §11): name, spec.
-struct FamilyCase {
+struct ExtremeFamilyCase {
   std::string name;
   FamilySpec spec;
 };
 
-std::vector<FamilyCase> familyEnds(bool forAlphaEB) {
-  std::vector<FamilyCase> out;
+std::vector<ExtremeFamilyCase> familyEnds(bool forAlphaEB) {
+  std::vector<ExtremeFamilyCase> out;
   for (int k = 4; k <= 6; ++k)
     for (double lambda : {-double(k * (k - 2)), 1.0}) {
       FamilySpec f;
@@ -272,8 +268,8 @@ TEST(ExtremeValues, GBAtHugeLambdaApproachesItsLimit) {
 
 // ---- Surfaces -----------------------------------------------------------------------------------
 
-std::vector<FamilyCase> surfaceFamilies() {
-  std::vector<FamilyCase> out;
+std::vector<ExtremeFamilyCase> surfaceFamilies() {
+  std::vector<ExtremeFamilyCase> out;
   for (const auto& fc : familyEnds(false))
     if (fc.spec.construction != Construction::BSpline || fc.spec.order <= 4) out.push_back(fc);
   for (const auto& fc : familyEnds(true)) out.push_back(fc);

@@ -17,8 +17,6 @@ namespace {
 constexpr double kBasisRel = 1e-13;
 double basisTol(const json& expected) { return kBasisRel * std::max(1.0, std::abs(number(expected))); }
 
-std::string at(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
-std::string at(const std::string& field, size_t i, size_t r) { return at(field, i) + "[" + std::to_string(r) + "]"; }
 
 // values/d1/d2 tables of the four-function families, evaluated from the span matrix.
 void checkSpanTables(CaseReport& r, const SpanBasis& basis) {
@@ -30,11 +28,11 @@ void checkSpanTables(CaseReport& r, const SpanBasis& basis) {
     double b[kMaxBasisCount], db[kMaxBasisCount], ddb[kMaxBasisCount];
     evalSpanBasis(basis, number(ts[i]), b, db, ddb);
     for (int k = 0; k < basis.count; ++k) {
-      r.compare(at("values", i, k), values[i][k], b[k], basisTol(values[i][k]));
-      r.compare(at("d1", i, k), d1[i][k], db[k], basisTol(d1[i][k]));
-      r.compare(at("d2", i, k), d2[i][k], ddb[k], basisTol(d2[i][k]));
+      r.compare(fieldAt("values", i, k), values[i][k], b[k], basisTol(values[i][k]));
+      r.compare(fieldAt("d1", i, k), d1[i][k], db[k], basisTol(d1[i][k]));
+      r.compare(fieldAt("d2", i, k), d2[i][k], ddb[k], basisTol(d2[i][k]));
     }
-    if (values[i].size() != static_cast<size_t>(basis.count)) r.fail(at("values", i) + ": wrong function count");
+    if (values[i].size() != static_cast<size_t>(basis.count)) r.fail(fieldAt("values", i) + ": wrong function count");
   }
 }
 
@@ -46,8 +44,8 @@ void checkBellAndLocal(CaseReport& r, const SpanBasis& basis) {
   for (size_t i = 0; i < xs.size(); ++i) {
     double v = 0, d = 0;
     evalBell(basis, number(xs[i]), &v, &d);
-    r.compare(at("N", i), n[i], v, basisTol(n[i]));
-    r.compare(at("dN", i), dn[i], d, basisTol(dn[i]));
+    r.compare(fieldAt("N", i), n[i], v, basisTol(n[i]));
+    r.compare(fieldAt("dN", i), dn[i], d, basisTol(dn[i]));
   }
   const json& ts = r.inputs().at("t");
   const json& lv = r.expected("local_values");
@@ -55,10 +53,10 @@ void checkBellAndLocal(CaseReport& r, const SpanBasis& basis) {
   for (size_t i = 0; i < ts.size(); ++i) {
     double b[kMaxBasisCount], db[kMaxBasisCount];
     evalSpanBasis(basis, number(ts[i]), b, db, nullptr);
-    if (lv[i].size() != static_cast<size_t>(basis.count)) r.fail(at("local_values", i) + ": wrong function count");
+    if (lv[i].size() != static_cast<size_t>(basis.count)) r.fail(fieldAt("local_values", i) + ": wrong function count");
     for (int k = 0; k < basis.count; ++k) {
-      r.compare(at("local_values", i, k), lv[i][k], b[k], basisTol(lv[i][k]));
-      r.compare(at("local_d1", i, k), ld[i][k], db[k], basisTol(ld[i][k]));
+      r.compare(fieldAt("local_values", i, k), lv[i][k], b[k], basisTol(lv[i][k]));
+      r.compare(fieldAt("local_d1", i, k), ld[i][k], db[k], basisTol(ld[i][k]));
     }
   }
 }
@@ -93,9 +91,9 @@ const GoldenRegistration kSingular("basis.singular_blend", [](CaseReport& r) {
   const json& d2 = r.expected("d2");
   for (size_t i = 0; i < ts.size(); ++i) {
     const BlendValue v = singularBlend(number(ts[i]));
-    r.compare(at("S", i), s[i], v.s, basisTol(s[i]));
-    r.compare(at("d1", i), d1[i], v.d1, basisTol(d1[i]));
-    r.compare(at("d2", i), d2[i], v.d2, basisTol(d2[i]));
+    r.compare(fieldAt("S", i), s[i], v.s, basisTol(s[i]));
+    r.compare(fieldAt("d1", i), d1[i], v.d1, basisTol(d1[i]));
+    r.compare(fieldAt("d2", i), d2[i], v.d2, basisTol(d2[i]));
   }
 });
 
@@ -108,15 +106,15 @@ const GoldenRegistration kUbp("basis.ubp", [](CaseReport& r) {
   const json& dk = r.expected("doubled_knot_coefficients");
   if (dk.size() != coeffs.size()) r.fail("doubled_knot_coefficients: wrong length");
   for (size_t i = 0; i < coeffs.size() && i < dk.size(); ++i)
-    r.compare(at("doubled_knot_coefficients", i), dk[i], coeffs[i], basisTol(dk[i]));
+    r.compare(fieldAt("doubled_knot_coefficients", i), dk[i], coeffs[i], basisTol(dk[i]));
   // The exact form a + b*lambda: our recurrence is affine in lambda, so a = f(0), b = f(1) - f(0).
   const std::vector<double> at0 = ubpDoubledKnotCoefficients(order, 0.0);
   const std::vector<double> at1 = ubpDoubledKnotCoefficients(order, 1.0);
   const json& exact = r.expected("doubled_knot_coefficients_exact");
   for (size_t i = 0; i < coeffs.size() && i < exact.size(); ++i) {
     const auto [a, b] = parseAffine(exact[i].get<std::string>());
-    r.compare(at("doubled_knot_coefficients_exact.a", i), json(a), at0[i], kBasisRel);
-    r.compare(at("doubled_knot_coefficients_exact.b", i), json(b), at1[i] - at0[i], kBasisRel);
+    r.compare(fieldAt("doubled_knot_coefficients_exact.a", i), json(a), at0[i], kBasisRel);
+    r.compare(fieldAt("doubled_knot_coefficients_exact.b", i), json(b), at1[i] - at0[i], kBasisRel);
   }
 });
 
@@ -128,7 +126,7 @@ const GoldenRegistration kGubp("basis.gubp", [](CaseReport& r) {
   const std::vector<double> full = gubpFullMu(order, mu);
   const json& mf = r.expected("mu_full");
   if (mf.size() != full.size()) r.fail("mu_full: wrong length");
-  for (size_t i = 0; i < full.size() && i < mf.size(); ++i) r.compare(at("mu_full", i), mf[i], full[i], basisTol(mf[i]));
+  for (size_t i = 0; i < full.size() && i < mf.size(); ++i) r.compare(fieldAt("mu_full", i), mf[i], full[i], basisTol(mf[i]));
 });
 
 }  // namespace

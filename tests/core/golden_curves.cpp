@@ -29,18 +29,8 @@
 namespace shapespline::test {
 namespace {
 
-constexpr double kExact = std::numeric_limits<double>::min();  // "must be equal", ratio stays finite
 constexpr double kMaxBlendD1 = 2.25;                            // max |S'| (docs/math.md §3, at t = 1/2)
 constexpr double kMaxBlendD2 = 9.0;                             // max |S''| (at t = 0, 1/3, 2/3, 1)
-
-std::string at(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
-
-// The case's fp64 limit for `field` (top-level limit when the field has none).
-double goldenLimit(const json& testCase, const std::string& field) {
-  const json& t = testCase.at("tolerance");
-  if (t.contains("fields") && t.at("fields").contains(field)) return number(t.at("fields").at(field).at("fp64"));
-  return number(t.at("fp64"));
-}
 
 void checkCurve(CaseReport& r) {
   const io::Model parsed = io::parseModel(r.model());
@@ -104,8 +94,8 @@ void checkCurve(CaseReport& r) {
   r.compare("u_range[1]", ur[1], u1, tolU(u1));
   if (!curve.usesKnotVector()) {
     const json& sr = r.expected("span_range");
-    r.compare("span_range[0]", sr[0], curve.spans().first, kExact);
-    r.compare("span_range[1]", sr[1], curve.spans().last, kExact);
+    r.compare("span_range[0]", sr[0], curve.spans().first, kExactLimit);
+    r.compare("span_range[1]", sr[1], curve.spans().last, kExactLimit);
   }
 
   // α-EB debugging aids, compared as values in their own right.
@@ -118,16 +108,16 @@ void checkCurve(CaseReport& r) {
     const double tolNode = std::min(kFp64Rel * scale * g, goldenLimit(tc, "base_nodes"));
     const double tolV = std::min(kFp64Rel * scale * g, goldenLimit(tc, "V"));
     for (size_t j = 0; j < nodes.size() && j < curve.alphaNodes().size(); ++j)
-      r.compare(at("base_nodes", j), nodes[j], curve.alphaNodes()[j], dim, tolNode);
+      r.compare(fieldAt("base_nodes", j), nodes[j], curve.alphaNodes()[j], dim, tolNode);
     for (size_t j = 0; j < vs.size() && j < curve.alphaV().size(); ++j)
-      r.compare(at("V", j), vs[j], curve.alphaV()[j], dim, tolV);
+      r.compare(fieldAt("V", j), vs[j], curve.alphaV()[j], dim, tolV);
   }
 
   const json& samples = r.expected("samples");
   if (samples.size() != inSamples.size()) r.fail("samples: count differs from inputs.samples");
   for (size_t i = 0; i < samples.size() && i < inSamples.size(); ++i) {
     const json& e = samples[i];
-    const std::string name = at("samples", i);
+    const std::string name = fieldAt("samples", i);
     CurvePoint p;
     if (curve.usesKnotVector()) {
       const double u = number(inSamples[i].at("u"));
@@ -138,8 +128,8 @@ void checkCurve(CaseReport& r) {
       const double t = number(inSamples[i].at("t"));
       p = curve.evaluate(span, t);
       const double u = curve.parameterOf(span, t);
-      r.compare(name + ".span", e.at("span"), span, kExact);
-      r.compare(name + ".t", e.at("t"), t, kExact);
+      r.compare(name + ".span", e.at("span"), span, kExactLimit);
+      r.compare(name + ".t", e.at("t"), t, kExactLimit);
       r.compare(name + ".u", e.at("u"), u, tolU(u));
     }
     r.compare(name + ".point", e.at("point"), p.point, dim, tolPoint);

@@ -24,7 +24,6 @@
 namespace shapespline::test {
 namespace {
 
-std::string at(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
 
 double boxDiagonal(std::initializer_list<std::span<const glm::dvec3>> sets) {
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
@@ -80,7 +79,7 @@ void compareNumbers(CaseReport& r, const std::string& name, const json& expected
     r.fail(name + ": expected " + std::to_string(expected.size()) + " values, got " + std::to_string(actual.size()));
     return;
   }
-  for (size_t i = 0; i < actual.size(); ++i) r.compare(at(name, i), expected[i], actual[i], tol);
+  for (size_t i = 0; i < actual.size(); ++i) r.compare(fieldAt(name, i), expected[i], actual[i], tol);
 }
 
 void comparePoints(CaseReport& r, const std::string& name, const json& expected,
@@ -90,7 +89,7 @@ void comparePoints(CaseReport& r, const std::string& name, const json& expected,
     return;
   }
   for (size_t i = 0; i < actual.size(); ++i)
-    r.compare(at(name, i), expected[i], actual[i], static_cast<int>(expected[i].size()), tol);
+    r.compare(fieldAt(name, i), expected[i], actual[i], static_cast<int>(expected[i].size()), tol);
 }
 
 std::optional<std::vector<double>> givenParameters(const json& inputs) {
@@ -109,7 +108,7 @@ void compareCurveSamples(CaseReport& r, const json& samples, const BSplineCurveD
     const json& s = samples[i];
     const double t = number(s.at("t"));
     const BSplineCurvePoint c = evalBSplineCurve(curve, t);
-    const std::string name = at("samples", i);
+    const std::string name = fieldAt("samples", i);
     r.compare(name + ".point", s.at("point"), c.point, static_cast<int>(s.at("point").size()), pointTol);
     r.compare(name + ".d1", s.at("d1"), c.d1, static_cast<int>(s.at("d1").size()), d1Tol);
     if (s.contains("t_normalized"))
@@ -179,13 +178,13 @@ const GoldenRegistration kExtendSurface("bspline_extend_surface", [](CaseReport&
     if (e.uPerColumn.empty()) {
       r.fail("u_per_column expected but the parametrization gave none");
     } else if (per.size() == cols && per[0].is_array() && per[0].size() == m) {
-      for (size_t j = 0; j < cols; ++j) compareNumbers(r, at("u_per_column", j), per[j], e.uPerColumn[j], knotTol);
+      for (size_t j = 0; j < cols; ++j) compareNumbers(r, fieldAt("u_per_column", j), per[j], e.uPerColumn[j], knotTol);
     } else if (per.size() == m && per[0].is_array() && per[0].size() == cols) {
       for (size_t q = 0; q < m; ++q)
         for (size_t j = 0; j < cols; ++j)
-          r.compare(at(at("u_per_column", q), j), per[q][j], e.uPerColumn[j][q], knotTol);
+          r.compare(fieldAt(fieldAt("u_per_column", q), j), per[q][j], e.uPerColumn[j][q], knotTol);
     } else if (m == 1 && per.size() == cols && !per[0].is_array()) {
-      for (size_t j = 0; j < cols; ++j) r.compare(at("u_per_column", j), per[j], e.uPerColumn[j][0], knotTol);
+      for (size_t j = 0; j < cols; ++j) r.compare(fieldAt("u_per_column", j), per[j], e.uPerColumn[j][0], knotTol);
     } else {
       r.fail("u_per_column: unexpected shape " + per.dump());
     }
@@ -196,7 +195,7 @@ const GoldenRegistration kExtendSurface("bspline_extend_surface", [](CaseReport&
     r.fail("points: expected " + std::to_string(points.size()) + " rows, got " + std::to_string(s.rows));
   } else {
     for (int i = 0; i < s.rows; ++i)
-      comparePoints(r, at("points", static_cast<size_t>(i)), points[static_cast<size_t>(i)],
+      comparePoints(r, fieldAt("points", static_cast<size_t>(i)), points[static_cast<size_t>(i)],
                     std::span<const glm::dvec3>(s.points).subspan(static_cast<size_t>(i) * s.cols, s.cols), pointTol);
   }
   const json& knots = r.expected("knots");
@@ -208,7 +207,7 @@ const GoldenRegistration kExtendSurface("bspline_extend_surface", [](CaseReport&
   for (size_t i = 0; i < samples.size(); ++i) {
     const json& q = samples[i];
     const BSplineSurfacePoint p = evalBSplineSurface(s, number(q.at("t")), number(q.at("s")));
-    const std::string name = at("samples", i);
+    const std::string name = fieldAt("samples", i);
     r.compare(name + ".point", q.at("point"), p.point, 3, pointTol);
     r.compare(name + ".dt", q.at("dt"), p.du, 3, dtTol);
     r.compare(name + ".ds", q.at("ds"), p.dv, 3, dsTol);

@@ -16,11 +16,6 @@
 namespace shapespline {
 namespace {
 
-constexpr FieldMask kAllCurve = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-constexpr FieldMask kAllSurface = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                  fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                  fieldBit(Field::Normal);
-
 struct Collected {
   std::vector<double> data[kFieldCount];
   size_t chunks = 0, partialChunks = 0, maxPoints = 0;
@@ -85,14 +80,14 @@ TEST(GridRowChunks, PlainSurfaceRows) {
 
 TEST(GridRowChunks, AlphaEBSurfaceWithNormals) {
   const Surface s = Surface::create(test::wavyNet({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, true));
-  checkSurface(s, {31, 17, 0, 2}, kAllSurface, 100, "alpha-EB 31x17");
+  checkSurface(s, {31, 17, 0, 2}, kSurfaceFields, 100, "alpha-EB 31x17");
 }
 
 TEST(GridRowChunks, KnotVectorSurface) {
   SurfaceModel m = test::wavyNet({Construction::BSpline, 0, 4, 0.0, {}}, 5, false);
   m.knotsU = m.knotsV = {0, 0, 0, 0, 0.4, 1, 1, 1, 1};
   const Surface s = Surface::create(std::move(m));
-  checkSurface(s, {21, 13, 0, 0}, kAllSurface, 50, "knot-vector 21x13");
+  checkSurface(s, {21, 13, 0, 0}, kSurfaceFields, 50, "knot-vector 21x13");
 }
 
 TEST(GridRowChunks, CurveSpansInSampleRanges) {
@@ -102,9 +97,9 @@ TEST(GridRowChunks, CurveSpansInSampleRanges) {
   m.alpha.assign(9, 0.6);
   const Curve c = Curve::create(std::move(m));
   Collected whole, one, three;
-  sampleCurveGrid(c, {1000, 1, 0, 0}, kAllCurve, whole.consumer(), {1, size_t{1} << 24});
-  sampleCurveGrid(c, {1000, 1, 0, 0}, kAllCurve, one.consumer(), {1, 301});
-  sampleCurveGrid(c, {1000, 1, 0, 0}, kAllCurve, three.consumer(), {3, 301});
+  sampleCurveGrid(c, {1000, 1, 0, 0}, kCurveFields, whole.consumer(), {1, size_t{1} << 24});
+  sampleCurveGrid(c, {1000, 1, 0, 0}, kCurveFields, one.consumer(), {1, 301});
+  sampleCurveGrid(c, {1000, 1, 0, 0}, kCurveFields, three.consumer(), {3, 301});
   for (const Collected* x : {&one, &three}) {
     EXPECT_GT(x->partialChunks, 2u);
     EXPECT_LE(x->maxPoints, 301u);

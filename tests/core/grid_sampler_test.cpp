@@ -18,11 +18,6 @@ namespace {
 
 using glm::dvec3;
 
-constexpr FieldMask kAllCurve = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-constexpr FieldMask kAllSurface = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                  fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                  fieldBit(Field::Normal);
-
 std::vector<dvec3> randomPoints(int n, unsigned seed, bool planar) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> d(-1.0, 1.0);
@@ -116,7 +111,7 @@ TEST(GridSampler, CurvesMatchReferenceEvaluator) {
     const int S = 7;
     double maxErr = 0.0;
     Collected got;
-    sampleCurveGrid(curve, {S, 1, 0, 0}, kAllCurve, got.consumer(), {2, 10});
+    sampleCurveGrid(curve, {S, 1, 0, 0}, kCurveFields, got.consumer(), {2, 10});
     const auto items = curveGridItems(curve);
     ASSERT_EQ(got.data[0].size(), items.size() * S * 3);
     size_t pt = 0;
@@ -146,7 +141,7 @@ TEST(GridSampler, CurvesMatchReferenceEvaluator) {
 double expectGridMatchesEvaluate(const Surface& surface, int Su, int Sv, double fieldUlps, const std::string& what) {
   const double scale = boxDiagonal(surface.model().points);
   Collected got;
-  sampleSurfaceGrid(surface, {Su, Sv, 0, 0}, kAllSurface, got.consumer(), {2, 64});
+  sampleSurfaceGrid(surface, {Su, Sv, 0, 0}, kSurfaceFields, got.consumer(), {2, 64});
   const auto items = surfaceGridItems(surface);
   EXPECT_EQ(got.data[0].size(), items.size() * Su * Sv * 3) << what;
   if (got.data[0].size() != items.size() * Su * Sv * 3) return INFINITY;
@@ -198,9 +193,9 @@ TEST(GridSampler, SurfacesMatchReferenceEvaluator) {
 // Returns the one-thread result.
 Collected expectThreadAndChunkInvariant(const Surface& surface) {
   Collected one, two, tiny;
-  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, one.consumer(), {1, size_t{1} << 20});
-  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, two.consumer(), {2, 200});
-  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kAllSurface, tiny.consumer(), {2, 1});
+  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kSurfaceFields, one.consumer(), {1, size_t{1} << 20});
+  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kSurfaceFields, two.consumer(), {2, 200});
+  sampleSurfaceGrid(surface, {9, 8, 0, 0}, kSurfaceFields, tiny.consumer(), {2, 1});
   expectSameBytes(one, two);
   expectSameBytes(one, tiny);
   return one;
@@ -217,7 +212,7 @@ TEST(GridSampler, ByteIdenticalAcrossThreadsChunksAndShards) {
     const size_t b = n * k / 3, e = n * (k + 1) / 3;
     Collected part;
     part.items = b;
-    sampleSurfaceGrid(surface, {9, 8, b, e - b}, kAllSurface, part.consumer(), {2, 100});
+    sampleSurfaceGrid(surface, {9, 8, b, e - b}, kSurfaceFields, part.consumer(), {2, 100});
     for (int f = 0; f < kFieldCount; ++f) shards.data[f].insert(shards.data[f].end(), part.data[f].begin(), part.data[f].end());
   }
   expectSameBytes(one, shards);
@@ -289,9 +284,9 @@ TEST(GridSampler, RejectsBadRequests) {
   m.points = randomPoints(6, 1, true);
   const Curve curve = Curve::create(m);
   auto sink = [](const GridChunk&) {};
-  EXPECT_THROW(sampleCurveGrid(curve, {1, 1, 0, 0}, kAllCurve, sink), std::invalid_argument);
+  EXPECT_THROW(sampleCurveGrid(curve, {1, 1, 0, 0}, kCurveFields, sink), std::invalid_argument);
   EXPECT_THROW(sampleCurveGrid(curve, {4, 1, 0, 0}, fieldBit(Field::Normal), sink), std::invalid_argument);
-  EXPECT_THROW(sampleCurveGrid(curve, {4, 1, 2, 5}, kAllCurve, sink), std::invalid_argument);
+  EXPECT_THROW(sampleCurveGrid(curve, {4, 1, 2, 5}, kCurveFields, sink), std::invalid_argument);
 }
 
 TEST(GridSampler, ConsumerExceptionStopsCleanly) {

@@ -1,6 +1,8 @@
 // Curve::spanAt / Surface::patchAt, the one global-parameter lookup of evaluateAt and the GPU lists:
 // evaluateAt(u) is evaluate() at the looked-up (span, t) bit for bit, joints go to the span to the
 // right except at the upper end, and knot-vector lookups skip empty intervals.
+#include "support/tolerances.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 namespace shapespline::test {
 namespace {
 
-bool sameBits(const glm::dvec3& a, const glm::dvec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 CurveModel curveOf(Construction c, int n) {
   CurveModel m;

@@ -2,6 +2,8 @@
 // (i, j) evaluates to the same bits as patch (first + i, j) of the whole surface, every field and
 // the normal rule included (α = 1 corners, closed directions), and whose grid is that slice of the
 // whole grid. The GPU path samples nets too large for one device buffer in such bands.
+#include "support/tolerances.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -15,7 +17,6 @@
 namespace shapespline::test {
 namespace {
 
-bool sameBits(const glm::dvec3& a, const glm::dvec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 void expectSamePoint(const SurfacePoint& a, const SurfacePoint& b, const std::string& what) {
   EXPECT_TRUE(sameBits(a.point, b.point)) << what << " point";

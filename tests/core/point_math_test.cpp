@@ -2,6 +2,8 @@
 // against references that do not use them: the properties of S(t) from docs/math.md §3, the
 // [XW] form of its middle piece, derivatives against finite differences, the α-EB blends at the α
 // where they reduce to the base surface or to the SR patch, and the §5.3 degeneracy thresholds.
+#include "support/tolerances.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -17,10 +19,8 @@ namespace {
 using glm::dvec3;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-// Central differences with step 2^-14: truncation h^2/6 |f'''| ~ 1e-9 |f'''|, rounding eps/h ~ 4e-12
-// |f|; 1e-6 leaves two orders of magnitude above both for the O(1..100) functions used here.
-constexpr double kFdStep = 1.0 / 16384.0;
-constexpr double kFdTol = 1e-6;
+using test::kFdRel;  // finite differences (support/tolerances.h)
+using test::kFdStep;
 // Interior parameters away from the S breakpoints 1/3, 2/3 by more than the step.
 const double kInteriorT[] = {0.1, 0.3, 0.45, 0.6, 0.71, 0.93};
 
@@ -58,8 +58,8 @@ TEST(PointMath, SingularBlendPiecesAreTheXuWangCubics) {
 
 TEST(PointMath, SingularBlendDerivativesMatchFiniteDifferences) {
   for (double t : kInteriorT) {
-    EXPECT_NEAR(pm::singularBlend(t).y, fd(S, t), kFdTol * 27) << "S', t = " << t;
-    EXPECT_NEAR(pm::singularBlend(t).z, fd(dS, t), kFdTol * 54) << "S'', t = " << t;
+    EXPECT_NEAR(pm::singularBlend(t).y, fd(S, t), kFdRel * 27) << "S', t = " << t;
+    EXPECT_NEAR(pm::singularBlend(t).z, fd(dS, t), kFdRel * 54) << "S'', t = " << t;
   }
 }
 
@@ -130,8 +130,8 @@ TEST(PointMath, AlphaEBCurveBlend) {
     };
     const dvec3 fd1 = (blended(t + kFdStep, 0) - blended(t - kFdStep, 0)) / (2 * kFdStep);
     const dvec3 fd2 = (blended(t + kFdStep, 1) - blended(t - kFdStep, 1)) / (2 * kFdStep);
-    EXPECT_LT(glm::length(blended(t, 1) - fd1), kFdTol * 100) << "t = " << t;
-    EXPECT_LT(glm::length(blended(t, 2) - fd2), kFdTol * 1000) << "t = " << t;
+    EXPECT_LT(glm::length(blended(t, 1) - fd1), kFdRel * 100) << "t = " << t;
+    EXPECT_LT(glm::length(blended(t, 2) - fd2), kFdRel * 1000) << "t = " << t;
   }
 }
 
@@ -194,11 +194,11 @@ TEST(PointMath, AlphaEBPatchBlend) {
       const double h2 = 2 * kFdStep;
       const Partials up = blendedSurface(u + kFdStep, v, mixed), um = blendedSurface(u - kFdStep, v, mixed);
       const Partials vp = blendedSurface(u, v + kFdStep, mixed), vm = blendedSurface(u, v - kFdStep, mixed);
-      EXPECT_LT(glm::length(q.u - (up.p - um.p) / h2), kFdTol * 100) << u << ", " << v;
-      EXPECT_LT(glm::length(q.v - (vp.p - vm.p) / h2), kFdTol * 100) << u << ", " << v;
-      EXPECT_LT(glm::length(q.uu - (up.u - um.u) / h2), kFdTol * 1000) << u << ", " << v;
-      EXPECT_LT(glm::length(q.uv - (vp.u - vm.u) / h2), kFdTol * 1000) << u << ", " << v;
-      EXPECT_LT(glm::length(q.vv - (vp.v - vm.v) / h2), kFdTol * 1000) << u << ", " << v;
+      EXPECT_LT(glm::length(q.u - (up.p - um.p) / h2), kFdRel * 100) << u << ", " << v;
+      EXPECT_LT(glm::length(q.v - (vp.p - vm.p) / h2), kFdRel * 100) << u << ", " << v;
+      EXPECT_LT(glm::length(q.uu - (up.u - um.u) / h2), kFdRel * 1000) << u << ", " << v;
+      EXPECT_LT(glm::length(q.uv - (vp.u - vm.u) / h2), kFdRel * 1000) << u << ", " << v;
+      EXPECT_LT(glm::length(q.vv - (vp.v - vm.v) / h2), kFdRel * 1000) << u << ", " << v;
     }
 }
 

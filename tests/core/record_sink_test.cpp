@@ -22,11 +22,6 @@
 namespace shapespline {
 namespace {
 
-constexpr FieldMask kAllSurface = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                  fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                  fieldBit(Field::Normal);
-constexpr FieldMask kAllCurve = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-
 std::vector<Field> fieldsOf(FieldMask mask) {
   std::vector<Field> fields;
   for (int f = 0; f < kFieldCount; ++f)
@@ -153,13 +148,13 @@ TEST(RecordSink, PlainSurfaceRowsEveryFieldCount) {
 
 TEST(RecordSink, AlphaEBSurfaceWithNormalsAndKnotVectorSurface) {
   const Surface a = Surface::create(test::wavyNet({Construction::AlphaEB, 5, 0, -2.0, {}}, 7, true));
-  checkSurface(a, {11, 9, 0, 0}, kAllSurface, {2, 200, 40}, true, "alpha-EB all fields");
+  checkSurface(a, {11, 9, 0, 0}, kSurfaceFields, {2, 200, 40}, true, "alpha-EB all fields");
   checkSurface(a, {11, 9, 0, 0}, fieldBit(Field::Point) | fieldBit(Field::Normal), {2, 200, 40}, true,
                "alpha-EB point+normal");
   SurfaceModel m = test::wavyNet({Construction::BSpline, 0, 4, 0.0, {}}, 5, false);
   m.knotsU = m.knotsV = {0, 0, 0, 0, 0.4, 1, 1, 1, 1};
   const Surface k = Surface::create(std::move(m));
-  checkSurface(k, {7, 6, 0, 0}, kAllSurface, {2, 100, 30}, true, "knot-vector");
+  checkSurface(k, {7, 6, 0, 0}, kSurfaceFields, {2, 100, 30}, true, "knot-vector");
 }
 
 TEST(RecordSink, Curves) {
@@ -178,7 +173,7 @@ TEST(RecordSink, Curves) {
     const Curve curve = Curve::create(std::move(m));
     const size_t items = curveGridItems(curve).size();
     const std::string what(constructionName(c.family.construction));
-    for (FieldMask mask : {fieldBit(Field::Point), kAllCurve}) {
+    for (FieldMask mask : {fieldBit(Field::Point), kCurveFields}) {
       expectSameRecords(
           [&](const SamplerOptions& o, const ChunkConsumer& k) { sampleCurveGrid(curve, {301, 1, 0, 0}, mask, k, o); },
           mask, 0, items, 301, {2, 100, 37}, true, what);

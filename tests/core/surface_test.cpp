@@ -24,8 +24,8 @@ namespace {
 using glm::dvec3;
 using test::kFp64Rel;
 
-constexpr double kFdStep = 1.0 / 16384.0;  // see curve_test.cpp
-constexpr double kFdRel = 1e-6;
+using test::kFdRel;  // finite differences (support/tolerances.h)
+using test::kFdStep;
 const double kInterior[] = {0.1, 0.3, 0.55, 0.9};
 const double kEdges[] = {0.0, 0.2, 0.5, 0.8, 1.0};
 

@@ -18,11 +18,6 @@
 namespace shapespline::test {
 namespace {
 
-constexpr FieldMask kAllSurface = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                  fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                  fieldBit(Field::Normal);
-constexpr FieldMask kAllCurve = fieldBit(Field::Point) | fieldBit(Field::D1) | fieldBit(Field::D2);
-
 Surface alphaEBSurface() {
   SurfaceModel m;
   m.family.construction = Construction::AlphaEB;
@@ -138,29 +133,29 @@ TEST_P(GpuRowChunks, SurfaceGridKernel) {
   gpu::GpuSurface s(ctx_, alphaEBSurface(), GetParam());
   // Sv = 24: 16 rows per invocation would not divide 40, so 8; a 200-point budget cuts a patch into
   // 5 ranges of 8 rows. Sv = 300: runs of 4 samples within a row; ranges of 2 rows.
-  check<gpu::SurfaceEvaluator>(s, {40, 24, 3, 4}, kAllSurface, 200, "surface_grid 40x24");
+  check<gpu::SurfaceEvaluator>(s, {40, 24, 3, 4}, kSurfaceFields, 200, "surface_grid 40x24");
   check<gpu::SurfaceEvaluator>(s, {6, 300, 0, 2}, fieldBit(Field::Point) | fieldBit(Field::Normal), 700,
                                "surface_grid 6x300");
 }
 
 TEST_P(GpuRowChunks, SurfaceGeneralKernel) {
   gpu::GpuSurface s(ctx_, alphaEBSurface(), GetParam());
-  check<gpu::SurfaceEvaluator>(s, {37, 23, 1, 3}, kAllSurface, 100, "surface_eval 37x23");
-  check<gpu::SurfaceEvaluator>(s, {20, 17, 0, 2}, kAllSurface, 50, "surface_eval 20x17");
+  check<gpu::SurfaceEvaluator>(s, {37, 23, 1, 3}, kSurfaceFields, 100, "surface_eval 37x23");
+  check<gpu::SurfaceEvaluator>(s, {20, 17, 0, 2}, kSurfaceFields, 50, "surface_eval 20x17");
 }
 
 TEST_P(GpuRowChunks, KnotVectorSurface) {
   gpu::GpuSurface s(ctx_, knotSurface(), GetParam());
-  check<gpu::SurfaceEvaluator>(s, {21, 13, 0, 0}, kAllSurface, 40, "bspline_surface_eval 21x13");
+  check<gpu::SurfaceEvaluator>(s, {21, 13, 0, 0}, kSurfaceFields, 40, "bspline_surface_eval 21x13");
 }
 
 TEST_P(GpuRowChunks, CurveKernels) {
   gpu::GpuCurve c(ctx_, alphaEBCurve(), GetParam());
-  check<gpu::CurveEvaluator>(c, {1024, 1, 0, 0}, kAllCurve, 200, "curve_grid S = 1024 (runs of 64)");
-  check<gpu::CurveEvaluator>(c, {700, 1, 1, 2}, kAllCurve, 90, "curve_grid S = 700 (runs of 4)");
-  check<gpu::CurveEvaluator>(c, {702, 1, 0, 3}, kAllCurve, 90, "curve_eval S = 702");
+  check<gpu::CurveEvaluator>(c, {1024, 1, 0, 0}, kCurveFields, 200, "curve_grid S = 1024 (runs of 64)");
+  check<gpu::CurveEvaluator>(c, {700, 1, 1, 2}, kCurveFields, 90, "curve_grid S = 700 (runs of 4)");
+  check<gpu::CurveEvaluator>(c, {702, 1, 0, 3}, kCurveFields, 90, "curve_eval S = 702");
   gpu::GpuCurve k(ctx_, knotCurve(), GetParam());
-  check<gpu::CurveEvaluator>(k, {301, 1, 0, 0}, kAllCurve, 50, "bspline_curve_eval S = 301");
+  check<gpu::CurveEvaluator>(k, {301, 1, 0, 0}, kCurveFields, 50, "bspline_curve_eval S = 301");
 }
 
 // A span of at most 256 samples is one grid-kernel invocation: a budget below it keeps it whole.
@@ -169,7 +164,7 @@ TEST_P(GpuRowChunks, ShortSpansStayWhole) {
   gpu::EvaluatorOptions tiny;
   tiny.maxPlaneBytes = 8 * 3 * rs();
   Collected out;  // from item 0
-  gpu::CurveEvaluator(ctx_, GetParam(), tiny).evaluateGrid(c, {64, 1, 0, 0}, kAllCurve, collector(out, rs()));
+  gpu::CurveEvaluator(ctx_, GetParam(), tiny).evaluateGrid(c, {64, 1, 0, 0}, kCurveFields, collector(out, rs()));
   EXPECT_EQ(out.partialChunks, 0u);
   EXPECT_TRUE(out.ordered);
   EXPECT_EQ(out.chunks, c.spanCount());

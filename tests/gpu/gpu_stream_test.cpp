@@ -21,10 +21,6 @@
 namespace shapespline::test {
 namespace {
 
-constexpr FieldMask kAllSurface = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv) |
-                                  fieldBit(Field::Duu) | fieldBit(Field::Duv) | fieldBit(Field::Dvv) |
-                                  fieldBit(Field::Normal);
-
 Surface alphaEBSurface() {
   SurfaceModel m;
   m.family.construction = Construction::AlphaEB;
@@ -82,11 +78,11 @@ TEST_P(GpuStream, ManyChunksAreByteIdenticalToOneChunk) {
   grid.samplesV = 6;
   Collected one, many;
   gpu::SurfaceEvaluator single(ctx_, pr);
-  single.evaluateGrid(state, grid, kAllSurface, collector(one, rs));
+  single.evaluateGrid(state, grid, kSurfaceFields, collector(one, rs));
   gpu::EvaluatorOptions small;
   small.maxPlaneBytes = 3 * grid.pointsPerItem() * 3 * rs + 100;  // 3 patches per chunk
   gpu::SurfaceEvaluator chunked(ctx_, pr, small);
-  chunked.evaluateGrid(state, grid, kAllSurface, collector(many, rs));
+  chunked.evaluateGrid(state, grid, kSurfaceFields, collector(many, rs));
   EXPECT_EQ(one.chunks, 1u);
   EXPECT_GT(many.chunks, 10u);
   EXPECT_LE(many.maxChunkPlaneBytes, small.maxPlaneBytes);
@@ -119,8 +115,8 @@ TEST_P(GpuStream, SuccessiveJobsReuseTheirPlanes) {
   small.maxPlaneBytes = 3 * grid.pointsPerItem() * 3 * rs + 100;  // 3 patches per chunk
   gpu::SurfaceEvaluator ev(ctx_, pr, small);
   Collected first, second, afterLarge;
-  ev.evaluateGrid(state, grid, kAllSurface, collector(first, rs));
-  ev.evaluateGrid(state, grid, kAllSurface, collector(second, rs));
+  ev.evaluateGrid(state, grid, kSurfaceFields, collector(first, rs));
+  ev.evaluateGrid(state, grid, kSurfaceFields, collector(second, rs));
   EXPECT_GT(first.chunks, 2u);
   EXPECT_EQ(first.planes, second.planes) << "the second job allocated new planes";
   GridSpec large;
@@ -129,7 +125,7 @@ TEST_P(GpuStream, SuccessiveJobsReuseTheirPlanes) {
   Collected big;
   ev.evaluateGrid(state, large, fieldBit(Field::Point), collector(big, rs));
   EXPECT_EQ(big.bytes[0].size(), 2 * large.pointsPerItem() * 3 * rs);
-  ev.evaluateGrid(state, grid, kAllSurface, collector(afterLarge, rs));
+  ev.evaluateGrid(state, grid, kSurfaceFields, collector(afterLarge, rs));
   for (int f = 0; f < kFieldCount; ++f) {
     ASSERT_EQ(first.bytes[f].size(), second.bytes[f].size()) << "field " << f;
     ASSERT_EQ(first.bytes[f].size(), afterLarge.bytes[f].size()) << "field " << f;
@@ -149,7 +145,7 @@ TEST_P(GpuStream, ThrowingConsumerLeavesNothingInFlight) {
   GridSpec grid;
   grid.samplesU = grid.samplesV = 8;
   int calls = 0;
-  EXPECT_THROW(ev.evaluateGrid(state, grid, kAllSurface,
+  EXPECT_THROW(ev.evaluateGrid(state, grid, kSurfaceFields,
                                [&](const GridChunk&) {
                                  if (++calls == 2) throw std::runtime_error("consumer stops");
                                }),

@@ -33,7 +33,7 @@ std::vector<char> readFile(const fs::path& p) {
 }
 
 // One 5 x 7 patch (35 points: eight 4-point steps and a tail) with the point, du and dv planes.
-struct Job {
+struct PlacedJob {
   SampleLayout layout;
   std::vector<double> planes[3];
   std::vector<float> planesF[3];
@@ -51,8 +51,8 @@ struct Job {
   }
 };
 
-Job makeJob() {
-  Job j;
+PlacedJob makeJob() {
+  PlacedJob j;
   SampleLayout& l = j.layout;
   l.surface = true;
   l.dimension = 3;
@@ -78,7 +78,7 @@ Job makeJob() {
 
 // Writes the job as two slices, the later one first, then consume() and finish(); returns what
 // each writeSlice answered.
-std::vector<bool> writeSliced(OutputFormat format, const Job& job, const GridChunk& chunk, const fs::path& file) {
+std::vector<bool> writeSliced(OutputFormat format, const PlacedJob& job, const GridChunk& chunk, const fs::path& file) {
   AtomicFile out(file, "-o");
   AtomicFile sidecar(fs::path(file.string() + ".json"), "-o");
   const auto writer = makeSampleWriter(format, out, &sidecar);
@@ -94,7 +94,7 @@ std::vector<bool> writeSliced(OutputFormat format, const Job& job, const GridChu
 }
 
 template <class T>
-void expectRecords(const std::vector<char>& bytes, size_t offset, const Job& job) {
+void expectRecords(const std::vector<char>& bytes, size_t offset, const PlacedJob& job) {
   ASSERT_EQ(bytes.size(), offset + 35 * 9 * sizeof(T));
   for (size_t p = 0; p < 35; ++p)
     for (int f = 0; f < 3; ++f)
@@ -107,7 +107,7 @@ void expectRecords(const std::vector<char>& bytes, size_t offset, const Job& job
 }
 
 TEST(PlacedRecords, RawAndNpyWritersTakeSlicesAndConvertAsACastDoes) {
-  const Job job = makeJob();
+  const PlacedJob job = makeJob();
   const fs::path f32 = tempFile("a.f32"), f64 = tempFile("a.f64"), npy = tempFile("a.npy");
   EXPECT_EQ(writeSliced(OutputFormat::RawF32, job, job.chunk(Precision::Double), f32), std::vector<bool>({true, true}));
   expectRecords<float>(readFile(f32), 0, job);
@@ -116,7 +116,7 @@ TEST(PlacedRecords, RawAndNpyWritersTakeSlicesAndConvertAsACastDoes) {
   expectRecords<float>(readFile(f32), 0, job);
   EXPECT_EQ(writeSliced(OutputFormat::RawF64, job, job.chunk(Precision::Double), f64), std::vector<bool>({true, true}));
   expectRecords<double>(readFile(f64), 0, job);
-  Job floatJob = job;
+  PlacedJob floatJob = job;
   floatJob.layout.precision = Precision::Float;
   EXPECT_EQ(writeSliced(OutputFormat::Npy, floatJob, job.chunk(Precision::Double), npy), std::vector<bool>({true, true}));
   const std::vector<char> bytes = readFile(npy);
@@ -153,7 +153,7 @@ TEST(PlacedRecords, ASliceTellsWhetherEveryValueFitsTheFilePrecision) {
       {OutputFormat::RawF64, Precision::Float, 30, std::numeric_limits<double>::infinity(), false},
   };
   for (const Case& c : cases) {
-    Job job = makeJob();
+    PlacedJob job = makeJob();
     job.planes[1][c.point * 3 + 2] = c.value;
     job.planesF[1][c.point * 3 + 2] = static_cast<float>(c.value);
     const fs::path file = tempFile("b.raw");
@@ -167,7 +167,7 @@ TEST(PlacedRecords, ASliceTellsWhetherEveryValueFitsTheFilePrecision) {
 }
 
 TEST(PlacedRecords, WritersThatPlaceNoRecordsLeaveTheCheckToTheCaller) {
-  const Job job = makeJob();
+  const PlacedJob job = makeJob();
   const fs::path file = tempFile("c.ply");
   AtomicFile out(file, "-o");
   const auto writer = makeSampleWriter(OutputFormat::Ply, out, nullptr);

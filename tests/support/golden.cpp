@@ -36,6 +36,17 @@ std::vector<GoldenFile> loadGoldenFiles() {
   return files;
 }
 
+std::string fieldAt(const std::string& field, size_t i) { return field + "[" + std::to_string(i) + "]"; }
+std::string fieldAt(const std::string& field, size_t i, size_t j) {
+  return fieldAt(field, i) + "[" + std::to_string(j) + "]";
+}
+
+double goldenLimit(const json& testCase, const std::string& field) {
+  const json& t = testCase.at("tolerance");
+  if (t.contains("fields") && t.at("fields").contains(field)) return number(t.at("fields").at(field).at("fp64"));
+  return number(t.at("fp64"));
+}
+
 double number(const json& j) {
   if (j.is_string()) {
     const std::string s = j.get<std::string>();

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -28,6 +29,14 @@ std::vector<GoldenFile> loadGoldenFiles();
 // Expected values are exact decimal strings (parsed with strtod) or, in inputs, plain numbers.
 double number(const json& j);
 glm::dvec3 vec(const json& j);  // 2 or 3 coordinates; z = 0 for 2-D
+
+// "field[i]" and "field[i][j]": the names under which a checker compares values.
+std::string fieldAt(const std::string& field, size_t i);
+std::string fieldAt(const std::string& field, size_t i, size_t j);
+// The limit of a comparison that must be exact (the smallest normal double: the ratio stays finite).
+inline constexpr double kExactLimit = std::numeric_limits<double>::min();
+// The case's fp64 limit for `field` (the case's top-level limit when the field has none).
+double goldenLimit(const json& testCase, const std::string& field);
 
 // Collects the comparisons of one case. Reading an expected field through expected() marks it as
 // compared; fields never read make the case fail.
