@@ -30,6 +30,7 @@ build=()
 for name in $targets; do build+=("${name}_fuzzer"); done
 for s in $seeders; do build+=("$s"); done
 cmake --build build-fuzz -j "$(nproc)" --target "${build[@]}"
+echo "stage: fuzz build $SECONDS s" >&2
 
 count=$(wc -w <<<"$targets")
 per=$((seconds / count))

@@ -34,6 +34,8 @@ for program in $(find build-asan -name CTestTestfile.cmake -exec \
   if grep -qx "$name" <<<"$phonies"; then targets+=("$name"); fi
 done
 cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
+echo "stage: sanitizers build $SECONDS s" >&2
+built=$SECONDS
 
 # The Vulkan loader dlclose()s drivers and layers; LeakSanitizer then reports memory they still
 # referenced as "<unknown module>" leaks. Preloading them keeps them mapped (the ASan runtime is then
@@ -89,6 +91,7 @@ for exe in "${ran[@]}"; do
   done
 done
 ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -R '^fuzz/' || failed+=("fuzz replay")
+echo "stage: sanitizers run $((SECONDS - built)) s" >&2
 if ((${#failed[@]} > 0)); then
   echo "sanitize: failures in ${failed[*]}" >&2
   exit 1
