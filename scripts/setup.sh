@@ -3,8 +3,15 @@
 # (npm package gltf-validator, pinned in tests/tools/gltf/package-lock.json) with `npm ci` from the
 # npm registry. Idempotent: a machine that already has them installs nothing. Runs as root, or
 # through sudo when available (npm ci runs as the calling user: it writes only into the tree).
+# `setup.sh --demo` installs only what building the shapespline command and running its demo need
+# (scripts/demo.sh): no test tools, sanitizer runtimes, cluster, Python, Open CASCADE or Node.js.
 set -euo pipefail
 
+DEMO_PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libvulkan-dev mesa-vulkan-drivers glslang-tools
+  libglm-dev nlohmann-json3-dev libcli11-dev libpng-dev libssl-dev libimgui-dev libtinygltf-dev libglfw3-dev
+)
 PACKAGES=(
   cmake ninja-build g++ clang libclang-rt-14-dev pkg-config dpkg-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
@@ -19,13 +26,21 @@ PACKAGES=(
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libtbb-dev
 )
 
+demo=0
+if [[ ${1:-} == --demo ]]; then
+  demo=1
+  PACKAGES=("${DEMO_PACKAGES[@]}")
+fi
+
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 # Node.js for the glTF validator: Debian's nodejs and npm, unless a Node.js is installed already
 # (a nodesource nodejs package carries its own npm and must not be replaced by Debian's).
-if ! dpkg-query -W -f='${Status}' nodejs 2>/dev/null | grep -q "install ok installed"; then
+if ((demo)); then
+  :
+elif ! dpkg-query -W -f='${Status}' nodejs 2>/dev/null | grep -q "install ok installed"; then
   missing+=(nodejs npm)
 elif ! command -v npm >/dev/null 2>&1 &&
     ! dpkg-query -W -f='${Status}' npm 2>/dev/null | grep -q "install ok installed"; then
@@ -40,6 +55,8 @@ if ((${#missing[@]} > 0)); then
   $SUDO apt-get update -qq
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+
+if ((demo)); then exit 0; fi
 
 # The glTF validator, exactly the version of the lock file (tests/cli/gltf_output_test.cpp runs
 # tests/tools/gltf/validate.js). Skipped when node_modules already holds that version.
