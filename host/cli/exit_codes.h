@@ -1,6 +1,8 @@
 #pragma once
 // Exit codes of the shapespline command line (documented in --help and the README), and the error
 // type every subcommand throws for bad command-line input.
+#include <shapespline/core/field_error.h>
+
 #include <stdexcept>
 #include <string>
 
@@ -16,32 +18,13 @@ inline constexpr const char* kExitCodeHelp =
     "2 bad input (model file, arguments, output path); 3 device or runtime error (Vulkan, I/O while writing, "
     "internal).";
 
-// A user-facing error naming a field, the offending value and the rule, on top of the standard
-// exception `Base` that decides its exit code. Printed as "shapespline: error: <field>: <rule>
-// (got <value>)".
-template <class Base>
-class FieldError : public Base {
- public:
-  FieldError(std::string field, std::string value, std::string rule)
-      : Base(field + ": " + rule + (value.empty() ? "" : " (got " + value + ")")),
-        field_(std::move(field)),
-        value_(std::move(value)),
-        rule_(std::move(rule)) {}
-  const std::string& field() const { return field_; }
-  const std::string& value() const { return value_; }
-  const std::string& rule() const { return rule_; }
-
- private:
-  std::string field_, value_, rule_;
-};
-
 // `sample` of several models where some failed (each was reported as it failed): exit code 1.
 class BatchFailure : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-// A command-line argument or input file that breaks a rule: exit code 2.
+// A command-line argument or input file that breaks a rule (core/field_error.h): exit code 2.
 class InputError : public FieldError<std::invalid_argument> {
  public:
   using FieldError::FieldError;

@@ -325,7 +325,14 @@ void writeRawSidecar(AtomicFile& out, const RawSidecar& s) {
   auto key = [&](const char* k, const std::string& value, bool last = false) {
     t += "  \"" + std::string(k) + "\": " + value + (last ? "\n" : ",\n");
   };
-  auto str = [](std::string_view v) { return "\"" + escapeText(v) + "\""; };
+  // Appended, not `"\"" + escapeText(v) + ...`: GCC 12 warns falsely (-Wstringop-overflow) about that
+  // form once escapeText is inlined (unity builds).
+  auto str = [](std::string_view v) {
+    std::string quoted(1, '"');
+    quoted += escapeText(v);
+    quoted += '"';
+    return quoted;
+  };
   key("format", str("shapespline-raw"));
   key("format_version", std::to_string(kRawSidecarVersion));
   key("data_file", str(s.dataFile));

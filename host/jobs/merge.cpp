@@ -1,3 +1,7 @@
+// The merge of every format (see merge.h). Over 700 lines on purpose: the PLY, OBJ, CSV and raw/.npy
+// mergers (one section each, below) share the bounded shard reader, the shard sequence and mesh
+// checks and the error texts of the first 300 lines; split by format they would need all of those
+// in a private header, and a reader would follow one merge across five files instead of one.
 #include <shapespline/jobs/merge.h>
 
 #include <shapespline/io/atomic_file.h>
@@ -6,9 +10,9 @@
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
-#include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/welded_formats.h>
 #include <shapespline/io/welded_mesh.h>
+#include <shapespline/jobs/shard_record.h>
 
 #include <nlohmann/json.hpp>
 

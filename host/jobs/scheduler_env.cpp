@@ -167,7 +167,7 @@ ShardChoice parseShardOption(const std::string& text, const std::string& shardCo
   char* e2 = nullptr;
   const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
   const long long k = std::strtoll(a.c_str(), &e1, 10), n = std::strtoll(b.c_str(), &e2, 10);
-  if (a.empty() || b.empty() || *e1 || *e2 || n < 1 || k < 1 || k > n || n > io::kMaxShardCount) {
+  if (a.empty() || b.empty() || *e1 || *e2 || n < 1 || k < 1 || k > n || static_cast<uint64_t>(n) > io::kMaxShardCount) {
     throw JobInputError("--shard", text, rule);
   }
   return {static_cast<int>(k), static_cast<int>(n), ""};
