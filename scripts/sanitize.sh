@@ -41,8 +41,8 @@ built=$SECONDS
 # referenced as "<unknown module>" leaks. Preloading them keeps them mapped (the ASan runtime is then
 # not first in the library list, hence verify_asan_link_order=0).
 # Only lavapipe where it is installed (VK_ICD_FILENAMES): the loader then opens no other driver, so
-# no other needs preloading, and every process (most never touch Vulkan) maps one driver, not four:
-# 5% of the stage on two cores. The sanitizers check our code; lavapipe is the device CI has.
+# no other needs preloading, and every process (most never touch Vulkan) maps one driver, not four
+# (5% on one cli_tests shard; the whole run did not move measurably). The sanitizers check our code; lavapipe is the device CI has.
 icds=(/usr/share/vulkan/icd.d/*.json)
 lavapipe=(/usr/share/vulkan/icd.d/lvp_icd.*.json)
 if [[ -f ${lavapipe[0]} ]]; then
