@@ -1,6 +1,7 @@
 #include <shapespline/gpu/kernels.h>
 
 #include <shapespline/shaders/layout.h>
+#include <shapespline/vk/pipeline_table.h>
 #include "shaders/alpha_eb_vertices_comp.h"
 #include "shaders/alpha_eb_vertices_comp_f64.h"
 #include "shaders/basis_table_comp.h"
@@ -100,7 +101,7 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const SpecValues& 
     throw std::logic_error("KernelSet::pipeline: the workgroup size is the KernelSet's own constant");
   auto key = std::make_pair(kernel, spec);
   auto it = pipelines_.find(key);
-  if (it != pipelines_.end()) return it->second;
+  if (it != pipelines_.end()) return *it->second;
   const bool d = precision_ == Precision::Double;
   ShaderVariants code;
   uint32_t push = sizeof(layout::EvalPush);
@@ -180,9 +181,9 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const SpecValues& 
   desc.pushConstantBytes = push;
   desc.storageBufferCount = kBindingCount;
   desc.label = std::string(label) + (d ? "_f64" : "_f32") + (packedStores_ && code.hasPacked() ? "_pk" : "");
-  auto [pos, ok] = pipelines_.emplace(key, vk::ComputePipeline::create(*ctx_, desc));
-  (void)ok;
-  return pos->second;
+  const vk::ComputePipeline& pipe = ctx_->pipelines().get(desc);
+  pipelines_.emplace(key, &pipe);
+  return pipe;
 }
 
 void KernelSet::dispatch(VkCommandBuffer cmd, uint64_t invocations) const {

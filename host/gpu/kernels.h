@@ -1,7 +1,7 @@
 #pragma once
-// Internal to host/gpu: the embedded SPIR-V of every evaluation kernel in both precisions, a
-// pipeline table keyed by (kernel, specialization constants) so that each degree/mask combination
-// is compiled once per evaluator, and the helpers every evaluator shares (REAL conversion, dispatch
+// Internal to host/gpu: the embedded SPIR-V of every evaluation kernel in both precisions, the
+// pipeline of a (kernel, specialization constants) pair from the context's table (each variant is
+// compiled once per context, whichever evaluator asks first), and the helpers every evaluator shares (REAL conversion, dispatch
 // sizing, a dummy buffer for bindings a variant does not use).
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/gpu/gpu_model.h>
@@ -62,7 +62,7 @@ class KernelSet {
   uint32_t workgroupSize() const { return workgroupSize_; }
   // Whether the packed-store variants are in use (asked for and shaderInt64 present).
   bool packedStores() const { return packedStores_; }
-  // The pipeline of `kernel` specialised with `spec` (compiled on first use).
+  // The pipeline of `kernel` specialised with `spec` (compiled on the context's first request).
   const vk::ComputePipeline& pipeline(Kernel kernel, const SpecValues& spec);
   // 256-byte buffer bound to every binding a pipeline variant does not use.
   const vk::Buffer& dummy() const { return dummy_; }
@@ -74,7 +74,9 @@ class KernelSet {
   Precision precision_;
   uint32_t workgroupSize_;
   bool packedStores_;
-  std::map<std::pair<Kernel, SpecValues>, vk::ComputePipeline> pipelines_;
+  // This set's lookups into the context's vk::PipelineTable, so that a repeated request skips
+  // hashing the SPIR-V.
+  std::map<std::pair<Kernel, SpecValues>, const vk::ComputePipeline*> pipelines_;
   vk::Buffer dummy_;
 };
 

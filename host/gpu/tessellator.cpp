@@ -12,6 +12,7 @@
 #include <shapespline/shaders/tess_layout.h>
 #include <shapespline/vk/error.h>
 #include <shapespline/vk/pipeline.h>
+#include <shapespline/vk/pipeline_table.h>
 #include <shapespline/vk/submit.h>
 
 #include <algorithm>
@@ -27,7 +28,7 @@ struct SurfaceTessellator::TargetSets {
 };
 
 struct SurfaceTessellator::Impl {
-  vk::ComputePipeline pack[2];  // without / with list-mode sources
+  const vk::ComputePipeline* pack[2] = {};  // without / with list-mode sources (the context's)
   vk::DescriptorSet vertexPassSet, listSet;
   std::map<std::pair<VkBuffer, VkDeviceSize>, TargetSets> targetSets;
   std::map<std::pair<VkBuffer, VkDeviceSize>, uint64_t> indexGeneration;
@@ -133,8 +134,8 @@ SurfaceTessellator::SurfaceTessellator(std::shared_ptr<vk::Context> ctx, GpuSurf
 // Two variants: with list-mode sources (mixed edge rates) or without (no masked list reads).
 const vk::ComputePipeline& SurfaceTessellator::packPipeline() {
   const bool list = listSampleCount_ > 0;
-  vk::ComputePipeline& pipe = impl_->pack[list ? 1 : 0];
-  if (pipe.handle() != VK_NULL_HANDLE) return pipe;
+  const vk::ComputePipeline*& pipe = impl_->pack[list ? 1 : 0];
+  if (pipe) return *pipe;
   const bool d = surface_.precision() == Precision::Double;
   vk::ComputePipelineDesc desc;
   const ShaderVariants code{tessellate_pack_comp, tessellate_pack_comp_f64, tessellate_pack_comp_pk,
@@ -145,8 +146,8 @@ const vk::ComputePipeline& SurfaceTessellator::packPipeline() {
   desc.pushConstantBytes = sizeof(tl::TessPackPush);
   desc.storageBufferCount = tl::kTessBindingCount;
   desc.label = std::string(d ? "tessellate_pack_f64" : "tessellate_pack_f32") + (packed ? "_pk" : "");
-  pipe = vk::ComputePipeline::create(*ctx_, desc);
-  return pipe;
+  pipe = &ctx_->pipelines().get(desc);
+  return *pipe;
 }
 
 SurfaceTessellator::~SurfaceTessellator() = default;

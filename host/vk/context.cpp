@@ -3,6 +3,7 @@
 #include <shapespline/vk/error.h>
 #include <shapespline/vk/fault.h>
 #include <shapespline/vk/pipeline_cache.h>
+#include <shapespline/vk/pipeline_table.h>
 
 #include <algorithm>
 #include <cctype>
@@ -278,6 +279,7 @@ Context::Context() : log_(std::make_unique<MessageLog>()) {}
 
 Context::~Context() {
   if (device_ != VK_NULL_HANDLE) vkDeviceWaitIdle(device_);  // result ignored: nothing to do about it here
+  pipelines_.reset();      // pipelines before their device
   pipelineCache_.reset();  // saves to disk while the device is alive
   commandPool_.reset();
   if (!owns_) return;
@@ -429,6 +431,7 @@ void Context::initOwnedObjects(const ContextOptions& options) {
     dir = options.cacheDir.empty() ? PipelineCache::defaultDirectory() : std::filesystem::path(options.cacheDir);
   }
   pipelineCache_ = std::make_unique<PipelineCache>(device_, properties_, dir);
+  pipelines_ = std::make_unique<PipelineTable>(*this);
 
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   // TRANSIENT: one-shot command buffers are recorded once and freed after the fence.

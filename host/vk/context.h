@@ -18,6 +18,7 @@
 namespace shapespline::vk {
 
 class PipelineCache;
+class PipelineTable;
 
 struct ContextOptions {
   // Enable VK_LAYER_KHRONOS_validation + a VK_EXT_debug_utils messenger that records messages.
@@ -141,6 +142,8 @@ class Context {
   void setDebugName(VkObjectType type, uint64_t handle, const char* name) const;
 
   PipelineCache& pipelineCache() { return *pipelineCache_; }
+  // The compute pipelines compiled on this context, each distinct one once (vk/pipeline_table.h).
+  PipelineTable& pipelines() { return *pipelines_; }
   VkCommandPool commandPool() const { return commandPool_.get(); }
   // Held while recording into a command buffer of commandPool() and while submitting to queue():
   // both are externally synchronized objects. Recursive so that a Buffer::upload() may stage
@@ -180,6 +183,7 @@ class Context {
   std::unique_ptr<MessageLog> log_;
   PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
   std::unique_ptr<PipelineCache> pipelineCache_;
+  std::unique_ptr<PipelineTable> pipelines_;
   CommandPoolHandle commandPool_;
   mutable std::recursive_mutex submitMutex_;
 };

@@ -23,6 +23,7 @@
 #include "support/test_models.h"
 #include "support/tolerances.h"
 #include "support/vk_fixture.h"
+#include <shapespline/vk/pipeline_table.h>
 #include <shapespline/vk/submit.h>
 
 namespace shapespline::test {
@@ -433,6 +434,44 @@ TEST_F(AdaptiveTessellatorTest, Fp64SurfacesGiveTheSameMeshRules) {
     expectTopologyOfRates(mesh, topo, "fp64 camera " + std::to_string(k));
     expectVerticesOfSurface(mesh, topo, cpu, "fp64 camera " + std::to_string(k++));
   }
+}
+
+// The first tessellator compiles its pipelines into the context's table; a second one of the same
+// surface, with other options, compiles none and makes the mesh a first one with its options makes.
+// (A context of its own, so that the table starts empty whatever ran before in this process.)
+TEST_F(AdaptiveTessellatorTest, ASecondTessellatorReusesTheContextsPipelines) {
+  vk::ContextOptions options;
+  options.validation = true;
+  options.persistentPipelineCache = false;
+  const std::shared_ptr<vk::Context> own = vk::Context::create(options);
+  ASSERT_EQ(own->pipelines().size(), 0u);
+  const Surface cpu = Surface::create(waveSheet());
+  gpu::GpuSurface surf(own, cpu, Precision::Float);
+  const glm::dmat4 vp = randomCameras(waveSheet(), 1, 5).front();
+  auto frame = [&](gpu::AdaptiveTessellator& tess) {
+    vk::runOneShot(*own, [&](VkCommandBuffer cmd) { tess.record(cmd, adaptiveView(vp)); });
+    return tess.mesh();
+  };
+  gpu::AdaptiveOptions coarse;
+  coarse.tolerancePx = 3.0f;
+  gpu::AdaptiveOptions fine;
+  fine.tolerancePx = 0.5f;
+  gpu::AdaptiveTessellator first(own, surf, coarse);
+  const auto coarseMesh = frame(first);
+  const size_t compiled = own->pipelines().size();
+  EXPECT_GT(compiled, 0u) << "the tessellator's pipelines are not the context's";
+  gpu::AdaptiveTessellator second(own, surf, fine);
+  const auto fineMesh = frame(second);
+  EXPECT_EQ(own->pipelines().size(), compiled) << "the second tessellator compiled its own pipelines";
+  EXPECT_GT(fineMesh.indices.size(), coarseMesh.indices.size()) << "a finer tolerance, a finer mesh";
+  gpu::AdaptiveTessellator again(own, surf, coarse);
+  const auto againMesh = frame(again);
+  EXPECT_TRUE(againMesh.indices == coarseMesh.indices);
+  ASSERT_EQ(againMesh.vertices.size(), coarseMesh.vertices.size());
+  EXPECT_EQ(std::memcmp(againMesh.vertices.data(), coarseMesh.vertices.data(),
+                        coarseMesh.vertices.size() * sizeof(coarseMesh.vertices[0])), 0);
+  EXPECT_EQ(own->pipelines().size(), compiled);
+  for (const vk::ValidationMessage& m : own->validationMessages()) ADD_FAILURE() << m.id << ": " << m.text;
 }
 
 TEST_F(AdaptiveTessellatorTest, RefusesBadOptionsByName) {

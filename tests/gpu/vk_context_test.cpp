@@ -6,6 +6,7 @@
 #include <shapespline/vk/error.h>
 #include <shapespline/vk/pipeline.h>
 #include <shapespline/vk/pipeline_cache.h>
+#include <shapespline/vk/pipeline_table.h>
 #include <shapespline/vk/submit.h>
 #include <shapespline/vk/timestamps.h>
 
@@ -513,6 +514,54 @@ TEST_F(VkContextTest, PushConstantBoundsChecked) {
   vk::ChunkedDispatch bad{1, 14, 0};  // not a 4-aligned field inside the block
   EXPECT_THROW(vk::dispatchChunked(shot.cmd(), ctx(), pipeline, bad), std::invalid_argument);
   shot.submitAndWait();
+}
+
+// The context's pipeline table: one pipeline per distinct desc, whoever asks and from whatever
+// buffer the SPIR-V comes; any field that differs (a specialization constant, the label) is another
+// pipeline; a bad desc throws and stores nothing; what it returns runs.
+TEST_F(VkContextTest, PipelineTableCompilesEachDescOnce) {
+  vk::PipelineTable& table = ctx().pipelines();
+  vk::ComputePipelineDesc desc;
+  desc.spirv = vk_selftest_comp;
+  desc.specConstants = {{kSpecLocalSize, 32}};
+  desc.pushConstantBytes = sizeof(SelftestPush);
+  desc.storageBufferCount = 2;
+  desc.label = "vk_selftest_table";
+  const size_t before = table.size();
+  const vk::ComputePipeline& first = table.get(desc);
+  EXPECT_EQ(table.size(), before + 1);
+  {
+    // The same words from another buffer, freed afterwards: the same pipeline.
+    const std::vector<uint32_t> copy(std::begin(vk_selftest_comp), std::end(vk_selftest_comp));
+    vk::ComputePipelineDesc same = desc;
+    same.spirv = copy;
+    EXPECT_EQ(&table.get(same), &first);
+  }
+  EXPECT_EQ(&table.get(desc), &first);
+  EXPECT_EQ(table.size(), before + 1);
+  vk::ComputePipelineDesc otherSpec = desc;
+  otherSpec.specConstants = {{kSpecLocalSize, 16}};
+  EXPECT_NE(&table.get(otherSpec), &first);
+  vk::ComputePipelineDesc otherLabel = desc;
+  otherLabel.label = "vk_selftest_table_2";
+  EXPECT_NE(&table.get(otherLabel), &first);
+  EXPECT_EQ(table.size(), before + 3);
+  vk::ComputePipelineDesc bad = desc;
+  bad.pushConstantBytes = 3;
+  EXPECT_THROW(table.get(bad), std::invalid_argument);
+  EXPECT_EQ(table.size(), before + 3);
+
+  const uint32_t count = 1000;
+  const std::vector<float> x = ramp(count);
+  vk::Buffer in = vk::Buffer::create(ctx(), count * 4, vk::kStorageUsage, vk::MemoryUse::Upload, "x");
+  vk::Buffer out = vk::Buffer::create(ctx(), count * 4, vk::kStorageUsage, vk::MemoryUse::Readback, "y");
+  in.uploadSpan(std::span<const float>(x));
+  vk::DescriptorSet set = vk::DescriptorSet::create(ctx(), first);
+  set.bind({{0, &in}, {1, &out}});
+  runSelftest(ctx(), first, set, count, 32, 0.5f);
+  std::vector<float> y(count);
+  out.downloadSpan(std::span(y));
+  expectSelftestOutput(x, y, 0.5f);
 }
 
 // ---------------------------------------------------------------------------------------------
