@@ -204,7 +204,7 @@ TEST(CliShardRecord, MergeExpandsAShardPattern) {
     const std::string e = ext;
     ASSERT_EQ(sample(dir, "whole." + e, "-q").rc, 0);
     // With {count}: N from the files present; without: from shard 1 (record, sidecar or header).
-    for (const std::string pattern : {"part-{shard:03d}-of-{count:03d}." + e, "q{shard}." + e}) {
+    for (const std::string& pattern : {"part-{shard:03d}-of-{count:03d}." + e, "q{shard}." + e}) {
       SCOPED_TRACE(pattern);
       for (int k = 1; k <= 3; ++k) ASSERT_EQ(sample(dir, pattern, "-q --shard " + std::to_string(k) + "/3").rc, 0);
       const CliResult r = merge(dir, "m." + e, quote(pattern));
