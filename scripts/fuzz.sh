@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer target of the build for SECONDS in all (default 60, split evenly among them):
+# Runs every libFuzzer target of the build for SECONDS of CPU in all (default 60, split evenly among
+# them; they run nproc at a time, so on two cores the stage fuzzes for SECONDS / 2 of wall time):
 #   model_fuzzer   model parsing, validation and CPU evaluation (tests/fuzz/model_fuzzer.cpp)
 #   merge_fuzzer   shard files of every format through jobs::mergeShards (tests/fuzz/merge_fuzzer.cpp)
 #   and any other NAME_fuzzer target the build defines (e.g. eval_at_fuzzer, `eval --at` files).
@@ -35,37 +36,64 @@ echo "stage: fuzz build $SECONDS s" >&2
 count=$(wc -w <<<"$targets")
 per=$((seconds / count))
 ((per >= 1)) || per=1
-echo "fuzz: $count fuzzers ($(echo $targets)), ${per} s each"
+parallel=$(nproc)
+echo "fuzz: $count fuzzers ($(echo $targets)), ${per} s each, ${parallel} at a time"
 
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=1:${ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:${UBSAN_OPTIONS:-}"
-failed=()
-for name in $targets; do
-  out=build-fuzz/fuzz/$name
+
+# One fuzzer: its seeds, then `per` seconds of fuzzing. Its seed writer's lines go to seeds.log,
+# libFuzzer's progress lines (thousands) to fuzz.log, its exit status to status.
+fuzz_one() {
+  local name=$1
+  local out=build-fuzz/fuzz/$name
   mkdir -p "$out/corpus" "$out/artifacts"
-  folders=("$out/corpus")
+  local folders=("$out/corpus")
+  local seeder
   seeder=$(find build-fuzz/tests -name "${name}_fuzz_seeds" -type f -perm -u+x | head -n 1)
+  : >"$out/seeds.log"
   if [[ -n $seeder ]]; then
     rm -rf "$out/seeds"
-    "$seeder" "$out/seeds"
+    "$seeder" "$out/seeds" >"$out/seeds.log" 2>&1 || { echo "seed writer failed" >>"$out/seeds.log"; echo 1 >"$out/status"; return; }
     folders+=("$out/seeds")
   elif [[ -d build-fuzz/fuzz/${name}_seeds ]]; then
     folders+=("build-fuzz/fuzz/${name}_seeds")
   fi
-  options=(-max_total_time="$per" -timeout=5 -rss_limit_mb=2048 -max_len=65536 -artifact_prefix="$out/artifacts/"
-    -print_final_stats=1)
+  local options=(-max_total_time="$per" -timeout=5 -rss_limit_mb=2048 -max_len=65536
+    -artifact_prefix="$out/artifacts/" -print_final_stats=1)
   [[ -f $root/tests/fuzz/$name.dict ]] && options+=(-dict="$root/tests/fuzz/$name.dict")
-  # New inputs go to the first folder; the seeds are read only. libFuzzer's progress lines
-  # (thousands) go to the log; the summary is printed, and on failure the log's tail with the report.
-  log="$out/fuzz.log"
+  # New inputs go to the first folder; the seeds are read only.
+  local binary status=0
   binary=$(find build-fuzz/tests -name "${name}_fuzzer" -type f -perm -u+x | head -n 1)
-  if [[ -n $binary ]] && "$binary" "${options[@]}" "${folders[@]}" >"$log" 2>&1; then
+  if [[ -z $binary ]]; then
+    echo "no ${name}_fuzzer binary" >"$out/fuzz.log"
+    status=1
+  else
+    "$binary" "${options[@]}" "${folders[@]}" >"$out/fuzz.log" 2>&1 || status=$?
+  fi
+  echo "$status" >"$out/status"
+}
+
+# The fuzzers are independent processes, one core each: nproc of them run at once.
+for name in $targets; do
+  rm -f "build-fuzz/fuzz/$name/status"
+  while (($(jobs -rp | wc -l) >= parallel)); do wait -n || true; done
+  fuzz_one "$name" &
+done
+wait
+
+# The summary of each, in order; on failure the log's tail with the report.
+failed=()
+for name in $targets; do
+  out=build-fuzz/fuzz/$name
+  log="$out/fuzz.log"
+  cat "$out/seeds.log"
+  if [[ $(cat "$out/status" 2>/dev/null) == 0 ]]; then
     grep -E '^(Done|stat::)' "$log" || true
     echo "fuzz: ${name}_fuzzer: no crash, leak, sanitizer report or timeout in ${per} s (log: $log)"
   else
-    status=$?
     [[ -f $log ]] && tail -n 200 "$log"
-    echo "fuzz: ${name}_fuzzer FAILED (exit $status); inputs in $out/artifacts/" >&2
+    echo "fuzz: ${name}_fuzzer FAILED (exit $(cat "$out/status" 2>/dev/null || echo none)); inputs in $out/artifacts/" >&2
     failed+=("${name}_fuzzer")
   fi
 done
@@ -73,4 +101,4 @@ if ((${#failed[@]})); then
   echo "fuzz: FAILED: ${failed[*]}" >&2
   exit 1
 fi
-echo "fuzz: all $count fuzzers clean in ${seconds} s"
+echo "fuzz: all $count fuzzers clean, ${per} s each"
