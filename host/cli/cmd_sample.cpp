@@ -331,8 +331,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                          " points; at most 1e12 are allowed");
   }
   // floor(k T / N) as (T / N) k + floor((T % N) k / N): T (<= 5e11) times k (<= 1e9) would overflow.
-  auto shardBound = [&](int k) {
-    const size_t n = static_cast<size_t>(shardN), kk = static_cast<size_t>(k);
+  // (n by init-capture: clang 15 cannot capture a structured binding.)
+  auto shardBound = [&, n = static_cast<size_t>(shardN)](int k) {
+    const size_t kk = static_cast<size_t>(k);
     return layout.totalItems / n * kk + layout.totalItems % n * kk / n;
   };
   layout.firstItem = shardBound(shardK - 1);

@@ -333,7 +333,8 @@ TEST_P(GpuBSpline, SurfacesMatchCpu) {
     };
     // 5 x 3: one sample per invocation of the knot grid kernel; 4 x 8: runs of 8 samples, whose
     // last one may change span (a knot where a derivative jumps).
-    for (auto [su, sv] : {std::pair{5, 3}, std::pair{4, 8}}) {
+    for (const auto& shape : {std::pair{5, 3}, std::pair{4, 8}}) {
+      const int su = shape.first, sv = shape.second;  // not a structured binding: the lambdas capture them (clang 15)
       GridSpec grid;
       grid.samplesU = su;
       grid.samplesV = sv;
@@ -462,7 +463,8 @@ TEST_P(GpuBSpline, RationalCurvesAndSurfacesMatchCpu) {
   const auto sitems = surfaceGridItems(surface);
   FieldMask all = 0;
   for (Field f : {Field::Point, Field::Du, Field::Dv, Field::Duu, Field::Duv, Field::Dvv, Field::Normal}) all |= fieldBit(f);
-  for (auto [su, sv] : {std::pair{5, 3}, std::pair{4, 8}}) {
+  for (const auto& shape : {std::pair{5, 3}, std::pair{4, 8}}) {
+    const int su = shape.first, sv = shape.second;  // not a structured binding: the lambdas capture them (clang 15)
     sev.evaluateGrid(gsurface, {su, sv, 0, 0}, all, [&](const GridChunk& ch) {
       for (size_t i = 0; i < ch.pointCount(); ++i) {
         const size_t item = ch.firstItem + i / size_t(su * sv), k = i % size_t(su * sv);
