@@ -41,8 +41,16 @@ class CsvWriter final : public SampleWriter {
       if (!(layout.fields & fieldBit(field))) continue;
       fields_.push_back(field);
       const char* axes[3] = {"_x", "_y", "_z"};
-      for (int a = 0; a < dim_; ++a) h += "," + std::string(field == Field::Point ? "" : fieldName(field)) +
-                                           (field == Field::Point ? std::string(1, "xyz"[a]) : std::string(axes[a]));
+      // Appended piece by piece (a GCC 12 -Wstringop-overflow false positive on "," + string&&).
+      for (int a = 0; a < dim_; ++a) {
+        h += ',';
+        if (field == Field::Point) {
+          h += "xyz"[a];
+        } else {
+          h += fieldName(field);
+          h += axes[a];
+        }
+      }
     }
     h += "\n";
     out_.write(h);
