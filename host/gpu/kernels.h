@@ -1,8 +1,8 @@
 #pragma once
 // Internal to host/gpu: the embedded SPIR-V of every evaluation kernel in both precisions, the
 // pipeline of a (kernel, specialization constants) pair from the context's table (each variant is
-// compiled once per context, whichever evaluator asks first), and the helpers every evaluator shares (REAL conversion, dispatch
-// sizing, a dummy buffer for bindings a variant does not use).
+// compiled once per context, whichever evaluator asks first), and the helpers every evaluator
+// shares (REAL conversion, dispatch sizing, a dummy buffer for bindings a variant does not use).
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/gpu/gpu_model.h>
 

@@ -22,6 +22,7 @@ class Buffer;
 struct SpecConstant {
   uint32_t id;     // layout(constant_id = id); local_size_x_id = 0 is the usual workgroup size
   uint32_t value;  // 32-bit payload: uint/int as is, bool as 0/1, float via std::bit_cast
+  bool operator==(const SpecConstant&) const = default;
 };
 
 struct ComputePipelineDesc {

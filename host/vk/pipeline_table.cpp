@@ -17,9 +17,7 @@ struct PipelineTable::Entry {
 
   bool matches(const ComputePipelineDesc& d) const {
     return pushConstantBytes == d.pushConstantBytes && storageBufferCount == d.storageBufferCount &&
-           label == d.label && std::ranges::equal(spirv, d.spirv) &&
-           std::ranges::equal(spec, d.specConstants,
-                              [](const SpecConstant& a, const SpecConstant& b) { return a.id == b.id && a.value == b.value; });
+           label == d.label && std::ranges::equal(spirv, d.spirv) && spec == d.specConstants;
   }
 };
 
