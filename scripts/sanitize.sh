@@ -13,6 +13,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
+source scripts/test_sets.sh
 
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
   -DSHAPESPLINE_SANITIZE=ON -DSHAPESPLINE_BUILD_BENCH=OFF -DSHAPESPLINE_TEST_CXX_FLAGS=-Og >/dev/null
@@ -22,7 +23,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX
 # replay tests, read from the CTestTestfile.cmake files (ctest -N shows no path for a program not
 # built yet; tolerant of fuzzers added or not yet there).
 # Longest first (cli_tests, then gpu_tests), for the shard pool below.
-executables=(cli_tests gpu_tests io_tests core_tests sampling_tests cad_tests jobs_tests)
+executables=("${gtest_executables[@]}")
 phonies=$(ninja -C build-asan -t targets all | sed -n 's/^\([A-Za-z0-9_]*\): phony$/\1/p' | sort -u)
 targets=(shapespline_keep_libraries_loaded)
 for exe in "${executables[@]}"; do
@@ -70,10 +71,8 @@ export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:detect_stack_use_after_retur
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:${UBSAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$root/tests/support/lsan.supp:${LSAN_OPTIONS:-}"
 
-# GpuStreamLarge.JobStreamsInBoundedMemory and MemoryBoundRss.* (cli_tests: the peak RSS of an
-# ASan-built shapespline) measure peak RSS, which ASan's quarantine and shadow memory inflate by
-# hundreds of MiB: they run in the normal build only.
-excluded="GpuStreamLarge.JobStreamsInBoundedMemory:MemoryBoundRss.*"
+# The peak-RSS tests run in the Release build only (scripts/test_sets.sh).
+excluded=$release_only_gtests
 failed=()
 parallel=$(nproc)
 shards=$((2 * parallel))  # per executable: the pool stays busy to the end
