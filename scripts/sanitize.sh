@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # Builds the project with AddressSanitizer + UndefinedBehaviorSanitizer into ./build-asan (gcc, -O1;
-# the test code itself -Og, which compiles in half the time; no benchmarks) and runs the whole test
-# suite there. Any ASan/UBSan report or leak fails the run
-# (tests/support/lsan.supp documents why it suppresses nothing).
+# the test code itself -Og, which compiles in half the time; no benchmarks) and runs the gtest
+# executables there (scripts/test_sets.sh: all but the peak-RSS tests). Any ASan/UBSan report or
+# leak fails the run (tests/support/lsan.supp documents why it suppresses nothing).
 #
 # The test executables run as a few gtest shards each (GTEST_TOTAL_SHARDS), not one process per
 # test as ctest does: under ASan process start-up dominates, and one process per executable took the
 # stage from ~8 min to ~1 min on two cores. The shards run $(nproc) at a time: cli_tests alone ran
 # 515 s in one process (CI, two cores), most of it in the ASan-built shapespline it runs; split in
-# shards it uses both cores. Every test still runs exactly once. ctest still runs the tests
-# registered without gtest (the fuzz seed replay).
+# shards it uses both cores. Every test still runs exactly once. ctest runs the fuzz seed
+# replay (unless SHAPESPLINE_REPLAY_FUZZ_SEEDS=0).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -23,17 +23,22 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX
 # replay tests, read from the CTestTestfile.cmake files (ctest -N shows no path for a program not
 # built yet; tolerant of fuzzers added or not yet there).
 # Longest first (cli_tests, then gpu_tests), for the shard pool below.
-executables=("${gtest_executables[@]}")
+executables=("${sanitized_gtests[@]}")
 phonies=$(ninja -C build-asan -t targets all | sed -n 's/^\([A-Za-z0-9_]*\): phony$/\1/p' | sort -u)
 targets=(shapespline_keep_libraries_loaded)
 for exe in "${executables[@]}"; do
   if grep -qx "$exe" <<<"$phonies"; then targets+=("$exe"); fi
 done
-for program in $(find build-asan -name CTestTestfile.cmake -exec \
-    sed -n 's/^add_test(\[=\[fuzz\/[^]]*\]=\] "\([^"]*\)".*/\1/p' {} +); do
-  name=$(basename "$program")
-  if grep -qx "$name" <<<"$phonies"; then targets+=("$name"); fi
-done
+# SHAPESPLINE_REPLAY_FUZZ_SEEDS=0 (scripts/test.sh, when its fuzz stage follows): no replay here, as
+# every fuzzer starts by running its seeds under ASan + UBSan (clang) there.
+replay=${SHAPESPLINE_REPLAY_FUZZ_SEEDS:-1}
+if [[ $replay == 1 ]]; then
+  for program in $(find build-asan -name CTestTestfile.cmake -exec \
+      sed -n 's/^add_test(\[=\[fuzz\/[^]]*\]=\] "\([^"]*\)".*/\1/p' {} +); do
+    name=$(basename "$program")
+    if grep -qx "$name" <<<"$phonies"; then targets+=("$name"); fi
+  done
+fi
 cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
 echo "stage: sanitizers build $SECONDS s" >&2
 built=$SECONDS
@@ -71,8 +76,6 @@ export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:detect_stack_use_after_retur
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:${UBSAN_OPTIONS:-}"
 export LSAN_OPTIONS="suppressions=$root/tests/support/lsan.supp:${LSAN_OPTIONS:-}"
 
-# The peak-RSS tests run in the Release build only (scripts/test_sets.sh).
-excluded=$release_only_gtests
 failed=()
 parallel=$(nproc)
 shards=$((2 * parallel))  # per executable: the pool stays busy to the end
@@ -89,7 +92,7 @@ for exe in "${executables[@]}"; do
     (
       status=0
       LD_PRELOAD=$(preload_for "$exe") GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i \
-        build-asan/tests/$exe --gtest_brief=1 --gtest_filter="-$excluded" \
+        build-asan/tests/$exe --gtest_brief=1 \
         --gtest_output="xml:$logs/$exe.$i.xml" >"$logs/$exe.$i.log" 2>&1 || status=$?
       echo "$status" >"$logs/$exe.$i.rc"
     ) &
@@ -106,8 +109,10 @@ for exe in "${ran[@]}"; do
     fi
   done
 done
-LD_PRELOAD=$(preload_for fuzz) ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -R '^fuzz/' ||
-  failed+=("fuzz replay")
+if [[ $replay == 1 ]]; then
+  LD_PRELOAD=$(preload_for fuzz) ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -R '^fuzz/' ||
+    failed+=("fuzz replay")
+fi
 # Where the stage's time went: the ten slowest tests (gtest's own times, from the shards' reports).
 cat "$logs"/*.xml 2>/dev/null |
   sed -n 's/.*<testcase name="\([^"]*\)".* time="\([0-9.]*\)".* classname="\([^"]*\)".*/\2 \3.\1/p' |

@@ -21,12 +21,12 @@ sanitize=1
 stage setup bash scripts/setup.sh
 # The test code itself at -Og (what it tests keeps Release's -O3): it compiles in half the time
 # (test sources were 45% of the build's CPU time), and the sanitizer stage runs it so already.
-stage build bash scripts/build.sh -DSHAPESPLINE_TEST_CXX_FLAGS=-Og
-# Release: the tests that are not gtests (Python, package, Slurm, viewer, fuzz seeds), the peak-RSS
-# gtests, and core_tests (the golden vectors against the -O3 library people install). Every other
-# gtest runs once, in the sanitizer stage: the same code, checked more strictly. Running them here too
-# took 7 min of a 25-min CI run (one process per test; 2,500 processes) and tested nothing twice over
-# that the sanitizers miss.
+# With the sanitizer stage, the Release build has only the tests it runs (below).
+stage build bash scripts/build.sh -DSHAPESPLINE_TEST_CXX_FLAGS=-Og -DSHAPESPLINE_RELEASE_STAGE_TESTS=$((sanitize ? 1 : 0))
+# Release: the tests that are not gtests (Python, package, Slurm, viewer; fuzz seeds when nothing
+# else replays them) and scripts/test_sets.sh's Release gtests. Every other gtest runs once, in the
+# sanitizer stage: the same code, checked more strictly. Running them here too took 7 min of a
+# 25-min CI run (one process per test, 2,500 processes) and found nothing the sanitizers miss.
 release_logs=build/test-logs
 release_tests() {
   rm -rf "$release_logs"
@@ -36,16 +36,18 @@ release_tests() {
   ctest --test-dir build --output-on-failure -j "$(nproc)" "${labels[@]}" | tee "$release_logs/ctest.log"
   ((sanitize)) || return 0
   local exe
-  for exe in cli_tests gpu_tests; do
-    build/tests/$exe --gtest_brief=1 --gtest_filter="$release_only_gtests" --gtest_output="xml:$release_logs/$exe.xml"
+  for exe in "${release_gtests[@]}"; do
+    build/tests/$exe --gtest_brief=1 --gtest_output="xml:$release_logs/$exe.xml"
   done
-  build/tests/core_tests --gtest_brief=1 --gtest_output="xml:$release_logs/core_tests.xml"
 }
 stage tests release_tests
+fuzz=1
+[[ "${SHAPESPLINE_SKIP_FUZZ:-0}" == 1 ]] && fuzz=0
 if ((sanitize)); then
-  stage sanitizers bash scripts/sanitize.sh
+  # The fuzz stage below runs every seed set under the sanitizers too: no replay of them here.
+  stage sanitizers env SHAPESPLINE_REPLAY_FUZZ_SEEDS=$((fuzz ? 0 : 1)) bash scripts/sanitize.sh
 fi
-if [[ "${SHAPESPLINE_SKIP_FUZZ:-0}" != 1 ]]; then
+if ((fuzz)); then
   stage fuzz bash scripts/fuzz.sh 60
 fi
 # Reached only when every stage passed: one line for the whole suite. Counts: ctest's summary, and

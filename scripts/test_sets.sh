@@ -1,8 +1,7 @@
-# Sourced by scripts/test.sh and scripts/sanitize.sh: the gtest executables and which of their tests
-# run in which build.
+# Sourced by scripts/test.sh and scripts/sanitize.sh: which gtest executables run in which build.
 #
-# The gtest executables (tests/CMakeLists.txt, shapespline_test_dir), longest first.
-gtest_executables=(cli_tests gpu_tests io_tests core_tests sampling_tests cad_tests jobs_tests)
-# Tests that measure peak RSS, which ASan's quarantine and shadow memory inflate by hundreds of MiB:
-# they run in the Release build only (a gtest filter).
-release_only_gtests="GpuStreamLarge.JobStreamsInBoundedMemory:MemoryBoundRss.*"
+# Under the sanitizers (build-asan), longest first: every gtest but the peak-RSS ones.
+sanitized_gtests=(cli_tests gpu_tests io_tests core_tests sampling_tests cad_tests jobs_tests)
+# In the Release build: the peak-RSS tests (tests/memory; ASan's shadow memory and quarantine would
+# inflate them by hundreds of MiB), and the golden vectors against the -O3 library people install.
+release_gtests=(memory_tests core_tests)

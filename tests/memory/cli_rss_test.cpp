@@ -1,0 +1,138 @@
+// Issue 12, requirement 5: memory is bounded for any job. A patch (span) larger than a chunk is
+// cut into rows of samples, so `sample` on one patch at --grid 4096 (or 65536) holds two chunks of
+// planes and not the whole patch, on the CPU and on the Vulkan path. The peak RSS of the child
+// process (wait4's ru_maxrss) is checked against the bound docs/performance.md states. (That the
+// bytes do not depend on where the rows are cut: tests/cli/memory_bound_test.cpp.)
+#include "cli/cli_runner.h"
+#include "cli/output_checks.h"
+#include "cli/one_patch_models.h"
+
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <string>
+#include <vector>
+
+namespace shapespline::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The bounds docs/performance.md states (whole process, peak RSS): the CPU path holds 2 chunks of
+// fp64 planes (default 2^18 points: 6 MiB per field and chunk) plus the writer's buffer; the Vulkan path
+// adds the driver (lavapipe and its LLVM: ~70-120 MB before any job) to 2 slots of planes
+// (4 MiB per field and slot). Before rows were split, one patch at 4096 x 4096 took 796 MB on the
+// CPU and failed on lavapipe (its 201 MB fp32 plane exceeds maxStorageBufferRange, 128 MiB).
+constexpr long kCpuBoundKiB = 128 * 1024;
+constexpr long kVulkanBoundKiB = 200 * 1024;
+
+struct Measured {
+  int rc = -1;
+  long maxRssKiB = 0;
+  std::string err;
+};
+
+// Runs `shapespline args...` in `dir` as a direct child (no shell in between, so ru_maxrss is the
+// tool's own peak), optionally with a file size limit (bytes; the tool then fails with exit 3).
+Measured runMeasured(const std::vector<std::string>& args, const fs::path& dir, rlim_t fileLimit = RLIM_INFINITY) {
+  const fs::path errPath = dir / "_stderr.txt";
+  std::vector<std::string> argv = {SHAPESPLINE_CLI};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> cargv;
+  for (auto& a : argv) cargv.push_back(a.data());
+  cargv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0) _exit(126);
+    const int null = open("/dev/null", O_WRONLY);
+    const int err = open(errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (null < 0 || err < 0) _exit(126);
+    dup2(null, 1);
+    dup2(err, 2);
+    if (fileLimit != RLIM_INFINITY) {
+      const rlimit lim{fileLimit, fileLimit};
+      setrlimit(RLIMIT_FSIZE, &lim);
+      signal(SIGXFSZ, SIG_IGN);  // the write then fails with EFBIG instead of killing the tool
+    }
+    execv(cargv[0], cargv.data());
+    _exit(127);
+  }
+  Measured m;
+  int status = 0;
+  rusage usage{};
+  if (pid > 0 && wait4(pid, &status, 0, &usage) == pid) {
+    m.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    m.maxRssKiB = usage.ru_maxrss;
+  }
+  m.err = readText(errPath);
+  fs::remove(errPath);
+  return m;
+}
+
+// One patch at --grid 4096 (16.8 M points, 201 MB of fp32 records) to a raw file.
+void expectOnePatchBounded(const std::string& device, long boundKiB, const std::string& tag) {
+  ScratchDir dir("mem_" + tag);
+  writeText(dir / "patch.json", kOnePatch);
+  std::vector<std::string> args = {"sample", "patch.json", "-o", "p.f32", "--grid", "4096", "-q"};
+  for (const auto& a : {std::string("--device"), device}) args.push_back(a);
+  if (device == "vulkan") args.push_back("--require-device");
+  const Measured m = runMeasured(args, dir.path());
+  ASSERT_EQ(m.rc, 0) << m.err;
+  EXPECT_EQ(fs::file_size(dir / "p.f32"), size_t{4096} * 4096 * 3 * 4);
+  EXPECT_LE(m.maxRssKiB, boundKiB) << tag << ": one patch at --grid 4096 took " << m.maxRssKiB / 1024 << " MiB";
+  std::printf("[ measured ] %s: one patch at --grid 4096, peak RSS %ld MiB (bound %ld MiB)\n", tag.c_str(),
+              m.maxRssKiB / 1024, boundKiB / 1024);
+}
+
+TEST(MemoryBoundRss, CpuOnePatchAtGrid4096) { expectOnePatchBounded("cpu", kCpuBoundKiB, "cpu"); }
+
+TEST(MemoryBoundRss, VulkanOnePatchAtGrid4096) {
+  REQUIRE_VULKAN();
+  expectOnePatchBounded("vulkan", kVulkanBoundKiB, "vulkan");
+}
+
+// --grid 65536 (4.3e9 points, 51 GB of records) is accepted and streams in bounded memory: it runs
+// until a 64 MiB file size limit stops it (exit 3, nothing left behind). Before, the first chunk
+// alone asked for 103 GB ("out of memory" on the CPU, "exceeds maxStorageBufferRange" on Vulkan).
+void expectGrid65536Bounded(const std::string& device, long boundKiB, const std::string& tag) {
+  ScratchDir dir("mem65536_" + tag);
+  writeText(dir / "patch.json", kOnePatch);
+  std::vector<std::string> args = {"sample", "patch.json", "-o", "p.f32", "--grid", "65536", "-q", "--device", device};
+  if (device == "vulkan") args.push_back("--require-device");
+  const Measured m = runMeasured(args, dir.path(), rlim_t{64} << 20);
+  EXPECT_EQ(m.rc, 3) << m.err;
+  // It stopped at the file limit (a write error), not for lack of memory.
+  EXPECT_NE(m.err.find("File too large"), std::string::npos) << m.err;
+  EXPECT_EQ(m.err.find("memory"), std::string::npos) << m.err;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"patch.json"}) << "a partial or temporary file was left";
+  EXPECT_LE(m.maxRssKiB, boundKiB) << tag << ": --grid 65536 took " << m.maxRssKiB / 1024 << " MiB";
+  std::printf("[ measured ] %s: one patch at --grid 65536 until a 64 MiB file limit, peak RSS %ld MiB\n", tag.c_str(),
+              m.maxRssKiB / 1024);
+}
+
+TEST(MemoryBoundRss, CpuGrid65536StreamsUntilTheFileLimit) { expectGrid65536Bounded("cpu", kCpuBoundKiB, "cpu"); }
+
+TEST(MemoryBoundRss, VulkanGrid65536StreamsUntilTheFileLimit) {
+  REQUIRE_VULKAN();
+  expectGrid65536Bounded("vulkan", kVulkanBoundKiB, "vulkan");
+}
+
+// A curve span at the largest --samples: bounded as well (and cut into sample ranges below).
+TEST(MemoryBoundRss, CpuOneSpanAtMaxSamples) {
+  ScratchDir dir("mem_span");
+  writeText(dir / "curve.json", kOneSpan);
+  const Measured m = runMeasured({"sample", "curve.json", "-o", "c.f32", "--samples", "65536", "--derivatives",
+                                  "--chunk-points", "1000", "-q", "--device", "cpu"},
+                                 dir.path());
+  ASSERT_EQ(m.rc, 0) << m.err;
+  EXPECT_EQ(fs::file_size(dir / "c.f32"), size_t{65536} * 9 * 4);
+  EXPECT_LE(m.maxRssKiB, kCpuBoundKiB);
+}
+
+}  // namespace
+}  // namespace shapespline::test
