@@ -26,7 +26,7 @@ stage build bash scripts/build.sh -DSHAPESPLINE_TEST_CXX_FLAGS=-Og -DSHAPESPLINE
 # Release: the tests that are not gtests (Python, package, Slurm, viewer; fuzz seeds when nothing
 # else replays them) and scripts/test_sets.sh's Release gtests. Every other gtest runs once, in the
 # sanitizer stage: the same code, checked more strictly. Running them here too took 7 min of a
-# 25-min CI run (one process per test, 2,500 processes) and found nothing the sanitizers miss.
+# 25-min CI run (one process per test, 2,500 processes) to check what the sanitizer run checks too.
 release_logs=build/test-logs
 release_tests() {
   rm -rf "$release_logs"

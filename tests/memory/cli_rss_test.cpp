@@ -122,7 +122,8 @@ TEST(MemoryBoundRss, VulkanGrid65536StreamsUntilTheFileLimit) {
   expectGrid65536Bounded("vulkan", kVulkanBoundKiB, "vulkan");
 }
 
-// A curve span at the largest --samples: bounded as well (and cut into sample ranges below).
+// A curve span at the largest --samples: bounded as well (cut into sample ranges, whose bytes
+// tests/cli/memory_bound_test.cpp checks).
 TEST(MemoryBoundRss, CpuOneSpanAtMaxSamples) {
   ScratchDir dir("mem_span");
   writeText(dir / "curve.json", kOneSpan);
