@@ -32,6 +32,9 @@ install(TARGETS ${SHAPESPLINE_EXPORTED_TARGETS} EXPORT shapespline-targets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 if(TARGET shapespline)
   install(TARGETS shapespline RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  if(TARGET shapespline_occt_plugin)  # `import`'s Open CASCADE half, where the CLI looks for it
+    install(TARGETS shapespline_occt_plugin LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/shapespline)
+  endif()
 endif()
 
 set(SHAPESPLINE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/shapespline)

@@ -2,7 +2,6 @@
 #include <shapespline/cad/part_import.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
-#include <shapespline/io/output_set.h>
 #include <shapespline/version.h>
 
 #include <BRep_Tool.hxx>
@@ -27,10 +26,6 @@ std::string numbered(const char* stem, int id) {
   return name;
 }
 
-struct PartFile {
-  std::string name, text;
-};
-
 // The ids (1-based, in TopExp::MapShapes order) of the sub-shapes of `shape` of type `type`.
 json idsIn(const TopoDS_Shape& shape, TopAbs_ShapeEnum type, const TopTools_IndexedMapOfShape& all) {
   TopTools_IndexedMapOfShape inside;
@@ -42,8 +37,7 @@ json idsIn(const TopoDS_Shape& shape, TopAbs_ShapeEnum type, const TopTools_Inde
 
 }  // namespace
 
-ImportSummary importPart(const std::filesystem::path& part, const std::filesystem::path& outDir,
-                         const ImportOptions& options) {
+ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions& options) {
   if (!std::isfinite(options.trimTolerance) || options.trimTolerance <= 0.0 || options.trimTolerance > 0.01)
     throw std::invalid_argument("--trim-tolerance: must lie in (0, 0.01] (got " + std::to_string(options.trimTolerance) + ")");
   const PartShape shape = readPart(part, options.maxFileBytes);
@@ -52,10 +46,11 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
   TopExp::MapShapes(shape.shape, TopAbs_EDGE, edges);
   TopExp::MapShapes(shape.shape, TopAbs_SHELL, shells);
 
-  ImportSummary summary;
+  ConvertedPart result;
+  ImportSummary& summary = result.summary;
+  std::vector<std::pair<std::string, std::string>>& files = result.files;
   summary.format = shape.format;
   summary.units = shape.units;
-  std::vector<PartFile> files;
   json faceList = json::array(), edgeList = json::array(), shellList = json::array();
   // A face or edge that did not convert: listed with the reason, in part.json and the summary.
   auto skip = [&](json& entry, const std::string& what, int id, const ConversionError& e, int& count) {
@@ -124,13 +119,15 @@ ImportSummary importPart(const std::filesystem::path& part, const std::filesyste
       {"edges", std::move(edgeList)},
       {"shells", std::move(shellList)}};
 
-  std::filesystem::create_directories(outDir);
-  io::OutputSet outputs;
-  outputs.reads(part, "PART");
-  for (const PartFile& f : files) outputs.add(outDir / f.name, "-o").write(f.text);
-  outputs.add(outDir / "part.json", "-o").write(manifest.dump(1) + "\n");
-  outputs.commit();
-  return summary;
+  files.emplace_back("part.json", manifest.dump(1) + "\n");
+  return result;
+}
+
+ImportSummary importPart(const std::filesystem::path& part, const std::filesystem::path& outDir,
+                         const ImportOptions& options) {
+  const ConvertedPart converted = convertPart(part, options);
+  writePart(converted, part, outDir);
+  return converted.summary;
 }
 
 }  // namespace shapespline::cad

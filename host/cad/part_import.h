@@ -4,10 +4,13 @@
 // restricted to the face's parameter bounds, its trimming loops under `trim`; every edge a `bspline`
 // curve model; part.json lists faces, edges, shells, units and the source file's SHA-256. Faces and
 // edges that cannot be converted are listed in part.json with the reason. No OCCT type appears here.
+#include <shapespline/io/output_set.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shapespline::cad {
@@ -43,9 +46,31 @@ class CadError : public std::invalid_argument {
   std::string file_, entity_, reason_;
 };
 
+// A part read and converted in memory: the text of every file importPart writes (face_NNNN.json,
+// edge_NNNN.json, part.json last) and the summary.
+struct ConvertedPart {
+  std::vector<std::pair<std::string, std::string>> files;  // file name, text
+  ImportSummary summary;
+};
+
+// The Open CASCADE half of the import: reads `part` and converts it, writing nothing. Throws
+// CadError for a part that cannot be imported, std::invalid_argument for bad options.
+ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions& options = {});
+
+// The writing half, without Open CASCADE (the CLI runs convertPart in a plugin, cad/part_plugin.h,
+// and writes here): the files into `outDir` as one output set (io::OutputSet: all of them or none).
+inline void writePart(const ConvertedPart& converted, const std::filesystem::path& part,
+                      const std::filesystem::path& outDir) {
+  std::filesystem::create_directories(outDir);
+  io::OutputSet outputs;
+  outputs.reads(part, "PART");
+  for (const auto& [name, text] : converted.files) outputs.add(outDir / name, "-o").write(text);
+  outputs.commit();
+}
+
 // Reads `part` and writes DIR/face_NNNN.json, DIR/edge_NNNN.json and DIR/part.json as one output
-// set (io::OutputSet: all of them or none). The part is read and converted in memory before any
-// output is opened, so a failure (or a crash inside OCCT) leaves nothing behind.
+// set: convertPart, then writePart. The part is read and converted in memory before any output is
+// opened, so a failure (or a crash inside OCCT) leaves nothing behind.
 ImportSummary importPart(const std::filesystem::path& part, const std::filesystem::path& outDir,
                          const ImportOptions& options = {});
 

@@ -1,17 +1,66 @@
 // `shapespline import PART.(step|stp|iges|igs) -o DIR`: a CAD part as bspline models, one per face
-// (with its trimming loops) and per edge, and DIR/part.json (docs/cad.md). Built with Open CASCADE
-// when the build found it; otherwise the command says how to install it (exit 3).
+// (with its trimming loops) and per edge, and DIR/part.json (docs/cad.md). When the build found
+// Open CASCADE, the reading and converting half runs in the plugin libshapespline-occt.so, loaded
+// here on demand (cad/part_plugin.h); otherwise the command says how to install it (exit 3).
 #include <shapespline/cli/common.h>
 
 #ifdef SHAPESPLINE_HAS_CAD
-#include <shapespline/cad/part_import.h>
+#include <shapespline/cad/part_plugin.h>
+
+#include <dlfcn.h>
 #endif
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <new>
 
 namespace shapespline::cli {
 namespace {
+
+#ifdef SHAPESPLINE_HAS_CAD
+// The plugin's entry, loaded once and never unloaded (OCCT keeps process-wide tables).
+cad::ConvertPartFn loadConvertPart() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path bin = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  std::string tried;
+  for (const fs::path& dir : {bin, bin / SHAPESPLINE_PLUGIN_DIR_FROM_BIN}) {
+    const fs::path file = (dir / cad::kPluginFile).lexically_normal();
+    if (!fs::exists(file, ec)) {
+      tried += (tried.empty() ? "" : ", ") + file.string();
+      continue;
+    }
+    void* plugin = ::dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!plugin) throw RuntimeError("import", file.string(), std::string("cannot load the plugin: ") + ::dlerror());
+    void* entry = ::dlsym(plugin, cad::kConvertPartSymbol);
+    if (!entry)
+      throw RuntimeError("import", file.string(),
+                         std::string("the plugin has no ") + cad::kConvertPartSymbol + " (from another build?)");
+    return reinterpret_cast<cad::ConvertPartFn>(entry);
+  }
+  throw RuntimeError("import", tried,
+                     std::string("Open CASCADE's importer ") + cad::kPluginFile +
+                         " is not in any folder this shapespline looks in: reinstall shapespline, or rebuild it");
+}
+
+// cad::convertPart through the plugin, its failures raised as this command's errors.
+cad::ConvertedPart convertPart(const std::string& part, const cad::ImportOptions& options) {
+  static const cad::ConvertPartFn convert = loadConvertPart();
+  cad::ConvertedPart out;
+  cad::PluginFailure failure;
+  convert(part.c_str(), options, out, failure);
+  using Kind = cad::PluginFailure::Kind;
+  switch (failure.kind) {
+    case Kind::None: return out;
+    case Kind::Cad: throw InputError("PART", failure.file, failure.entity + ": " + failure.message);
+    case Kind::BadInput: throw std::invalid_argument(failure.message);
+    case Kind::OutOfMemory: throw std::bad_alloc();
+    case Kind::Runtime: break;
+  }
+  throw std::runtime_error(failure.message);
+}
+#endif
 
 struct ImportArgs {
   std::string part, out;
@@ -24,12 +73,9 @@ void runImport(const ImportArgs& a) {
     throw InputError("--trim-tolerance", std::to_string(a.trimTolerance), "must lie in (0, 0.01]");
   cad::ImportOptions options;
   options.trimTolerance = a.trimTolerance;
-  cad::ImportSummary s;
-  try {
-    s = cad::importPart(a.part, a.out, options);
-  } catch (const cad::CadError& e) {
-    throw InputError("PART", e.file(), e.entity() + ": " + e.reason());
-  }
+  const cad::ConvertedPart converted = convertPart(a.part, options);
+  cad::writePart(converted, a.part, a.out);
+  const cad::ImportSummary& s = converted.summary;
   // A face or edge OCCT could not convert does not stop the import (part.json lists it); each is
   // named here so that it is not missed.
   for (const std::string& why : s.skipped)

@@ -164,5 +164,38 @@ TEST(ImportCli, ImportsAPartAndRefusesBadOnesWithExitTwo) {
   EXPECT_FALSE(fs::exists(dir / "tight"));
 }
 
+// Open CASCADE is a plugin the CLI loads for `import` only (cad/part_plugin.h): the executable does
+// not link it, so no other command pays for its libraries at start.
+TEST(ImportCli, OnlyTheImportPluginLinksOpenCascade) {
+  ScratchDir dir("import_links");
+  const CliResult r = runCaptured("LD_TRACE_LOADED_OBJECTS=1 " + quote(SHAPESPLINE_CLI) + " >" +
+                                      quote((dir / "out.txt").string()) + " 2>" + quote((dir / "err.txt").string()),
+                                  dir / "out.txt", dir / "err.txt");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("libc.so"), std::string::npos) << r.out;  // the listing is there
+  EXPECT_EQ(r.out.find("libTK"), std::string::npos) << r.out;
+}
+
+// Without its plugin (a copied executable), `import` names the file it looked for (exit 3) and
+// writes nothing; every other command still works.
+TEST(ImportCli, AMissingPluginIsNamedAndNothingIsWritten) {
+  ScratchDir dir("import_no_plugin");
+  writeStep(cylinder(), dir / "part.step");
+  const fs::path cli = dir / "shapespline";
+  fs::copy_file(SHAPESPLINE_CLI, cli);
+  auto run = [&](const std::string& args) {
+    return runCaptured(quote(cli.string()) + " " + args + " >" + quote((dir / "out.txt").string()) + " 2>" +
+                           quote((dir / "err.txt").string()),
+                       dir / "out.txt", dir / "err.txt");
+  };
+  CliResult r = run("import " + quote((dir / "part.step").string()) + " -o " + quote((dir / "part").string()));
+  EXPECT_EQ(r.rc, 3) << r.err;
+  EXPECT_NE(r.err.find("libshapespline-occt.so is not in any folder"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find((dir / "libshapespline-occt.so").string()), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "part"));
+  r = run("--version");
+  EXPECT_EQ(r.rc, 0) << r.err;
+}
+
 }  // namespace
 }  // namespace shapespline::test

@@ -36,6 +36,18 @@ consume() {
   grep -qE "^(ok:|gpu: skipped:)" "$T/run.log" || fail "consumer printed no result"
 }
 
+# cli_import PREFIX: where the build has `import` (Open CASCADE found), the installed CLI finds the
+# plugin it loads for it: a part that is not STEP is refused as such (exit 2), not as a missing plugin.
+cli_import() {
+  local prefix=$1 rc=0
+  [ -f "$BUILD/host/cli/libshapespline-occt.so" ] || { echo "import: built without Open CASCADE"; return 0; }
+  echo "not a step file" >"$T/bad.step"
+  "$prefix/bin/shapespline" import "$T/bad.step" -o "$T/imported" 2>"$T/import.err" || rc=$?
+  [ "$rc" = 2 ] && grep -q "not a readable STEP file" "$T/import.err" \
+    || { cat "$T/import.err"; fail "installed shapespline import exited $rc"; }
+  echo "import: the plugin loads from $(find "$prefix" -name libshapespline-occt.so)"
+}
+
 # pkgconfig PREFIX: the relocatable shapespline.pc resolves to PREFIX.
 pkgconfig() {
   local prefix=$1 pc

@@ -25,6 +25,7 @@ echo "$out"
 [ "$out" = "shapespline $VERSION (commit $COMMIT)" ] || fail "--version printed '$out'"
 [ "$COMMIT" != unknown ] || echo "note: the build was configured without git, commit 'unknown'"
 
+cli_import "$T/usr"
 pkgconfig "$T/usr"
 python_import "$T/usr"
 consume "$T/usr"

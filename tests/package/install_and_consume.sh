@@ -32,6 +32,7 @@ xargs -P 2 -I{} sh -c 'printf "#include <%s>\n" "$1" | $CXX -std=c++20 -fsyntax-
     >"$T/hdr.$$.log" 2>&1 || { echo "FAIL: <$1> does not compile on its own:"; cat "$T/hdr.$$.log"; exit 255; }' \
     _ {} <"$T/headers" || fail "a public header does not compile alone"
 
+cli_import "$T/usr"
 pkgconfig "$T/usr"
 python_import "$T/usr"
 consume "$T/usr"
