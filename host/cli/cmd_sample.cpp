@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -520,7 +521,16 @@ std::string withStem(std::string pattern, const std::string& stem) {
   return pattern;
 }
 
-// Several models on one session: its device is set up and each pipeline compiled once.
+// A model's finished output set, committing on a thread of its own while the next model samples.
+struct PendingCommit {
+  std::string model, summary;
+  std::unique_ptr<io::OutputSet> outputs;
+  std::future<void> done;
+};
+
+// Several models on one session: its device is set up and each pipeline compiled once. Model k's
+// outputs are committed (flushed to disk and renamed, io::OutputSet) while model k + 1 is sampled;
+// each model's line (its summary, or its error) is still printed in model order.
 void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) {
   if (args.out.find(kStem) == std::string::npos)
     throw InputError("-o", args.out, "several models need {stem} in the output name (e.g. out/{stem}.npy)");
@@ -533,20 +543,47 @@ void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) 
       throw InputError("MODEL", m, "another model has the same file stem: their outputs would be one file");
   sampling::Session session;
   size_t failed = 0;
+  auto failedOn = [&](const std::string& model, const std::exception& e) {  // only inside a catch
+    if (args.failFast) throw;  // the exception being handled
+    ++failed;
+    std::fprintf(stderr, "shapespline: error: %s: %s\n", model.c_str(), e.what());
+  };
+  std::optional<PendingCommit> pending;
+  auto settle = [&] {  // waits for the previous model's commit and prints its line
+    if (!pending) return;
+    PendingCommit p = std::move(*pending);
+    pending.reset();
+    try {
+      p.done.get();
+      if (!args.quiet) std::fprintf(stderr, "shapespline: %s\n", p.summary.c_str());
+    } catch (const std::exception& e) {
+      failedOn(p.model, e);
+    }
+  };
   for (const std::string& m : models) {
     SampleArgs one = args;
     one.model = m;
     one.models = {m};
     one.out = withStem(args.out, std::filesystem::path(m).stem().string());
     if (!args.saveModel.empty()) one.saveModel = withStem(args.saveModel, std::filesystem::path(m).stem().string());
+    auto outputs = std::make_unique<io::OutputSet>();
+    std::string summary;
+    bool wrote = false;
     try {
-      sampleAndCommit(one, &session);
+      wrote = sampleInto(one, *outputs, summary, &session);
     } catch (const std::exception& e) {
-      if (args.failFast) throw;
-      ++failed;
-      std::fprintf(stderr, "shapespline: error: %s: %s\n", m.c_str(), e.what());
+      outputs.reset();  // its temporary files go before anything is reported
+      settle();
+      failedOn(m, e);
+      continue;
     }
+    settle();
+    if (!wrote) continue;  // (the set is discarded with `outputs`)
+    io::OutputSet* set = outputs.get();
+    pending = PendingCommit{m, std::move(summary), std::move(outputs),
+                            std::async(std::launch::async, [set] { set->commit(); })};
   }
+  settle();
   if (failed)
     throw BatchFailure(std::to_string(failed) + " of " + std::to_string(models.size()) +
                        " models failed (each reported above); the others were written");

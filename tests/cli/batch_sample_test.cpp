@@ -92,6 +92,41 @@ TEST_F(BatchSample, ABadModelIsReportedAndTheOthersAreWritten) {
   EXPECT_FALSE(fs::exists(dir_ / "batch" / "b.f32")) << "--fail-fast went on after the failure";
 }
 
+// Each model's outputs are committed while the next one samples; its line (what it wrote, or why
+// it failed) still comes in model order, and a commit that fails is that model's failure.
+TEST_F(BatchSample, LinesComeInModelOrderAndAFailedCommitIsThatModelsFailure) {
+  writeText(dir_ / "models" / "bad.json", R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": 1.5,
+    "points": [[[0,0,0],[0,1,0]], [[1,0,0],[1,1,0]]]})");
+  const std::string models = model("a.json") + " " + model("bad.json") + " " + model("b.json") + " " + model("c.json");
+  const std::string out = " -o " + quote((dir_ / "batch" / "{stem}.npy").string()) + " --samples 5 --device cpu";
+  const CliResult r = runCli("sample " + models + out, dir_.path());
+  EXPECT_EQ(r.rc, 1) << r.err;
+  const size_t a = r.err.find("a.npy"), bad = r.err.find("bad.json: alpha"), b = r.err.find("b.npy"),
+               c = r.err.find("c.npy");
+  ASSERT_TRUE(a != std::string::npos && bad != std::string::npos && b != std::string::npos && c != std::string::npos)
+      << r.err;
+  EXPECT_TRUE(a < bad && bad < b && b < c) << r.err;
+
+  // The second rename of every model's set (its sidecar) fails: every model fails, in order, each
+  // with nothing written.
+  fs::remove_all(dir_ / "batch");
+  fs::create_directories(dir_ / "batch");
+  const fs::path so = dir_ / "_stdout.txt", se = dir_ / "_stderr.txt";
+  const CliResult f = runCaptured("SHAPESPLINE_IO_FAULT=rename:2 " + quote(SHAPESPLINE_CLI) + " sample " + model("a.json") +
+                                      " " + model("b.json") + " " + model("c.json") + out + " >" + quote(so.string()) +
+                                      " 2>" + quote(se.string()),
+                                  so, se);
+  EXPECT_EQ(f.rc, 1) << f.err;
+  EXPECT_NE(f.err.find("3 of 3 models failed"), std::string::npos) << f.err;
+  const size_t fa = f.err.find("a.json: "), fb = f.err.find("b.json: "), fc = f.err.find("c.json: ");
+  ASSERT_TRUE(fa != std::string::npos && fb != std::string::npos && fc != std::string::npos) << f.err;
+  EXPECT_TRUE(fa < fb && fb < fc) << f.err;
+  EXPECT_NE(f.err.find("rename"), std::string::npos) << f.err;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir_ / "batch")) left.push_back(e.path().filename().string());
+  EXPECT_TRUE(left.empty()) << left.size() << " files left, first " << left.front();
+}
+
 TEST_F(BatchSample, SeveralModelsNeedStemAndNoShard) {
   const CliResult noStem = run("sample " + model("a.json") + " " + model("b.json") + " -o " +
                                quote((dir_ / "batch" / "x.f32").string()) + " --device cpu");
