@@ -168,9 +168,7 @@ TEST(ImportCli, ImportsAPartAndRefusesBadOnesWithExitTwo) {
 // not link it, so no other command pays for its libraries at start.
 TEST(ImportCli, OnlyTheImportPluginLinksOpenCascade) {
   ScratchDir dir("import_links");
-  const CliResult r = runCaptured("LD_TRACE_LOADED_OBJECTS=1 " + quote(SHAPESPLINE_CLI) + " >" +
-                                      quote((dir / "out.txt").string()) + " 2>" + quote((dir / "err.txt").string()),
-                                  dir / "out.txt", dir / "err.txt");
+  const CliResult r = runShell("LD_TRACE_LOADED_OBJECTS=1 " + quote(SHAPESPLINE_CLI), dir.path());
   ASSERT_EQ(r.rc, 0) << r.err;
   EXPECT_NE(r.out.find("libc.so"), std::string::npos) << r.out;  // the listing is there
   EXPECT_EQ(r.out.find("libTK"), std::string::npos) << r.out;
@@ -183,11 +181,7 @@ TEST(ImportCli, AMissingPluginIsNamedAndNothingIsWritten) {
   writeStep(cylinder(), dir / "part.step");
   const fs::path cli = dir / "shapespline";
   fs::copy_file(SHAPESPLINE_CLI, cli);
-  auto run = [&](const std::string& args) {
-    return runCaptured(quote(cli.string()) + " " + args + " >" + quote((dir / "out.txt").string()) + " 2>" +
-                           quote((dir / "err.txt").string()),
-                       dir / "out.txt", dir / "err.txt");
-  };
+  auto run = [&](const std::string& args) { return runShell(quote(cli.string()) + " " + args, dir.path()); };
   CliResult r = run("import " + quote((dir / "part.step").string()) + " -o " + quote((dir / "part").string()));
   EXPECT_EQ(r.rc, 3) << r.err;
   EXPECT_NE(r.err.find("libshapespline-occt.so is not in any folder"), std::string::npos) << r.err;

@@ -111,11 +111,9 @@ TEST_F(BatchSample, LinesComeInModelOrderAndAFailedCommitIsThatModelsFailure) {
   // with nothing written.
   fs::remove_all(dir_ / "batch");
   fs::create_directories(dir_ / "batch");
-  const fs::path so = dir_ / "_stdout.txt", se = dir_ / "_stderr.txt";
-  const CliResult f = runCaptured("SHAPESPLINE_IO_FAULT=rename:2 " + quote(SHAPESPLINE_CLI) + " sample " + model("a.json") +
-                                      " " + model("b.json") + " " + model("c.json") + out + " >" + quote(so.string()) +
-                                      " 2>" + quote(se.string()),
-                                  so, se);
+  const CliResult f = runShell("SHAPESPLINE_IO_FAULT=rename:2 " + quote(SHAPESPLINE_CLI) + " sample " +
+                                   model("a.json") + " " + model("b.json") + " " + model("c.json") + out,
+                               dir_.path());
   EXPECT_EQ(f.rc, 1) << f.err;
   EXPECT_NE(f.err.find("3 of 3 models failed"), std::string::npos) << f.err;
   const size_t fa = f.err.find("a.json: "), fb = f.err.find("b.json: "), fc = f.err.find("c.json: ");

@@ -80,13 +80,18 @@ inline CliResult runCaptured(const std::string& cmd, const std::filesystem::path
   return r;
 }
 
+// Runs a shell command line (its last command's stdout/stderr captured through files in `scratch`).
+inline CliResult runShell(const std::string& cmd, const std::filesystem::path& scratch) {
+  const auto out = scratch / "_stdout.txt", err = scratch / "_stderr.txt";
+  return runCaptured(cmd + " >" + quote(out.string()) + " 2>" + quote(err.string()), out, err);
+}
+
 // Runs `shapespline <args>` (args already shell-quoted where needed) in `cwd`.
 inline CliResult runCli(const std::string& args, const std::filesystem::path& scratch,
                         const std::filesystem::path& cwd = {}) {
-  const auto out = scratch / "_stdout.txt", err = scratch / "_stderr.txt";
-  std::string cmd = std::string(cwd.empty() ? "" : "cd " + quote(cwd.string()) + " && ") + quote(SHAPESPLINE_CLI) +
-                    " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string());
-  return runCaptured(cmd, out, err);
+  return runShell(std::string(cwd.empty() ? "" : "cd " + quote(cwd.string()) + " && ") + quote(SHAPESPLINE_CLI) +
+                      " " + args,
+                  scratch);
 }
 
 inline std::string examplesDir() { return std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models"; }

@@ -53,11 +53,6 @@ std::string readersMissing() {
     if (!why_.empty()) GTEST_SKIP() << why_;     \
   } while (0)
 
-CliResult shell(const ScratchDir& dir, const std::string& cmd) {
-  const auto out = dir / "_sh_out.txt", err = dir / "_sh_err.txt";
-  return runCaptured(cmd + " >" + quote(out.string()) + " 2>" + quote(err.string()), out, err);
-}
-
 // An α-EB torus (closed in u and v): 6 x 8 points, u around the z axis, v around the tube. With
 // `inward`, v runs the other way, so du x dv points into the tube and the writer must flip.
 std::string writeTorus(const ScratchDir& dir, const std::string& name, bool inward) {
@@ -283,7 +278,7 @@ json evalSamples(const json& side) {
 
 // Validator: exit 0 means no errors and no warnings; prints the summary and any infos/hints.
 void validate(const ScratchDir& dir, const fs::path& file) {
-  const CliResult v = shell(dir, "node " + quote(validatorScript()) + " " + quote(file.string()));
+  const CliResult v = runShell("node " + quote(validatorScript()) + " " + quote(file.string()), dir.path());
   std::smatch m;
   const std::regex counts("errors (\\d+) warnings (\\d+) infos (\\d+) hints (\\d+)");
   ASSERT_TRUE(std::regex_search(v.out, m, counts)) << v.out << v.err;
@@ -302,7 +297,7 @@ void validate(const ScratchDir& dir, const fs::path& file) {
 
 // `assimp info -r` (no post-processing): one mesh with the expected vertices and faces.
 void assimpCounts(const ScratchDir& dir, const fs::path& file, uint64_t vertices, uint64_t faces) {
-  const CliResult a = shell(dir, "assimp info " + quote(file.string()) + " -r");
+  const CliResult a = runShell("assimp info " + quote(file.string()) + " -r", dir.path());
   ASSERT_EQ(a.rc, 0) << a.out << a.err;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(a.out, m, std::regex("Vertices:\\s+(\\d+)"))) << a.out;
@@ -338,10 +333,11 @@ void checkJob(const ScratchDir& dir, const std::string& stem, const Job& job) {
     validate(dir, file);
 
     writeText(dir / "check.py", kGltfCheck);
-    const CliResult py = shell(dir, std::string(kPython) + " " + quote((dir / "check.py").string()) + " " +
-                                        quote(file.string()) + " " + quote((dir / (stem + "_eval.json")).string()) +
-                                        " " + std::to_string(vertices) + (job.closedU ? " 1" : " 0") +
-                                        (job.closedV ? " 1" : " 0") + (job.torus ? " 1" : " 0"));
+    const CliResult py = runShell(std::string(kPython) + " " + quote((dir / "check.py").string()) + " " +
+                                      quote(file.string()) + " " + quote((dir / (stem + "_eval.json")).string()) +
+                                      " " + std::to_string(vertices) + (job.closedU ? " 1" : " 0") +
+                                      (job.closedV ? " 1" : " 0") + (job.torus ? " 1" : " 0"),
+                                  dir.path());
     ASSERT_EQ(py.rc, 0) << py.out << py.err;
     ASSERT_TRUE(contains(py.out, "OK\n")) << py.out << py.err;
     const json found = json::parse(py.out.substr(py.out.find("OK\n") + 3));
@@ -411,8 +407,9 @@ TEST(GltfOutput, GltfAndBinAppearTogether) {
   for (const char* fault : {"rename:1", "rename:2"}) {
     SCOPED_TRACE(fault);
     for (const fs::path& out : {gltf, dir / "fresh.gltf"}) {
-      const CliResult f = shell(dir, std::string("SHAPESPLINE_IO_FAULT=") + fault + " " + quote(SHAPESPLINE_CLI) +
-                                         " sample " + m + " -o " + quote(out.string()) + " --grid 4 --device cpu -q");
+      const CliResult f = runShell(std::string("SHAPESPLINE_IO_FAULT=") + fault + " " + quote(SHAPESPLINE_CLI) +
+                                       " sample " + m + " -o " + quote(out.string()) + " --grid 4 --device cpu -q",
+                                   dir.path());
       EXPECT_EQ(f.rc, 3) << f.err;
     }
     EXPECT_EQ(readText(gltf), oldGltf);
