@@ -6,7 +6,9 @@
 // using it. Owned by the Context (Context::pipelines()) and destroyed before its device: a
 // pipeline lives as long as its Context. The table holds one entry per distinct kernel variant
 // asked for (kernel x precision x specialization), a set bounded by the shaders and their
-// specialization constants. Thread-safe.
+// specialization constants. Thread-safe: a pipeline compiles outside the table's lock, so a thread
+// that asks for another pipeline, or for one compiled already, does not wait for it; threads that
+// ask for the same new pipeline wait for its one compile.
 #include <shapespline/vk/pipeline.h>
 
 #include <cstddef>
@@ -28,14 +30,18 @@ class PipelineTable {
   // push-constant size, binding count and label) share one pipeline. The reference stays valid for
   // the table's life.
   const ComputePipeline& get(const ComputePipelineDesc& desc);
-  // Pipelines compiled so far.
+  // Pipelines compiled so far (not those still compiling).
   std::size_t size() const;
 
  private:
   struct Entry;
+  void forget(std::size_t key, const std::shared_ptr<Entry>& entry);
+
   Context& ctx_;
-  mutable std::mutex mutex_;
-  std::unordered_multimap<std::size_t, std::unique_ptr<Entry>> entries_;  // by hash of the desc
+  mutable std::mutex mutex_;  // guards entries_, not the compiles
+  // By hash of the desc. Shared: a thread compiling an entry keeps it alive if the entry's compile
+  // fails and it leaves the table meanwhile.
+  std::unordered_multimap<std::size_t, std::shared_ptr<Entry>> entries_;
 };
 
 }  // namespace shapespline::vk

@@ -29,6 +29,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <unistd.h>
@@ -562,6 +563,48 @@ TEST_F(VkContextTest, PipelineTableCompilesEachDescOnce) {
   std::vector<float> y(count);
   out.downloadSpan(std::span(y));
   expectSelftestOutput(x, y, 0.5f);
+}
+
+// Threads that ask at once for the same new descs get one pipeline per desc, compiled once; a bad
+// desc asked for by several threads throws in each and stores nothing.
+TEST_F(VkContextTest, PipelineTableGivesConcurrentAskersOnePipelinePerDesc) {
+  vk::PipelineTable& table = ctx().pipelines();
+  constexpr int kDescs = 3, kThreads = 6;
+  std::vector<vk::ComputePipelineDesc> descs(kDescs);
+  for (int k = 0; k < kDescs; ++k) {
+    descs[k].spirv = vk_selftest_comp;
+    descs[k].specConstants = {{kSpecLocalSize, 32}};
+    descs[k].pushConstantBytes = sizeof(SelftestPush);
+    descs[k].storageBufferCount = 2;
+    descs[k].label = "vk_selftest_concurrent_" + std::to_string(k);
+  }
+  vk::ComputePipelineDesc bad = descs[0];
+  bad.label = "vk_selftest_concurrent_bad";
+  bad.pushConstantBytes = 3;
+  const size_t before = table.size();
+  std::vector<std::vector<const vk::ComputePipeline*>> got(kThreads, std::vector<const vk::ComputePipeline*>(kDescs));
+  std::atomic<int> refused{0}, waiting{kThreads};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      for (--waiting; waiting > 0;) std::this_thread::yield();  // all ask at once
+      for (int i = 0; i < kDescs; ++i) {
+        const int k = (t + i) % kDescs;  // each thread in its own order
+        got[t][k] = &table.get(descs[k]);
+      }
+      try {
+        table.get(bad);
+      } catch (const std::invalid_argument&) {
+        ++refused;
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (int k = 0; k < kDescs; ++k)
+    for (int t = 1; t < kThreads; ++t) EXPECT_EQ(got[t][k], got[0][k]) << "desc " << k << ", thread " << t;
+  EXPECT_NE(got[0][0], got[0][1]);
+  EXPECT_NE(got[0][1], got[0][2]);
+  EXPECT_EQ(refused.load(), kThreads);
+  EXPECT_EQ(table.size(), before + kDescs);
 }
 
 // ---------------------------------------------------------------------------------------------
