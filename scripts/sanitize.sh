@@ -11,8 +11,7 @@
 # shards it uses both cores. gpu_tests is the exception, one process started first: its tests share
 # the process's Vulkan context, whose pipelines lavapipe compiles once per process, slowly under
 # ASan's allocator (its process time: 296 s in 4 shards, 251 s in 2, 215 s in 1). Every test still
-# runs exactly once. ctest runs the fuzz seed
-# replay (unless SHAPESPLINE_REPLAY_FUZZ_SEEDS=0).
+# runs exactly once. ctest runs the fuzz seed replay (unless SHAPESPLINE_REPLAY_FUZZ_SEEDS=0).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
