@@ -2,8 +2,9 @@
 // The boundary between the CLI and libshapespline-occt.so, the plugin that holds the Open CASCADE
 // half of `import` (cad::convertPart). The CLI loads it with dlopen when `import` runs, so that no
 // other command loads OCCT's 18 libraries: they cost every process start about 0.055 s in Release
-// and 0.035 s under ASan (shapespline --version, docs/performance.md). No OCCT type appears here, and no exception crosses the boundary: a failure
-// comes back as plain data for the CLI to raise as its own error.
+// and 0.035 s under ASan (shapespline --version, docs/performance.md). No OCCT type appears here,
+// and no exception crosses the boundary: a failure comes back as plain data for the CLI to raise
+// as its own error.
 #include <shapespline/cad/part_import.h>
 
 #include <string>

@@ -482,10 +482,10 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
 namespace {
 
 // One job and its output set, committed (or discarded when a shard's record verified).
-void sampleAndCommit(const SampleArgs& args, sampling::Session* session) {
+void sampleAndCommit(const SampleArgs& args) {
   io::OutputSet outputs;
   std::string summary;
-  if (!sampleInto(args, outputs, summary, session)) {
+  if (!sampleInto(args, outputs, summary, nullptr)) {
     outputs.discard();
     return;
   }
@@ -598,7 +598,7 @@ void runSample(const SampleArgs& args) {
   if (several) return sampleMany(args, models);
   SampleArgs one = args;
   one.model = models[0];
-  sampleAndCommit(one, nullptr);
+  sampleAndCommit(one);
 }
 
 void registerSample(CLI::App& app) {
