@@ -4,7 +4,7 @@
 #   model_fuzzer   model parsing, validation and CPU evaluation (tests/fuzz/model_fuzzer.cpp)
 #   merge_fuzzer   shard files of every format through jobs::mergeShards (tests/fuzz/merge_fuzzer.cpp)
 #   and any other NAME_fuzzer target the build defines (e.g. eval_at_fuzzer, `eval --at` files).
-# Builds with clang into ./build-fuzz (ASan + UBSan + libFuzzer). Each fuzzer NAME_fuzzer gets its
+# Builds with clang into ./build-fuzz (ASan + UBSan + libFuzzer, -O1). Each fuzzer NAME_fuzzer gets its
 # own folder build-fuzz/fuzz/NAME/: seeds/ (written by the NAME_fuzz_seeds target when there is one,
 # else build-fuzz/fuzz/NAME_seeds/ is used when present), corpus/ (the inputs it finds), artifacts/
 # and fuzz.log; tests/fuzz/NAME.dict is its dictionary when present. Any crash, sanitizer report,
@@ -15,7 +15,10 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 root=$PWD
 
+# -O1 -gline-tables-only, what OSS-Fuzz builds fuzzers with: line numbers in every report, and the
+# build takes 68 s instead of 97 s on two cores (-O2 -g: 188 s of CPU, now 131 s).
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" \
   -DSHAPESPLINE_FUZZ=ON -DSHAPESPLINE_BUILD_BENCH=OFF >/dev/null
 
 # The fuzz targets and seed writers this tree defines (tolerant of targets added or not yet there).
