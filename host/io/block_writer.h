@@ -3,7 +3,8 @@
 // hand them over, and go on computing while this thread copies them into the file. The kernel
 // serialises the writes of one file anyway (its inode lock), so workers writing themselves spent
 // half their time waiting for each other (e2e .f32 of 15.2 M points x 3 fields: 0.42 s with one
-// worker or two). Memory is bounded: `blocks` buffers of `blockBytes`, reused.
+// worker or two). Memory is bounded: `blocks` buffers of `blockBytes`, reused, and kept for the next
+// writer up to a bound (block_writer.cpp).
 #include <shapespline/io/atomic_file.h>
 
 #include <condition_variable>
@@ -21,6 +22,13 @@ class BlockWriter {
   struct Block {
     char* data = nullptr;
     size_t index = 0;
+  };
+  // A block's memory: at least blockBytes(). Blocks outlive their writer in a bounded pool
+  // (block_writer.cpp), so that the next writer, e.g. of a batch's next model, reuses pages
+  // already faulted in.
+  struct Storage {
+    std::unique_ptr<char[]> data;
+    size_t bytes = 0;
   };
 
   BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks);
@@ -46,7 +54,7 @@ class BlockWriter {
 
   AtomicFile& out_;
   size_t blockBytes_;
-  std::vector<std::unique_ptr<char[]>> storage_;
+  std::vector<Storage> storage_;
   std::mutex mutex_;
   // Two conditions, each notified only when its waiters can go on: a wake-up of a thread on
   // another core costs microseconds (more in a VM), and one per block for every thread showed as
