@@ -4,14 +4,13 @@
 // sanitizers an overrun here is a report), and a smaller one writes only its own bytes.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <string>
 #include <thread>
-#include <unistd.h>
 #include <vector>
+
+#include "support/temp_files.h"
 
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/block_writer.h>
@@ -21,22 +20,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempFile(const std::string& name) {
-  return fs::temp_directory_path() / ("shapespline_block_" + std::to_string(::getpid()) + "_" + name);
-}
-
-std::vector<char> readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // The byte at file offset `at` of writer number `writer`.
-char pattern(size_t writer, size_t at) { return static_cast<char>((at * 131 + writer * 17 + (at >> 11)) & 0xff); }
+char writerByte(size_t writer, size_t at) { return static_cast<char>((at * 131 + writer * 17 + (at >> 11)) & 0xff); }
 
 // Writes `blocks` full blocks of `blockBytes` from two threads, block k at offset k * blockBytes,
 // each block filled to its last byte, and returns the committed file's bytes.
-std::vector<char> writeFile(size_t writer, size_t blockBytes, size_t blocks) {
-  const fs::path path = tempFile(std::to_string(writer) + ".bin");
+std::vector<char> writeBlocks(size_t writer, size_t blockBytes, size_t blocks) {
+  const fs::path path = test::processTempFile("block", std::to_string(writer) + ".bin");
   {
     AtomicFile file(path);
     BlockWriter out(file, blockBytes, 3);
@@ -44,7 +34,7 @@ std::vector<char> writeFile(size_t writer, size_t blockBytes, size_t blocks) {
     auto fill = [&](size_t first) {
       for (size_t k = first; k < blocks; k += 2) {
         const BlockWriter::Block block = out.acquire();
-        for (size_t b = 0; b < blockBytes; ++b) block.data[b] = pattern(writer, k * blockBytes + b);
+        for (size_t b = 0; b < blockBytes; ++b) block.data[b] = writerByte(writer, k * blockBytes + b);
         out.submit(block, k * blockBytes, blockBytes);
       }
     };
@@ -54,7 +44,7 @@ std::vector<char> writeFile(size_t writer, size_t blockBytes, size_t blocks) {
     out.finish();
     file.commit();
   }
-  std::vector<char> bytes = readFile(path);
+  std::vector<char> bytes = test::readBytes(path);
   fs::remove(path);
   return bytes;
 }
@@ -66,10 +56,10 @@ TEST(BlockWriter, WritersOneAfterAnotherOfAnyBlockSizeWriteEveryByteAtItsOffset)
   for (size_t w = 0; w < std::size(sizes); ++w) {
     SCOPED_TRACE("writer " + std::to_string(w) + ", blocks of " + std::to_string(sizes[w]) + " bytes");
     const size_t blocks = 7;
-    const std::vector<char> bytes = writeFile(w, sizes[w], blocks);
+    const std::vector<char> bytes = writeBlocks(w, sizes[w], blocks);
     ASSERT_EQ(bytes.size(), blocks * sizes[w]);
     size_t wrong = 0;
-    for (size_t at = 0; at < bytes.size(); ++at) wrong += bytes[at] != pattern(w, at);
+    for (size_t at = 0; at < bytes.size(); ++at) wrong += bytes[at] != writerByte(w, at);
     EXPECT_EQ(wrong, 0u);
   }
 }

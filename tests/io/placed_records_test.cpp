@@ -8,12 +8,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
-#include <unistd.h>
 #include <vector>
+
+#include "support/temp_files.h"
 
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/sample_writer.h>
@@ -23,14 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path tempFile(const std::string& name) {
-  return fs::temp_directory_path() / ("shapespline_placed_" + std::to_string(::getpid()) + "_" + name);
-}
-
-std::vector<char> readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+fs::path tempFile(const std::string& name) { return test::processTempFile("placed", name); }
 
 // One 5 x 7 patch (35 points: eight 4-point steps and a tail) with the point, du and dv planes.
 struct PlacedJob {
@@ -110,16 +102,16 @@ TEST(PlacedRecords, RawAndNpyWritersTakeSlicesAndConvertAsACastDoes) {
   const PlacedJob job = makeJob();
   const fs::path f32 = tempFile("a.f32"), f64 = tempFile("a.f64"), npy = tempFile("a.npy");
   EXPECT_EQ(writeSliced(OutputFormat::RawF32, job, job.chunk(Precision::Double), f32), std::vector<bool>({true, true}));
-  expectRecords<float>(readFile(f32), 0, job);
+  expectRecords<float>(test::readBytes(f32), 0, job);
   // fp32 planes (GPU chunks) into fp32 records.
   EXPECT_EQ(writeSliced(OutputFormat::RawF32, job, job.chunk(Precision::Float), f32), std::vector<bool>({true, true}));
-  expectRecords<float>(readFile(f32), 0, job);
+  expectRecords<float>(test::readBytes(f32), 0, job);
   EXPECT_EQ(writeSliced(OutputFormat::RawF64, job, job.chunk(Precision::Double), f64), std::vector<bool>({true, true}));
-  expectRecords<double>(readFile(f64), 0, job);
+  expectRecords<double>(test::readBytes(f64), 0, job);
   PlacedJob floatJob = job;
   floatJob.layout.precision = Precision::Float;
   EXPECT_EQ(writeSliced(OutputFormat::Npy, floatJob, job.chunk(Precision::Double), npy), std::vector<bool>({true, true}));
-  const std::vector<char> bytes = readFile(npy);
+  const std::vector<char> bytes = test::readBytes(npy);
   ASSERT_GT(bytes.size(), 128u);
   const size_t header = bytes.size() - 35 * 9 * 4;
   EXPECT_EQ(header % 64, 0u);
