@@ -35,6 +35,9 @@ for name in $targets; do build+=("${name}_fuzzer"); done
 for s in $seeders; do build+=("$s"); done
 cmake --build build-fuzz -j "$(nproc)" --target "${build[@]}"
 echo "stage: fuzz build $SECONDS s" >&2
+# SHAPESPLINE_FUZZ_BUILD_ONLY=1: stop here (scripts/test.sh builds the fuzzers early, in the
+# background, and runs this script again to fuzz).
+[[ "${SHAPESPLINE_FUZZ_BUILD_ONLY:-0}" == 1 ]] && exit 0
 
 count=$(wc -w <<<"$targets")
 per=$((seconds / count))
