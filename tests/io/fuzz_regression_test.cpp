@@ -65,5 +65,22 @@ TEST(FuzzRegression, OpenAlphaEBSurfaceLastNodesStayInsideTheExtendedNet) {
   for (const auto& v : surface.alphaV()) EXPECT_TRUE(finite(v));
 }
 
+// crash-21b139ce (stop 45): an α = 5e-324 that the parser accepts makes V overflow fp64 (§4.2), so
+// Curve::create refuses it with a ModelError naming the vertex; the fuzz target had counted every
+// exception from create as a finding. The refusal itself is what the CLI reports (exit 2).
+TEST(FuzzRegression, AnAlphaWhoseVOverflowsIsRefusedWhenTheCurveIsBuilt) {
+  const std::string input = R"({"kind": "curve", "construction": "alpha_eb", "degree": 4, "alpha":5e-324, )"
+                            R"("points": [[0,0],[1,2],[3,3],[5,1],[6,4]]})";
+  const CurveModel model = std::get<CurveModel>(io::parseModelText(input));
+  try {
+    (void)Curve::create(model);
+    FAIL() << "Curve::create accepted alpha = 5e-324";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(e.field(), "alpha[1]");
+    EXPECT_EQ(e.value(), "5e-324");
+    EXPECT_NE(e.rule().find("exceeds the fp64 range"), std::string::npos) << e.rule();
+  }
+}
+
 }  // namespace
 }  // namespace shapespline
