@@ -145,7 +145,7 @@ void registerOne(const std::string& name, const std::string& label, double point
 }  // namespace
 
 void crossCheckAlphaEB() {
-  const double surfaceScale = boxDiagonal(surface().model().points);
+  const double surfaceScale = boxDiagonal(surface().controlPoints());
   const double curveScale = boxDiagonal(curve().model().points);
   std::string skip;
   Collected sRef, cRef;

@@ -9,7 +9,12 @@ RSS comes from wait4. The ceilings are the issue's: time to the first sample <= 
 numpy.load takes for the same file (measured here, warm cache), max RSS <= 1.5 x the net's bytes
 + 100 MB. Ratios > 1 miss the ceiling.
 
-Usage: bench/big_model.py CLI [--n N] [--out PATH]
+With --python DIR (the folder of the built module, e.g. build/python) it also builds a 2048 x 2048
+α-EB Surface from a NumPy array in a child interpreter against the issue's Python ceilings: at most
+0.5 s, and at most 2 x the array's bytes of memory beside it (the peak over the interpreter's RSS
+with the array made, from VmHWM after resetting it through /proc/self/clear_refs).
+
+Usage: bench/big_model.py CLI [--n N] [--python DIR] [--out PATH]
 Prints a table and writes bench/results/big_model.json (or PATH).
 """
 import argparse
@@ -40,10 +45,52 @@ def child(cmd):
     return wall, usage.ru_maxrss * 1024
 
 
+PYTHON_ARRAY = r"""
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+import shapespline
+
+
+def rss():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * 4096
+
+
+n = int(sys.argv[2])
+u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+net = np.ascontiguousarray(np.stack([u, v, 0.1 * np.sin(8 * u) * np.cos(6 * v)], axis=-1))
+del u, v
+before = rss()
+with open("/proc/self/clear_refs", "w") as f:
+    f.write("5")  # the peak (VmHWM) starts again from the current RSS
+t = time.perf_counter()
+s = shapespline.Surface.from_dict({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": 0.5,
+                                   "points": net})
+build = time.perf_counter() - t
+with open("/proc/self/status") as f:
+    peak = next(int(line.split()[1]) * 1024 for line in f if line.startswith("VmHWM"))
+print(json.dumps({"n": n, "array_bytes": net.nbytes, "build_s": build, "peak_extra_bytes": peak - before,
+                  "kept_extra_bytes": rss() - before}))
+"""
+
+
+def python_array(module_dir, n=2048):
+    """The issue's Python case: Surface from a 2048² NumPy array, in a fresh interpreter."""
+    out = subprocess.run([sys.executable, "-c", PYTHON_ARRAY, module_dir, str(n)], capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"big_model: the Python case failed: {out.stderr.strip()}")
+    r = json.loads(out.stdout)
+    r["build_over_ceiling"] = r["build_s"] / 0.5
+    r["peak_over_ceiling"] = r["peak_extra_bytes"] / (2 * r["array_bytes"])
+    return r
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("cli")
     ap.add_argument("--n", type=int, default=4096)
+    ap.add_argument("--python", help="folder of the built Python module (adds the Python Surface(array) case)")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "big_model.json"))
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix="shapespline_big_")
@@ -80,6 +127,8 @@ def main():
                          "first_over_ceiling": first_s / (2 * load_s), "rss_over_ceiling": whole_rss / rss_ceiling})
         result = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "cores": os.cpu_count(), "n": n,
                   "net_bytes": net_bytes, "numpy_load_s": load_s, "rss_ceiling": rss_ceiling, "rows": rows}
+        if a.python:
+            result["python_array"] = python_array(os.path.abspath(a.python))
         os.makedirs(os.path.dirname(a.out), exist_ok=True)
         with open(a.out, "w") as f:
             json.dump(result, f, indent=2)
@@ -89,6 +138,11 @@ def main():
         for r in rows:
             print(f"| {r['device']} | {r['first_sample_s']:.2f} | {r['first_over_ceiling']:.1f}x | {r['whole_s']:.1f} | "
                   f"{r['max_rss'] / 1e6:.0f} | {r['rss_over_ceiling']:.2f}x |")
+        if a.python:
+            p = result["python_array"]
+            print(f"\nPython {p['n']}² Surface(array): build {p['build_s']:.2f} s ({p['build_over_ceiling']:.2f}x the "
+                  f"0.5 s ceiling); peak memory beside the array {p['peak_extra_bytes'] / p['array_bytes']:.2f}x its "
+                  f"bytes ({p['peak_over_ceiling']:.2f}x the 2x ceiling), kept {p['kept_extra_bytes'] / p['array_bytes']:.2f}x")
         print(f"\nwritten: {a.out}")
     finally:
         shutil.rmtree(work, ignore_errors=True)

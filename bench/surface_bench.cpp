@@ -105,7 +105,7 @@ const BSplineWorkload& workload(Net net = Net::Uniform) {
   static const std::array<BSplineWorkload, 4> w = [] {
     auto make = [](SurfaceModel m) {
       BSplineWorkload b{Surface::create(std::move(m)), 0.0, 0};
-      b.scale = boxDiagonal(b.surface.model().points);
+      b.scale = boxDiagonal(b.surface.controlPoints());
       b.patches = surfaceGridItems(b.surface).size();
       if (b.patches != 3721) throw std::logic_error("B-spline workload: expected 3721 patches");
       return b;
@@ -161,7 +161,7 @@ OsdWorkload& osdWorkload() {
                              std::to_string(o.table->GetNumPatchesTotal()) + " patches in " +
                              std::to_string(o.table->GetNumPatchArrays()) + " arrays");
     o.cpuTable.reset(Osd::CpuPatchTable::Create(o.table.get()));
-    for (const auto& p : s.model().points)
+    for (const auto& p : s.controlPoints())
       for (int k = 0; k < 3; ++k) o.net.push_back(static_cast<float>(p[k]));
     // Our patch (i, j) spans net rows i..i+1 and columns j..j+1: OSD face (i, j).
     const Far::PatchMap map(*o.table);

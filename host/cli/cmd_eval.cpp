@@ -157,7 +157,7 @@ void runEval(const EvalArgs& args) {
     const Surface surface = Surface::create(std::get<SurfaceModel>(std::move(model)));
     const sampling::Report plan = session.plan(surface, request);
     printNotices(plan, args.quiet);
-    printPrecisionWarnings(surface.model(), plan.gpu && plan.computedPrecision == Precision::Float, args.quiet);
+    printPrecisionWarnings(surface, plan.gpu && plan.computedPrecision == Precision::Float, args.quiet);
     text = evalSurface(session, surface, at, request);
   }
   io::writeStdout(text);

@@ -343,7 +343,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
   if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
   layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
-                     : io::jobFingerprint(surface->model(), layout, format);
+                     : io::jobFingerprint(*surface, layout, format);
   // A welded shard also holds the foreign vertices of its items; at most its points either way.
   if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max() &&
       (!layout.welded || io::WeldedNumbering(layout.weldGrid(), layout.firstItem,
@@ -371,7 +371,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
       throw InputError("--save-model", args.saveModel,
                        "must name a model file ending in .json (its arrays are written beside it as STEM.points.npy, ...)");
     if (curve) io::saveModelWithArrays(curve->model(), args.saveModel, outputs, "--save-model");
-    else io::saveModelWithArrays(surface->model(), args.saveModel, outputs, "--save-model");
+    else io::saveModelWithArrays(surface->toModel(), args.saveModel, outputs, "--save-model");
   }
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
@@ -393,7 +393,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                                                                   : precision;
     layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, arrayFiles, report.device, report.computedPrecision,
                                                 stored, su)
-                            : io::jobMetadataOf(surface->model(), args.model, arrayFiles, report.device,
+                            : io::jobMetadataOf(*surface, args.model, arrayFiles, report.device,
                                                 report.computedPrecision, stored, su, sv);
   } catch (const std::runtime_error& e) {
     throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());
@@ -401,7 +401,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   layout.metadata.modelFile = modelName;
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
-  if (surface) printPrecisionWarnings(surface->model(), gpuFloat, args.quiet);
+  if (surface) printPrecisionWarnings(*surface, gpuFloat, args.quiet);
 
   // Resume: a shard whose record and files verify is left as it is.
   if (record && jobs::shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},

@@ -162,7 +162,9 @@ std::string num3(double x) {
   return buf;
 }
 
-void floatWarnings(const std::vector<glm::dvec3>& points, int dims, const std::vector<double>& alpha,
+// `forEachPoint(f)` calls f(P) for every control point (a vector, or a surface's net in place).
+template <class ForEach>
+void floatWarnings(ForEach&& forEachPoint, int dims, const std::vector<double>& alpha,
                    const std::function<std::string(size_t)>& name, std::vector<Warning>& out) {
   if (!alpha.empty()) {
     const auto it = std::min_element(alpha.begin(), alpha.end());
@@ -173,15 +175,17 @@ void floatWarnings(const std::vector<glm::dvec3>& points, int dims, const std::v
     }
   }
   double biggest = 0.0, extent = 0.0;
-  if (points.empty()) return;
-  glm::dvec3 lo = points[0], hi = points[0];
-  for (const auto& p : points) {
+  bool any = false;
+  glm::dvec3 lo(0.0), hi(0.0);
+  forEachPoint([&](const glm::dvec3& p) {
+    if (!any) lo = hi = p, any = true;
     for (int d = 0; d < dims; ++d) {
       biggest = std::max(biggest, std::abs(p[d]));
       lo[d] = std::min(lo[d], p[d]);
       hi[d] = std::max(hi[d], p[d]);
     }
-  }
+  });
+  if (!any) return;
   for (int d = 0; d < dims; ++d) extent = std::max(extent, hi[d] - lo[d]);
   if (extent > 0.0 && extent < kRelativeExtentFloat * biggest && extent >= kRelativeExtent * biggest) {
     out.push_back({"points", "the control net spans only " + num3(extent) + " but lies " + num3(biggest) +
@@ -202,18 +206,19 @@ void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet) 
   if (quiet) return;
   std::vector<Warning> warnings = precisionWarnings(model);
   if (gpuFloat) {
-    floatWarnings(model.points, model.dimension, model.alpha, [](size_t k) { return "[" + std::to_string(k) + "]"; },
+    floatWarnings([&](auto&& f) { std::for_each(model.points.begin(), model.points.end(), f); }, model.dimension, model.alpha, [](size_t k) { return "[" + std::to_string(k) + "]"; },
                   warnings);
   }
   print(warnings);
 }
 
-void printPrecisionWarnings(const SurfaceModel& model, bool gpuFloat, bool quiet) {
+void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet) {
   if (quiet) return;
-  std::vector<Warning> warnings = precisionWarnings(model);
+  std::vector<Warning> warnings = precisionWarnings(surface);
+  const SurfaceShape& model = surface.model();
   const size_t cols = static_cast<size_t>(std::max(model.cols, 1));
   if (gpuFloat) {
-    floatWarnings(model.points, 3, model.alpha,
+    floatWarnings([&](auto&& f) { surface.forEachControlPoint(f); }, 3, model.alpha,
                   [cols](size_t k) { return "[" + std::to_string(k / cols) + "][" + std::to_string(k % cols) + "]"; },
                   warnings);
   }

@@ -77,7 +77,7 @@ void requireFinite(const glm::dvec3& v, const char* what);
 // "shapespline: warning: <field>: <message>" lines on stderr unless quiet. `gpuFloat`: the job runs
 // the fp32 GPU kernels.
 void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet);
-void printPrecisionWarnings(const SurfaceModel& model, bool gpuFloat, bool quiet);
+void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet);
 
 // With --precision float every value is rounded to fp32 (max 3.4e38): a net beyond kMaxFloatNet
 // leaves no headroom for derivatives, so it is refused (InputError on --precision, exit 2).

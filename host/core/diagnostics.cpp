@@ -29,26 +29,31 @@ void checkAlpha(const std::vector<double>& alpha, const Namer& name, std::vector
                        "section 14), so about " + num(std::floor(-std::log10(*it))) + " digits are lost"});
 }
 
-void checkPoints(const std::vector<glm::dvec3>& points, int dims, const Namer& name, std::vector<Warning>& out) {
-  if (points.empty()) return;
-  double biggest = 0.0;
+// `forEach(f)` calls f(k, P_k) for every point in order (a vector, or a surface's net in place).
+template <class ForEach>
+void checkPoints(ForEach&& forEach, int dims, const Namer& name, std::vector<Warning>& out) {
+  double biggest = 0.0, biggestValue = 0.0;
   size_t where = 0;
   int axis = 0;
-  glm::dvec3 lo = points[0], hi = points[0];
-  for (size_t k = 0; k < points.size(); ++k)
+  bool any = false;
+  glm::dvec3 lo(0.0), hi(0.0);
+  forEach([&](size_t k, const glm::dvec3& p) {
+    if (!any) lo = hi = p, any = true;
     for (int d = 0; d < dims; ++d) {
-      const double a = std::abs(points[k][d]);
-      if (a > biggest) biggest = a, where = k, axis = d;
-      lo[d] = std::min(lo[d], points[k][d]);
-      hi[d] = std::max(hi[d], points[k][d]);
+      const double a = std::abs(p[d]);
+      if (a > biggest) biggest = a, biggestValue = p[d], where = k, axis = d;
+      lo[d] = std::min(lo[d], p[d]);
+      hi[d] = std::max(hi[d], p[d]);
     }
+  });
+  if (!any) return;
   // Extent as the largest per-axis width: never squares, so it cannot overflow or underflow itself.
   // hi - lo may overflow to inf for coordinates near DBL_MAX; that case is caught by `biggest`.
   double extent = 0.0;
   for (int d = 0; d < dims; ++d) extent = std::max(extent, hi[d] - lo[d]);
   const std::string at = name(where) + "[" + std::to_string(axis) + "]";
   if (biggest > kHugeCoordinate) {
-    out.push_back({at, "coordinate " + num(points[where][axis]) + " exceeds " + num(kHugeCoordinate) +
+    out.push_back({at, "coordinate " + num(biggestValue) + " exceeds " + num(kHugeCoordinate) +
                            " in magnitude: products of coordinates overflow fp64, so normals and lengths lose "
                            "precision and derivatives may overflow"});
   } else if (extent > 0.0 && extent < kTinyExtent) {
@@ -87,18 +92,14 @@ void checkFamily(const FamilySpec& f, std::vector<Warning>& out) {
                                  "section 7.1)"});
 }
 
-}  // namespace
-
-std::vector<Warning> precisionWarnings(const CurveModel& model) {
-  std::vector<Warning> out;
-  checkFamily(model.family, out);
-  checkPoints(model.points, model.dimension, [](size_t k) { return "points[" + std::to_string(k) + "]"; }, out);
-  checkAlpha(model.alpha, [](size_t k) { return "alpha[" + std::to_string(k) + "]"; }, out);
-  checkKnots(model.knots, "knots", out);
-  return out;
+auto eachOf(const std::vector<glm::dvec3>& points) {
+  return [&points](auto&& f) {
+    for (size_t k = 0; k < points.size(); ++k) f(k, points[k]);
+  };
 }
 
-std::vector<Warning> precisionWarnings(const SurfaceModel& model) {
+template <class ForEach>
+std::vector<Warning> surfaceWarnings(const SurfaceShape& model, ForEach&& forEachPoint) {
   std::vector<Warning> out;
   const size_t cols = static_cast<size_t>(std::max(model.cols, 1));
   const auto grid = [cols](const char* what) {
@@ -107,11 +108,31 @@ std::vector<Warning> precisionWarnings(const SurfaceModel& model) {
     };
   };
   checkFamily(model.family, out);
-  checkPoints(model.points, 3, grid("points"), out);
+  checkPoints(forEachPoint, 3, grid("points"), out);
   checkAlpha(model.alpha, grid("alpha"), out);
   checkKnots(model.knotsU, "knots[0]", out);
   checkKnots(model.knotsV, "knots[1]", out);
   return out;
+}
+
+}  // namespace
+
+std::vector<Warning> precisionWarnings(const CurveModel& model) {
+  std::vector<Warning> out;
+  checkFamily(model.family, out);
+  checkPoints(eachOf(model.points), model.dimension, [](size_t k) { return "points[" + std::to_string(k) + "]"; }, out);
+  checkAlpha(model.alpha, [](size_t k) { return "alpha[" + std::to_string(k) + "]"; }, out);
+  checkKnots(model.knots, "knots", out);
+  return out;
+}
+
+std::vector<Warning> precisionWarnings(const SurfaceModel& model) { return surfaceWarnings(model, eachOf(model.points)); }
+
+std::vector<Warning> precisionWarnings(const Surface& surface) {
+  return surfaceWarnings(surface.model(), [&surface](auto&& f) {
+    size_t k = 0;
+    surface.forEachControlPoint([&](const glm::dvec3& p) { f(k++, p); });
+  });
 }
 
 std::string formatWarning(const Warning& warning) { return "warning: " + warning.field + ": " + warning.message; }

@@ -19,6 +19,7 @@
 // A model with no warning evaluates (CPU sampler, every field) to finite values: the fuzzer
 // (tests/fuzz) checks exactly that.
 #include <shapespline/core/model.h>
+#include <shapespline/core/surface.h>
 
 #include <string>
 #include <vector>
@@ -42,6 +43,7 @@ inline constexpr double kGBLambdaWarn = 1e12;
 // fp64 evaluation is expected to be accurate to the usual tolerances.
 std::vector<Warning> precisionWarnings(const CurveModel& model);
 std::vector<Warning> precisionWarnings(const SurfaceModel& model);
+std::vector<Warning> precisionWarnings(const Surface& surface);  // the same, on the built net
 
 // "warning: <field>: <message>"
 std::string formatWarning(const Warning& warning);

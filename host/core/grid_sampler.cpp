@@ -350,7 +350,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
   checkGrid(grid, items.size(), true, first, count);
   const int Su = grid.samplesU, Sv = grid.samplesV;
   const DirectionTable tu = tabulate(surface.basisU(), Su), tv = tabulate(surface.basisV(), Sv);
-  const SurfaceModel& model = surface.model();
+  const SurfaceShape& model = surface.model();
   const bool alphaEB = model.family.construction == Construction::AlphaEB;
   const bool normal = wants(fields, Field::Normal);
   // Which partials of the base surface the requested fields need (α-EB second partials need the

@@ -44,20 +44,26 @@ struct TrimLoops {
   bool empty() const { return loops.empty(); }
 };
 
-struct SurfaceModel {
+// Everything about a surface model except its control points and weights. A built Surface
+// (core/surface.h) keeps this beside its patch net, which is the one copy of the points: a 4096²
+// net is 400 MB, and keeping it twice was most of a big model's memory.
+struct SurfaceShape {
   FamilySpec family;                 // family.order is the u order for BSpline
   int orderV = 0;                    // BSpline only: v order (else equal to family.order)
   bool closedU = false;
   bool closedV = false;
   int rows = 0;                      // u direction (index i)
   int cols = 0;                      // v direction (index j)
-  std::vector<glm::dvec3> points;    // row-major: points[i * cols + j]
   std::vector<double> alpha;         // AlphaEB only: rows * cols values, row-major
   std::vector<double> knotsU;        // BSpline with knot vectors only
   std::vector<double> knotsV;
+  TrimLoops trim;                    // BSpline with knot vectors only; empty: the whole domain
+};
+
+struct SurfaceModel : SurfaceShape {
+  std::vector<glm::dvec3> points;    // row-major: points[i * cols + j]
   std::vector<double> weights;       // BSpline with knot vectors: rows * cols positive weights,
                                      // row-major (rational, docs/math.md §10.8); empty: all 1
-  TrimLoops trim;                    // BSpline with knot vectors only; empty: the whole domain
 
   const glm::dvec3& at(int i, int j) const { return points[static_cast<size_t>(i) * cols + j]; }
 };

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -107,11 +108,75 @@ bool unitNormal(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& n) {
 
 // ---- Surface ------------------------------------------------------------------------------------
 
+namespace {
+
+// Net index of P_0 along one direction: extendedIndices puts point k at entry k + this, a plain copy.
+int firstPointEntry(bool phantom, bool closed, int centre) { return phantom ? 1 : closed ? centre : 0; }
+
+// The patch net built inside the points' own block (grown to the net's size), so that a big net
+// never exists twice: entries outside the block of plain copies (phantoms, wrapped rows and
+// columns) are computed first, while every point is in place, then the points move to their net
+// positions (last row first: a row never moves to a lower index), then those entries are written.
+// Entry (a, b) combines rows first, then columns (the order of §5.1's text); the u and v rules are
+// linear and act on different indices, so they commute.
+std::vector<glm::dvec3> netInPlace(std::vector<glm::dvec3> points, int rows, int cols,
+                                   const std::vector<ExtendedIndex>& eu, const std::vector<ExtendedIndex>& ev,
+                                   int row0, int col0) {
+  const size_t netRows = eu.size(), netCols = ev.size(), pointCols = static_cast<size_t>(cols);
+  auto copies = [](const std::vector<ExtendedIndex>& e, int first, int n) {
+    for (int k = 0; k < n; ++k) {
+      const ExtendedIndex& x = e[static_cast<size_t>(first + k)];
+      if (x.i0 != k || x.w1 != 0.0) return false;
+    }
+    return true;
+  };
+  if (!copies(eu, row0, rows) || !copies(ev, col0, cols))
+    throw std::logic_error("netInPlace: the extended indices do not copy the points where expected");
+  auto entry = [&](size_t a, size_t b) {
+    const ExtendedIndex& x = eu[a];
+    const ExtendedIndex& y = ev[b];
+    auto at = [&](int i, int j) { return points[static_cast<size_t>(i) * pointCols + j]; };
+    auto rowPoint = [&](int i) { return y.w1 == 0.0 ? at(i, y.i0) : y.w0 * at(i, y.i0) + y.w1 * at(i, y.i1); };
+    return x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1);
+  };
+  auto isCopy = [&](size_t a, size_t b) {
+    return a >= static_cast<size_t>(row0) && a < static_cast<size_t>(row0 + rows) && b >= static_cast<size_t>(col0) &&
+           b < static_cast<size_t>(col0 + cols);
+  };
+  std::vector<glm::dvec3> border;
+  for (size_t a = 0; a < netRows; ++a)
+    for (size_t b = 0; b < netCols; ++b)
+      if (!isCopy(a, b)) border.push_back(entry(a, b));
+  // Huge pages (core/huge_pages.h); a reader that reserved room for the net (netCapacity) saves
+  // the copy that growing the block would make.
+  reserveHuge(points, netRows * netCols);
+  points.resize(netRows * netCols);
+  for (size_t i = static_cast<size_t>(rows); i-- > 0;) {
+    const size_t to = (i + static_cast<size_t>(row0)) * netCols + static_cast<size_t>(col0), from = i * pointCols;
+    if (to != from) std::memmove(&points[to], &points[from], pointCols * sizeof(glm::dvec3));
+  }
+  size_t next = 0;
+  for (size_t a = 0; a < netRows; ++a)
+    for (size_t b = 0; b < netCols; ++b)
+      if (!isCopy(a, b)) points[a * netCols + b] = border[next++];
+  return points;
+}
+
+}  // namespace
+
+size_t netCapacity(int rows, int cols) {
+  // Every family's net has at most kMaxBasisCount - 1 more entries per direction than points
+  // (extendedIndices: closed uniform families wrap count - 1, α-EB adds 2 or 3).
+  return static_cast<size_t>(rows + kMaxBasisCount) * static_cast<size_t>(cols + kMaxBasisCount);
+}
+
 Surface Surface::create(SurfaceModel model) {
   validateSurface(model);
   Surface s;
-  s.model_ = std::move(model);
-  const SurfaceModel& m = s.model_;
+  std::vector<glm::dvec3> points = std::move(model.points);
+  std::vector<double> weights = std::move(model.weights);
+  s.model_ = std::move(static_cast<SurfaceShape&>(model));
+  const SurfaceShape& m = s.model_;
   const Construction kind = m.family.construction;
 
   s.parameterization_ = parameterizationOf(kind, !m.knotsU.empty() || !m.knotsV.empty());
@@ -122,8 +187,8 @@ Surface Surface::create(SurfaceModel model) {
     s.bspline_.knotsV = m.knotsV;
     s.bspline_.rows = m.rows;
     s.bspline_.cols = m.cols;
-    s.bspline_.points = m.points;
-    s.bspline_.weights = m.weights;
+    s.bspline_.points = std::move(points);
+    s.bspline_.weights = std::move(weights);
     s.patches_ = {knotIntervals(s.bspline_.orderU, m.rows), knotIntervals(s.bspline_.orderV, m.cols)};
     return s;
   }
@@ -140,28 +205,15 @@ Surface Surface::create(SurfaceModel model) {
   };
   s.patches_ = {range(m.rows, m.closedU, s.basisU_), range(m.cols, m.closedV, s.basisV_)};
 
-  // The u and v rules are linear and act on different indices, so the tensor product of the two
-  // 1-D combinations equals applying them one after the other (§5.1: they commute).
   const std::vector<ExtendedIndex> eu =
       extendedIndices(m.rows, m.closedU, s.alphaEB(), s.basisU_.count, s.basisU_.centre, s.offU_);
   const std::vector<ExtendedIndex> ev =
       extendedIndices(m.cols, m.closedV, s.alphaEB(), s.basisV_.count, s.basisV_.centre, s.offV_);
   s.netRows_ = static_cast<int>(eu.size());
   s.netCols_ = static_cast<int>(ev.size());
-  // Appended rather than resized first: zero-filling a large net (a 4096² one is 400 MB) only to
-  // overwrite it costs as much as writing it; on huge pages (core/huge_pages.h).
-  reserveHuge(s.net_, eu.size() * ev.size());
-  for (int a = 0; a < s.netRows_; ++a) {
-    for (int b = 0; b < s.netCols_; ++b) {
-      const ExtendedIndex& x = eu[a];
-      const ExtendedIndex& y = ev[b];
-      // Row combination first, then the column combination of the rows (same order as §5.1 text).
-      auto rowPoint = [&](int i) {
-        return y.w1 == 0.0 ? m.at(i, y.i0) : y.w0 * m.at(i, y.i0) + y.w1 * m.at(i, y.i1);
-      };
-      s.net_.push_back(x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1));
-    }
-  }
+  s.pointRow_ = firstPointEntry(s.alphaEB(), m.closedU, s.basisU_.centre);
+  s.pointCol_ = firstPointEntry(s.alphaEB(), m.closedV, s.basisV_.centre);
+  s.net_ = netInPlace(std::move(points), m.rows, m.cols, eu, ev, s.pointRow_, s.pointCol_);
 
   if (s.alphaEB()) {
     // At (0,0) only b_0..b_2 are nonzero in each direction (b_3(0) = 0, §2.3), so node_ij reads the
@@ -175,7 +227,7 @@ Surface Surface::create(SurfaceModel model) {
     // Every V once, for its rule (a tiny α makes V overflow fp64): ModelError naming the vertex.
     for (int i = 0; i < m.rows; ++i) {
       for (int j = 0; j < m.cols; ++j) {
-        (void)alphaEBVertex(m.at(i, j), s.alphaNode(i, j), m.alpha[static_cast<size_t>(i) * m.cols + j],
+        (void)alphaEBVertex(s.controlPoint(i, j), s.alphaNode(i, j), m.alpha[static_cast<size_t>(i) * m.cols + j],
                             [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; });
       }
     }
@@ -202,32 +254,48 @@ Surface Surface::patchRows(int first, int last) const {
   b.offV_ = offV_;
   b.net_.assign(net_.begin() + static_cast<std::ptrdiff_t>(netFirst * netCols_),
                 net_.begin() + static_cast<std::ptrdiff_t>((netFirst + netRows) * netCols_));
-  SurfaceModel& m = b.model_;
+  SurfaceShape& m = b.model_;
   m.family = model_.family;
   m.orderV = model_.orderV;
   m.closedU = false;
   m.closedV = model_.closedV;
   m.cols = model_.cols;
+  b.pointCol_ = pointCol_;
   if (!alphaEB()) {
-    // Only the net is evaluated; it stands for the points too (what a GPU mirror uploads).
+    // Only the net is evaluated; its rows stand for the point rows (what a GPU mirror uploads).
     m.rows = static_cast<int>(netRows);
-    m.points = b.net_;
+    b.pointRow_ = 0;
     return b;
   }
   // α-EB: vertex rows first..last+1 (the last one wrapped in a closed u direction) with their α;
-  // the net rows are those the nodes and V read (alphaNode: rows i..i+2).
+  // the net rows are those the nodes and V read (alphaNode: rows i..i+2), and P_kj is net entry
+  // (k + 1, j + pointCol_) as in this surface's net.
   std::copy(nodeWeightU_, nodeWeightU_ + 3, b.nodeWeightU_);
   std::copy(nodeWeightV_, nodeWeightV_ + 3, b.nodeWeightV_);
   m.rows = count + 1;
+  b.pointRow_ = pointRow_;
   const size_t cols = static_cast<size_t>(model_.cols);
   for (int k = 0; k <= count; ++k) {
     const size_t row = static_cast<size_t>((first + k) % model_.rows) * cols;
-    m.points.insert(m.points.end(), model_.points.begin() + static_cast<std::ptrdiff_t>(row),
-                    model_.points.begin() + static_cast<std::ptrdiff_t>(row + cols));
     m.alpha.insert(m.alpha.end(), model_.alpha.begin() + static_cast<std::ptrdiff_t>(row),
                    model_.alpha.begin() + static_cast<std::ptrdiff_t>(row + cols));
   }
   return b;
+}
+
+std::vector<glm::dvec3> Surface::controlPoints() const {
+  std::vector<glm::dvec3> points;
+  reserveHuge(points, static_cast<size_t>(model_.rows) * model_.cols);
+  forEachControlPoint([&](const glm::dvec3& p) { points.push_back(p); });
+  return points;
+}
+
+SurfaceModel Surface::toModel() const {
+  SurfaceModel m;
+  static_cast<SurfaceShape&>(m) = model_;
+  m.points = controlPoints();
+  m.weights = weights();
+  return m;
 }
 
 glm::dvec3 Surface::alphaNode(int i, int j) const {
@@ -244,7 +312,7 @@ glm::dvec3 Surface::alphaNode(int i, int j) const {
 
 glm::dvec3 Surface::alphaVertex(int i, int j) const {
   // create() checked the rule (V within fp64) for every vertex; the same arithmetic here.
-  return pm::alphaEBVertex(model_.at(i, j), alphaNode(i, j), model_.alpha[static_cast<size_t>(i) * model_.cols + j]);
+  return pm::alphaEBVertex(controlPoint(i, j), alphaNode(i, j), model_.alpha[static_cast<size_t>(i) * model_.cols + j]);
 }
 
 std::vector<glm::dvec3> Surface::alphaV() const {
@@ -322,7 +390,7 @@ bool Surface::cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const {
   const size_t kv = static_cast<size_t>(p) * cols + q;
   if (model_.alpha[kv] != 1.0) return false;
   const size_t ku = static_cast<size_t>(pn) * cols + q, kw = static_cast<size_t>(p) * cols + qn;
-  const glm::dvec3& P = model_.at(p, q);
+  const glm::dvec3& P = controlPoint(p, q);
   const glm::dvec3 c = alphaEBCornerNormal(P, alphaNode(p, q), alphaVertex(pn, q), model_.alpha[ku], alphaVertex(p, qn),
                                            model_.alpha[kw],
                                            cu == 0 ? 1.0 : -1.0, cv == 0 ? 1.0 : -1.0);

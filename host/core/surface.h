@@ -82,6 +82,10 @@ bool unitNormal(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& n);
 inline constexpr double kNormalShift = 1.0 / 4096.0;        // δ = 2^-12 (§5.3)
 inline constexpr double kNormalDegeneracy = 1e-12;          // |a x b| < 1e-12 |a||b| (§5.3)
 
+// An upper bound on the patch net's size for rows x cols points, any family: a reader that
+// reserves this much for the points lets Surface::create build the net in their block.
+size_t netCapacity(int rows, int cols);
+
 // ---- Typed surface ------------------------------------------------------------------------------
 
 class Surface {
@@ -89,7 +93,26 @@ class Surface {
   // Validates (core/validate.h, throws ModelError) and precomputes everything evaluation needs.
   static Surface create(SurfaceModel model);
 
-  const SurfaceModel& model() const { return model_; }
+  // The model without its points and weights (controlPoint(), weights(), toModel() give those): the
+  // surface keeps its points only once, inside its patch net (or knotData() for knot vectors).
+  const SurfaceShape& model() const { return model_; }
+  // Control point P_ij, 0 <= i < rows, 0 <= j < cols (no check): the same bits as the model's.
+  const glm::dvec3& controlPoint(int i, int j) const {
+    if (knotVector()) return bspline_.points[static_cast<size_t>(i) * model_.cols + j];
+    return net_[static_cast<size_t>(i + pointRow_) * netCols_ + (j + pointCol_)];
+  }
+  // f(P_ij) for every control point, row-major; no copy of the net.
+  template <class F>
+  void forEachControlPoint(F&& f) const {
+    for (int i = 0; i < model_.rows; ++i)
+      for (int j = 0; j < model_.cols; ++j) f(controlPoint(i, j));
+  }
+  // A copy of the points, row-major (points[i * cols + j]).
+  std::vector<glm::dvec3> controlPoints() const;
+  // Knot-vector B-splines: one weight per point (empty when all are 1); empty otherwise.
+  const std::vector<double>& weights() const { return bspline_.weights; }
+  // The whole model again (a copy of the points): for writing it out.
+  SurfaceModel toModel() const;
   // Decided once here from the family table (core/family.h); every layer dispatches on it.
   Parameterization parameterization() const { return parameterization_; }
   bool usesKnotVector() const { return knotVector(); }
@@ -157,7 +180,7 @@ class Surface {
   SurfacePoint evalWithNormal(int i, int j, double u, double v) const;
   bool cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const;
 
-  SurfaceModel model_;
+  SurfaceShape model_;
   SpanBasis basisU_, basisV_;
   PatchRange patches_;
   bool knotVector() const { return parameterization_ == Parameterization::KnotVector; }
@@ -166,6 +189,8 @@ class Surface {
   Parameterization parameterization_ = Parameterization::LocalSpans;
   std::vector<glm::dvec3> net_;
   int netRows_ = 0, netCols_ = 0, offU_ = 0, offV_ = 0;
+  // Where P_00 sits in the net: net entry (i + pointRow_, j + pointCol_) is P_ij, bit for bit.
+  int pointRow_ = 0, pointCol_ = 0;
   // The span bases at 0 (b_0..b_2; b_3(0) = 0, §2.3): node_ij's weights, α-EB only.
   double nodeWeightU_[3] = {}, nodeWeightV_[3] = {};
   std::vector<glm::dvec3> emptyPoints_;

@@ -13,7 +13,7 @@ std::vector<int> nonEmpty(const SpanRange& range, const std::vector<double>& kno
 }  // namespace
 
 TessPatches::TessPatches(const Surface& surface) {
-  const SurfaceModel& m = surface.model();
+  const SurfaceShape& m = surface.model();
   const bool knot = surface.usesKnotVector();
   u = nonEmpty(surface.patches().u, knot ? m.knotsU : std::vector<double>{});
   v = nonEmpty(surface.patches().v, knot ? m.knotsV : std::vector<double>{});

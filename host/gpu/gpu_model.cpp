@@ -33,7 +33,7 @@ std::vector<glm::dvec4> netPoints(const Curve& c) {
   return c.usesKnotVector() ? netRecords(c.model().points, c.model().weights) : netRecords(c.spanPoints(), {});
 }
 std::vector<glm::dvec4> netPoints(const Surface& s) {
-  return s.usesKnotVector() ? netRecords(s.model().points, s.model().weights) : netRecords(s.patchNet(), {});
+  return s.usesKnotVector() ? netRecords(s.knotData().points, s.knotData().weights) : netRecords(s.patchNet(), {});
 }
 
 std::vector<double> inverseSpanLengths(const Curve& c) {
@@ -75,10 +75,10 @@ ModelBufferBytes modelBufferBytes(const Curve& c, Precision precision) {
 }
 
 ModelBufferBytes modelBufferBytes(const Surface& s, Precision precision) {
-  const SurfaceModel& m = s.model();
+  const SurfaceShape& m = s.model();
   const uint64_t rs = realSize(precision);
   ModelBufferBytes b;
-  b.net = (s.usesKnotVector() ? m.points.size() : s.patchNet().size()) * 4 * rs;
+  b.net = (s.usesKnotVector() ? s.knotData().points.size() : s.patchNet().size()) * 4 * rs;
   uint64_t params = layout::kParamHeader;
   if (s.usesKnotVector()) {
     const BSplineSurfaceData& k = s.knotData();
@@ -290,7 +290,7 @@ void GpuCurve::updateControlPoint(int i, const glm::dvec3& p) {
 
 GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision)
     : GpuModel(std::move(ctx), precision, surface.parameterization()), surface_(surface) {
-  const SurfaceModel& m = surface_.model();
+  const SurfaceShape& m = surface_.model();
   rows_ = static_cast<uint32_t>(m.rows);
   cols_ = static_cast<uint32_t>(m.cols);
   if (knotVector()) {
@@ -307,7 +307,7 @@ GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface,
     netCols_ = static_cast<uint32_t>(surface_.netCols());
     alphaCount_ = m.alpha.size();
   }
-  rational_ = !surface_.model().weights.empty();
+  rational_ = !surface_.weights().empty();
   createBuffers(netPoints(surface_), paramsOf(surface_));
 }
 
@@ -339,33 +339,33 @@ void GpuSurface::setParameters(const FamilySpec& family) {
   requireUniform("setParameters");
   if (family.construction != model().family.construction)
     throw std::invalid_argument("setParameters: the construction cannot change");
-  SurfaceModel m = model();
+  SurfaceModel m = surface_.toModel();
   m.family = family;
   adoptParameters(Surface::create(std::move(m)));
 }
 
 void GpuSurface::setAlpha(int i, int j, double alpha) {
   if (!alphaEB()) throw std::invalid_argument("setAlpha: not an alpha_eb surface");
-  const SurfaceModel& cur = model();
+  const SurfaceShape& cur = model();
   if (i < 0 || j < 0 || i >= cur.rows || j >= cur.cols)
     throw std::out_of_range("setAlpha: index (" + std::to_string(i) + "," + std::to_string(j) + ")");
-  SurfaceModel m = cur;
+  SurfaceModel m = surface_.toModel();
   m.alpha[size_t(i) * m.cols + j] = alpha;
   adoptParameters(Surface::create(std::move(m)));
 }
 
 void GpuSurface::setAlphas(std::span<const double> alphas) {
   if (!alphaEB()) throw std::invalid_argument("setAlphas: not an alpha_eb surface");
-  SurfaceModel m = model();
+  SurfaceModel m = surface_.toModel();
   m.alpha.assign(alphas.begin(), alphas.end());
   adoptParameters(Surface::create(std::move(m)));
 }
 
 void GpuSurface::updateControlPoint(int i, int j, const glm::dvec3& p) {
-  const SurfaceModel& cur = model();
+  const SurfaceShape& cur = model();
   if (i < 0 || j < 0 || i >= cur.rows || j >= cur.cols)
     throw std::out_of_range("updateControlPoint: index (" + std::to_string(i) + "," + std::to_string(j) + ")");
-  SurfaceModel m = cur;
+  SurfaceModel m = surface_.toModel();
   m.points[size_t(i) * m.cols + j] = p;
   Surface next = Surface::create(std::move(m));
   writeChangedNetEntries(netPoints(surface_), netPoints(next));

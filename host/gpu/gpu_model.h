@@ -160,7 +160,7 @@ class GpuSurface : public GpuModel {
   GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision);
 
   const Surface& surface() const { return surface_; }
-  const SurfaceModel& model() const { return surface_.model(); }
+  const SurfaceShape& model() const { return surface_.model(); }
   PatchRange patches() const { return surface_.patches(); }
   size_t patchesU() const { return static_cast<size_t>(patches().u.last - patches().u.first + 1); }
   size_t patchesV() const { return static_cast<size_t>(patches().v.last - patches().v.first + 1); }

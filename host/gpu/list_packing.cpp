@@ -66,7 +66,7 @@ std::vector<layout::ListSampleD> surfaceListSamples(const GpuSurface& surface, s
       throw std::out_of_range("evaluateList: sample " + std::to_string(i) + " (patch " + std::to_string(x.i) + "," +
                               std::to_string(x.j) + ") is outside the surface");
     if (surface.knotVector()) {
-      const SurfaceModel& m = f.model();
+      const SurfaceShape& m = f.model();
       if (!(m.knotsU[x.i + 1] > m.knotsU[x.i]) || !(m.knotsV[x.j + 1] > m.knotsV[x.j]))
         throw std::out_of_range("evaluateList: sample " + std::to_string(i) + " lies on an empty knot interval");
       const auto [ulo, uhi] = f.parameterRangeU();

@@ -518,12 +518,13 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
   return m;
 }
 
-JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath,
+JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath,
                           const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV) {
+  const SurfaceShape& model = surface.model();
   JobMetadata m = common(model.family, modelPath, arrayFiles, device, computedPrecision, outputPrecision);
   m.surface = true;
-  m.rational = !model.weights.empty();
+  m.rational = !surface.weights().empty();
   if (twoOrders(m)) m.orderV = model.orderV;
   if (m.usesAlpha()) m.setAlpha(model.alpha, model.rows, model.cols);
   m.samplesU = samplesU;

@@ -11,6 +11,7 @@
 // the JSON back (merge), and metadataJson(metadataFromJson(j)) reproduces j. Text that is not
 // valid UTF-8 (a model path) is written as U+FFFD in the JSON and escaped in comment lines.
 #include <shapespline/core/model.h>
+#include <shapespline/core/surface.h>
 #include <shapespline/core/sample_grid.h>
 
 #include <nlohmann/json.hpp>
@@ -123,7 +124,7 @@ std::string sha256Of(std::string_view bytes);
 JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
                           const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU);
-JobMetadata jobMetadataOf(const SurfaceModel& model, const std::string& modelPath,
+JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath,
                           const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
                           Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV);
 

@@ -145,7 +145,7 @@ std::filesystem::path referencedFile(const json& ref, const std::string& key, co
 }
 
 // The array a reference names (given in memory or read from its file) and, for messages, its name.
-NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays, std::string& name) {
+NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays, std::string& name, NpyLayout layout) {
   if (ref.size() == 1 && ref.contains("array") && arrays) {
     const auto it = arrays->given.find(key);
     if (ref.at("array") == key && it != arrays->given.end()) {
@@ -158,7 +158,7 @@ NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays,
   const std::filesystem::path file = referencedFile(ref, key, arrays);
   name = shortText(ref.at("npy").get<std::string>());
   try {
-    NpyArray a = readNpyArray(file, arrays->maxValueBytes);
+    NpyArray a = readNpyArray(file, arrays->maxValueBytes, layout);
     arrays->files.push_back(file);
     return a;
   } catch (const std::invalid_argument& e) {
@@ -170,9 +170,10 @@ NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays,
 
 // The array a reference names, its shape one of `shapes` (0 = any extent) and every value finite.
 NpyArray referencedArray(const json& ref, const std::string& key, ModelArrays* arrays,
-                         const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule) {
+                         const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule,
+                         NpyLayout layout = NpyLayout::Values) {
   std::string name;
-  NpyArray a = takeArray(ref, key, arrays, name);
+  NpyArray a = takeArray(ref, key, arrays, name, layout);
   auto fits = [&](const std::vector<std::uint64_t>& want) {
     if (want.size() != a.shape.size()) return false;
     for (size_t d = 0; d < want.size(); ++d)
@@ -186,13 +187,14 @@ NpyArray referencedArray(const json& ref, const std::string& key, ModelArrays* a
   }
   for (std::uint64_t d : a.shape)
     if (d > kMaxArrayExtent) throw ModelError(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
-  for (size_t k = 0; k < a.values.size(); ++k) {
-    if (std::isfinite(a.values[k])) continue;
+  const double* values = a.data();
+  for (size_t k = 0; k < a.size(); ++k) {
+    if (std::isfinite(values[k])) continue;
     std::vector<std::uint64_t> index(a.shape.size());
     for (size_t d = a.shape.size(), rest = k; d-- > 0; rest /= a.shape[d]) index[d] = rest % a.shape[d];
     std::string at;
     for (std::uint64_t i : index) at.append(1, '[').append(std::to_string(i)).append(1, ']');
-    throw ModelError(key + at, name, "must be a finite number (the array holds " + std::to_string(a.values[k]) + ")");
+    throw ModelError(key + at, name, "must be a finite number (the array holds " + std::to_string(values[k]) + ")");
   }
   return a;
 }
@@ -254,7 +256,7 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
     const size_t n = size_t(a.shape[0]), d = size_t(a.shape[1]);
     m.points.assign(n, glm::dvec3(0.0));
     for (size_t i = 0; i < n; ++i)
-      for (size_t k = 0; k < d; ++k) m.points[i][int(k)] = a.values[i * d + k];
+      for (size_t k = 0; k < d; ++k) m.points[i][int(k)] = a.data()[i * d + k];
     m.dimension = int(d);
   } else {
     readCurvePoints(pts, m);
@@ -399,11 +401,16 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
 
   const json& pts = doc.at("points");
   if (isArrayReference(pts)) {
-    NpyArray a = referencedArray(pts, "points", files, {{0, 0, 3}}, "surface points must be a (rows, cols, 3) array");
+    NpyArray a = referencedArray(pts, "points", files, {{0, 0, 3}}, "surface points must be a (rows, cols, 3) array",
+                                 NpyLayout::Points);
     m.rows = int(a.shape[0]);
     m.cols = int(a.shape[1]);
-    resizeHuge(m.points, a.values.size() / 3);
-    std::copy(a.values.begin(), a.values.end(), &m.points.data()->x);
+    if (!a.points.empty()) {
+      m.points = std::move(a.points);  // read as points, with room for the patch net
+    } else {
+      resizeHuge(m.points, a.size() / 3);
+      std::copy(a.data(), a.data() + a.size(), &m.points.data()->x);
+    }
   } else {
     readSurfacePoints(pts, m);
   }

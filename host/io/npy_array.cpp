@@ -2,6 +2,7 @@
 
 #include <shapespline/core/huge_pages.h>
 #include <shapespline/core/model.h>
+#include <shapespline/core/surface.h>
 #include <shapespline/io/input_file.h>
 
 #include <unistd.h>
@@ -175,7 +176,16 @@ NpyHeader parseNpyHeader(std::string_view head, std::uint64_t fileBytes) {
   return h;
 }
 
-NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes) {
+size_t pointCapacity(const std::vector<std::uint64_t>& shape) {
+  std::uint64_t count = 1;
+  for (std::uint64_t d : shape) count *= d;
+  constexpr std::uint64_t kIntExtent = std::numeric_limits<int>::max() / 2;
+  if (shape.size() == 3 && shape[2] == 3 && shape[0] <= kIntExtent && shape[1] <= kIntExtent)
+    return std::max(size_t(count / 3), netCapacity(int(shape[0]), int(shape[1])));
+  return size_t(count / 3);
+}
+
+NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes, NpyLayout layout) {
   std::optional<InputFd> file;
   try {
     file.emplace(path, "");
@@ -194,16 +204,24 @@ NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueB
     throw std::runtime_error("cannot seek in '" + path.string() + "': " + std::strerror(errno));
   NpyArray out;
   out.shape = h.shape;
-  resizeHuge(out.values, size_t(h.count));
+  double* values = nullptr;
+  if (layout == NpyLayout::Points && !h.shape.empty() && h.shape.back() == 3 && h.count > 0) {
+    reserveHuge(out.points, pointCapacity(h.shape));
+    out.points.resize(size_t(h.count / 3));
+    values = &out.points.data()->x;
+  } else {
+    resizeHuge(out.values, size_t(h.count));
+    values = out.values.data();
+  }
   if (h.float64) {
-    readExactly(fd, reinterpret_cast<char*>(out.values.data()), h.count * 8, path);
+    readExactly(fd, reinterpret_cast<char*>(values), h.count * 8, path);
   } else {
     constexpr size_t kChunk = size_t{1} << 18;  // floats per read: 1 MiB
     std::vector<float> buf(std::min<size_t>(kChunk, size_t(h.count)));
-    for (size_t done = 0; done < out.values.size();) {
-      const size_t n = std::min(buf.size(), out.values.size() - done);
+    for (size_t done = 0; done < size_t(h.count);) {
+      const size_t n = std::min(buf.size(), size_t(h.count) - done);
       readExactly(fd, reinterpret_cast<char*>(buf.data()), n * 4, path);
-      std::copy(buf.begin(), buf.begin() + std::ptrdiff_t(n), out.values.begin() + std::ptrdiff_t(done));
+      std::copy(buf.begin(), buf.begin() + std::ptrdiff_t(n), values + done);
       done += n;
     }
   }

@@ -6,6 +6,9 @@
 // byte count against the file's length, so a header claiming 10^12 elements or a truncated file
 // is refused without allocating); the values are then read straight into the result (fp64) or
 // through a fixed 1 MiB buffer (fp32).
+#include <glm/vec3.hpp>
+
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
@@ -29,13 +32,28 @@ NpyHeader parseNpyHeader(std::string_view head, std::uint64_t fileBytes);
 
 struct NpyArray {
   std::vector<std::uint64_t> shape;
-  std::vector<double> values;  // C order
+  std::vector<double> values;        // C order; empty when the values are in `points`
+  std::vector<glm::dvec3> points;    // the values in threes (C order), read with NpyLayout::Points
+
+  const double* data() const { return points.empty() ? values.data() : &points.data()->x; }
+  size_t size() const { return points.empty() ? values.size() : 3 * points.size(); }
 };
+
+// How the values are kept. Points: an array whose last extent is 3 goes straight into `points`
+// (a control net, with no second copy); one of shape (rows, cols, 3) gets room for the patch net of
+// a surface of rows x cols points (core/surface.h netCapacity), which Surface::create then builds
+// in the same block. Any other shape is read as values.
+enum class NpyLayout { Values, Points };
 
 // The array of the regular file `path` as doubles. Its values (8 bytes each, whatever the file's
 // dtype) may take at most `maxValueBytes`, checked on the header before reading. Throws
 // std::invalid_argument (the rule: not a regular file, a bad header, over the budget, a file that
 // changed while read) and std::runtime_error when the file cannot be opened or read.
-NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes);
+NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes,
+                      NpyLayout layout = NpyLayout::Values);
+
+// Room for the values of an array of `shape` read as points: the surface net's capacity for
+// (rows, cols, 3), the points themselves otherwise.
+size_t pointCapacity(const std::vector<std::uint64_t>& shape);
 
 }  // namespace shapespline::io

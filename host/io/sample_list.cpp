@@ -97,7 +97,7 @@ std::vector<SurfaceSample> parseSurfaceSamples(const json& doc, const Surface& s
     if (q.patchV < patches.v.first || q.patchV > patches.v.last)
       throw ModelError(path + ".patch[1]", std::to_string(q.patchV), "must be in " + range(patches.v));
     if (surface.usesKnotVector()) {
-      const SurfaceModel& m = surface.model();
+      const SurfaceShape& m = surface.model();
       const auto empty = [](const std::vector<double>& knots, int k) { return !(knots[k + 1] > knots[k]); };
       if (empty(m.knotsU, q.patchU))
         throw ModelError(path + ".patch[0]", std::to_string(q.patchU), "is an empty knot interval (knotsU[i] = knotsU[i+1])");

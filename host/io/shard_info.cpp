@@ -141,7 +141,8 @@ std::string jobFingerprint(const CurveModel& m, const SampleLayout& layout, Outp
   return h.hex();
 }
 
-std::string jobFingerprint(const SurfaceModel& m, const SampleLayout& layout, OutputFormat format) {
+std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format) {
+  const SurfaceShape& m = surface.model();
   Fnv1a h;
   job(h, layout, format);
   h.text("surface");
@@ -151,11 +152,13 @@ std::string jobFingerprint(const SurfaceModel& m, const SampleLayout& layout, Ou
   h.u64(m.closedV ? 1 : 0);
   h.u64(static_cast<uint64_t>(m.rows));
   h.u64(static_cast<uint64_t>(m.cols));
-  h.points(m.points);
+  // The points' words in model order, as Fnv1a::points hashes a vector, read from the net in place.
+  h.u64(static_cast<uint64_t>(m.rows) * static_cast<uint64_t>(m.cols));
+  surface.forEachControlPoint([&h](const glm::dvec3& p) { h.words(reinterpret_cast<const unsigned char*>(&p), 3); });
   h.f64s(m.alpha);
   h.f64s(m.knotsU);
   h.f64s(m.knotsV);
-  if (!m.weights.empty()) h.f64s(m.weights);  // rational only: other jobs keep their fingerprints
+  if (!surface.weights().empty()) h.f64s(surface.weights());  // rational only: other jobs keep their fingerprints
   return h.hex();
 }
 

@@ -5,6 +5,7 @@
 // the shard K of N and its item range. Written as one text line into PLY `comment` and OBJ `#`
 // headers, and as JSON keys into the raw sidecar; CSV stays plain (see jobs/merge.h).
 #include <shapespline/core/model.h>
+#include <shapespline/core/surface.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/sample_writer.h>
@@ -28,7 +29,7 @@ inline constexpr uint64_t kMaxItemCount = (uint64_t{1} << 62) - 1;
 // 16 lowercase hex digits. Equal for every shard of one job (and the unsharded job), different when
 // the model, samples per item, fields, computed precision or output format differ.
 std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);
-std::string jobFingerprint(const SurfaceModel& model, const SampleLayout& layout, OutputFormat format);
+std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format);
 
 struct ShardInfo {
   std::string job;                    // jobFingerprint

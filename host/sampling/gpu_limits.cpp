@@ -78,7 +78,7 @@ std::optional<std::string> gpuLimitation(const Surface& surface, Precision preci
   if (surface.usesKnotVector()) {
     if (auto why = knotLimitation(surface.model().knotsU, "knots[0]", precision)) return why;
     if (auto why = knotLimitation(surface.model().knotsV, "knots[1]", precision)) return why;
-    if (auto why = weightLimitation(surface.model().weights, precision)) return why;
+    if (auto why = weightLimitation(surface.weights(), precision)) return why;
   }
   return limitation(surface.model().family, surface.model().alpha, precision);
 }

@@ -14,15 +14,30 @@ std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, int k) {
   return points;
 }
 
-}  // namespace
+double largestCoordinate(double m, const glm::dvec3& p) { return std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
 
-int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
-  double m = 0.0;
-  for (const auto& p : points) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+// The exponent for a net whose largest |coordinate| is m.
+int scaleFor(double m, Precision precision) {
   if (!(m > 0.0) || !std::isfinite(m)) return 0;
   const int e = std::ilogb(m);  // m in [2^e, 2^(e+1)), also for subnormal m (e down to -1074)
   const int band = precision == Precision::Float ? 20 : 200;
   return e >= -band && e < band ? 0 : -e;
+}
+
+}  // namespace
+
+int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
+  double m = 0.0;
+  for (const auto& p : points) m = largestCoordinate(m, p);
+  return scaleFor(m, precision);
+}
+
+int netScale(const Curve& curve, Precision precision) { return netScale(curve.model().points, precision); }
+
+int netScale(const Surface& surface, Precision precision) {
+  double m = 0.0;
+  surface.forEachControlPoint([&](const glm::dvec3& p) { m = largestCoordinate(m, p); });
+  return scaleFor(m, precision);
 }
 
 Curve scaledCurve(const Curve& curve, int k) {
@@ -32,7 +47,7 @@ Curve scaledCurve(const Curve& curve, int k) {
 }
 
 Surface scaledSurface(const Surface& surface, int k) {
-  SurfaceModel m = surface.model();
+  SurfaceModel m = surface.toModel();
   m.points = scaled(std::move(m.points), k);
   return Surface::create(std::move(m));
 }

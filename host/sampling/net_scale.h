@@ -20,6 +20,8 @@ namespace shapespline::sampling {
 // that brings M into [1, 2). Products of coordinates inside the kernels (normals, squared lengths)
 // then stay in range.
 int netScale(const std::vector<glm::dvec3>& points, Precision precision);
+int netScale(const Curve& curve, Precision precision);
+int netScale(const Surface& surface, Precision precision);
 
 // The model with its net multiplied by 2^k (validated again by create).
 Curve scaledCurve(const Curve& curve, int k);

@@ -242,7 +242,7 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   // The CPU path scales only nets beyond 2^200 down (where sums and products would overflow): fp64
   // holds tiny nets as they are, and scaling them up would make the derivatives of tiny knot
   // intervals (net / h^r) overflow. The GPU's exponent is set below.
-  r.netScaleExponent = std::min(0, netScale(model.model().points, Precision::Double));
+  r.netScaleExponent = std::min(0, netScale(model, Precision::Double));
   if (request.device == DeviceKind::Cpu) return r;
   auto fallBack = [&](const std::string& why) {
     if (request.require) throw DeviceError(why + "; the CPU fallback is disabled", true);
@@ -273,7 +273,7 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   r.gpu = true;
   r.device = ctx->deviceName();
   r.computedPrecision = request.precision;
-  r.netScaleExponent = netScale(model.model().points, request.precision);
+  r.netScaleExponent = netScale(model, request.precision);
   return r;
 }
 

@@ -209,24 +209,25 @@ class Viewer {
   // after the frames in flight that read the old buffers.
   void uploadOverlay() {
     ctx_->waitIdle();
-    const SurfaceModel& m = cpu_.model();
+    const SurfaceShape& m = cpu_.model();
     std::vector<render::OverlayVertex> lines, markers;
     for (int i = 0; i < m.rows; ++i) {
       std::vector<glm::dvec3> row;
-      for (int j = 0; j < m.cols; ++j) row.push_back(m.at(i, j));
-      if (m.closedV) row.push_back(m.at(i, 0));
+      for (int j = 0; j < m.cols; ++j) row.push_back(cpu_.controlPoint(i, j));
+      if (m.closedV) row.push_back(cpu_.controlPoint(i, 0));
       render::addPolyline(lines, row, kNetColour);
     }
     for (int j = 0; j < m.cols; ++j) {
       std::vector<glm::dvec3> col;
-      for (int i = 0; i < m.rows; ++i) col.push_back(m.at(i, j));
-      if (m.closedU) col.push_back(m.at(0, j));
+      for (int i = 0; i < m.rows; ++i) col.push_back(cpu_.controlPoint(i, j));
+      if (m.closedU) col.push_back(cpu_.controlPoint(0, j));
       render::addPolyline(lines, col, kNetColour);
     }
-    for (size_t k = 0; k < m.points.size(); ++k) {
-      const bool picked = int(k) == controls_.picked;
-      render::addMarker(markers, m.points[k], picked ? kPickedPx : kPointPx, picked ? kPickedColour : kPointColour);
-    }
+    int k = 0;
+    cpu_.forEachControlPoint([&](const glm::dvec3& p) {
+      const bool picked = k++ == controls_.picked;
+      render::addMarker(markers, p, picked ? kPickedPx : kPointPx, picked ? kPickedColour : kPointColour);
+    });
     auto upload = [&](const std::vector<render::OverlayVertex>& v, const char* label) {
       vk::Buffer b = vk::Buffer::create(*ctx_, std::max<size_t>(1, v.size()) * sizeof(render::OverlayVertex),
                                         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -286,7 +287,7 @@ class Viewer {
   // Returns whether a point was picked.
   bool click(double x, double y) {
     const VkExtent2D e = swapchain_.extent();
-    controls_.picked = pickPoint(cpu_.model().points, camera(), int(e.width), int(e.height), x, y);
+    controls_.picked = pickPoint(cpu_.controlPoints(), camera(), int(e.width), int(e.height), x, y);
     return controls_.picked >= 0;
   }
 
@@ -296,7 +297,7 @@ class Viewer {
 
   // A script line: sets what the widgets and the mouse set, through the same functions.
   void execute(const ScriptCommand& c) {
-    const SurfaceModel& m = cpu_.model();
+    const SurfaceShape& m = cpu_.model();
     auto fail = [&](const std::string& rule) { throw ScriptError(c.line, c.text, rule); };
     switch (c.kind) {
       case Kind::Lambda:
@@ -329,7 +330,7 @@ class Viewer {
           if (i >= m.rows || j >= m.cols) fail("the point is outside the " + std::to_string(m.rows) + " x " +
                                                std::to_string(m.cols) + " net");
           const VkExtent2D e = swapchain_.extent();
-          at = glm::dvec2(camera().toPixel(m.at(i, j), int(e.width), int(e.height)));
+          at = glm::dvec2(camera().toPixel(cpu_.controlPoint(i, j), int(e.width), int(e.height)));
         }
         if (!click(at.x, at.y))
           fail("no control point projects within " + std::to_string(int(kPickRadiusPx)) + " px of the pixel");
@@ -374,7 +375,7 @@ class Viewer {
 
   void panel() {
     if (!controls_.panel) return;
-    const SurfaceModel& m = cpu_.model();
+    const SurfaceShape& m = cpu_.model();
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     // The panel takes the size of its content (no label or widget clipped at any window size), with
     // sliders of a fixed width in font units and wrapped text no wider than the sliders' rows.

@@ -47,6 +47,7 @@ struct Kind<Curve> {
   using Point = CurvePoint;
   using Query = sampling::CurveQuery;
   using ModelData = CurveModel;
+  static ModelData dataOf(const Curve& c) { return c.model(); }
 };
 template <>
 struct Kind<Surface> {
@@ -55,6 +56,7 @@ struct Kind<Surface> {
   using Point = SurfacePoint;
   using Query = sampling::SurfaceQuery;
   using ModelData = SurfaceModel;
+  static ModelData dataOf(const Surface& s) { return s.toModel(); }
 };
 
 // Upload counters of a handle: those of its current mirror of one precision, and how many mirrors
@@ -168,14 +170,14 @@ class Handle {
   template <class Edit, class Change>
   void change(Edit&& edit, Change&& onMirror) {
     std::unique_lock lock(mutex_);
-    typename K::ModelData data = model_.model();
+    typename K::ModelData data = K::dataOf(model_);
     edit(data);
     Model created = Model::create(std::move(data));
     for (size_t p = 0; p < resident_.size(); ++p) {
       auto& res = resident_[p];
       if (!res) continue;
       const Precision precision = p == 0 ? Precision::Float : Precision::Double;
-      bool keep = sampling::netScale(created.model().points, precision) == res->scale;
+      bool keep = sampling::netScale(created, precision) == res->scale;
       if (keep) {
         try {
           onMirror(*res->mirror, res->scale);

@@ -105,8 +105,15 @@ bool giveArray(py::handle value, const char* key, nlohmann::json& doc, io::Model
   if (!c) throw py::error_already_set();
   io::NpyArray given;
   for (py::ssize_t d = 0; d < c.ndim(); ++d) given.shape.push_back(uint64_t(c.shape(d)));
-  reserveHuge(given.values, size_t(c.size()));
-  given.values.assign(c.data(), c.data() + c.size());
+  if (std::string_view(key) == "points" && c.shape(c.ndim() - 1) == 3 && c.size() > 0) {
+    // As the .npy reader does (io::NpyLayout::Points): one block, with room for a surface's net.
+    reserveHuge(given.points, io::pointCapacity(given.shape));
+    given.points.resize(size_t(c.size()) / 3);
+    std::copy(c.data(), c.data() + c.size(), &given.points.data()->x);
+  } else {
+    reserveHuge(given.values, size_t(c.size()));
+    given.values.assign(c.data(), c.data() + c.size());
+  }
   arrays.given[key] = std::move(given);
   doc[key] = {{"array", key}};
   return true;
@@ -727,12 +734,12 @@ void bindCommon(Class& cls) {
           "Upload counters of the resident GPU model of one precision: resident, mirrors_built (full net uploads), "
           "net_bytes, net_writes, param_bytes, param_writes, vertex_passes.")
       .def(
-          "to_dict", [](const H& h) { return fromJson(io::toJson(h.model().model())); },
+          "to_dict", [](const H& h) { return fromJson(io::toJson(H::K::dataOf(h.model()))); },
           "The model as a dict with the keys of the model file format (docs/format.md).")
       .def(
           "save",
           [](const H& h, const std::string& path) {
-            const std::string text = io::toJson(h.model().model()).dump(2) + "\n";
+            const std::string text = io::toJson(H::K::dataOf(h.model())).dump(2) + "\n";
             py::module_::import("pathlib").attr("Path")(path).attr("write_text")(text);
           },
           py::arg("path"), "Write the model file (JSON).")
@@ -973,24 +980,24 @@ PYBIND11_MODULE(shapespline, m) {
           py::arg("model"), "A surface from a dict with the keys of a model file.")
       .def_property_readonly("kind", [](const SurfaceHandle&) { return "surface"; })
       .def_property_readonly("points", [](const SurfaceHandle& h) {
-        const SurfaceModel sm = h.model().model();
-        py::array a = modelPoints(sm.points, 3);
-        return a.attr("reshape")(sm.rows, sm.cols, 3);
+        const Surface s = h.model();
+        py::array a = modelPoints(s.controlPoints(), 3);
+        return a.attr("reshape")(s.model().rows, s.model().cols, 3);
       }, "Control net (rows, cols, 3).")
       .def_property_readonly("shape", [](const SurfaceHandle& h) {
-        const SurfaceModel sm = h.model().model();
+        const SurfaceShape sm = h.model().model();
         return py::make_tuple(sm.rows, sm.cols);
       }, "(rows, cols) of the control net.")
       .def_property_readonly("closed", [](const SurfaceHandle& h) {
-        const SurfaceModel sm = h.model().model();
+        const SurfaceShape sm = h.model().model();
         return py::make_tuple(sm.closedU, sm.closedV);
       })
       .def_property_readonly("order", [](const SurfaceHandle& h) {
-        const SurfaceModel sm = h.model().model();
+        const SurfaceShape sm = h.model().model();
         return py::make_tuple(sm.family.order, sm.orderV ? sm.orderV : sm.family.order);
       })
       .def_property_readonly("knots", [](const SurfaceHandle& h) {
-        const SurfaceModel sm = h.model().model();
+        const SurfaceShape sm = h.model().model();
         return py::make_tuple(vecArray(sm.knotsU), vecArray(sm.knotsV));
       })
       .def_property_readonly("patches", [](const SurfaceHandle& h) {
@@ -1037,7 +1044,7 @@ PYBIND11_MODULE(shapespline, m) {
       .def(
           "set_alpha",
           [](SurfaceHandle& h, py::object value, py::object index) {
-            const SurfaceModel sm = h.model().model();
+            const SurfaceShape sm = h.model().model();
             if (sm.family.construction != Construction::AlphaEB) throw ModelError("alpha", "", "only alpha_eb has alpha");
             if (!index.is_none()) {
               const auto ij = index.cast<std::pair<int, int>>();
@@ -1061,7 +1068,7 @@ PYBIND11_MODULE(shapespline, m) {
       .def(
           "set_control_point",
           [](SurfaceHandle& h, int i, int j, py::object p) {
-            const SurfaceModel sm = h.model().model();
+            const SurfaceShape sm = h.model().model();
             if (i < 0 || i >= sm.rows || j < 0 || j >= sm.cols) {
               argumentError("index", "must be (i, j) inside the " + std::to_string(sm.rows) + " x " + std::to_string(sm.cols) + " net");
             }
@@ -1073,7 +1080,7 @@ PYBIND11_MODULE(shapespline, m) {
           },
           py::arg("i"), py::arg("j"), py::arg("point"), "Move control point (i, j).")
       .def("__repr__", [](const SurfaceHandle& h) {
-        const SurfaceModel sm = h.model().model();
+        const SurfaceShape sm = h.model().model();
         return "<shapespline.Surface " + nameOf(sm.family.construction) + ", " +
                std::to_string(sm.rows) + " x " + std::to_string(sm.cols) + " points>";
       });

@@ -280,9 +280,9 @@ void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHand
         SurfaceExtensionResult r;
         {
           py::gil_scoped_release release;
-          r = extendSurfaceU(bsplineSurfaceFromModel(s.model()), curves, given);
+          r = extendSurfaceU(bsplineSurfaceFromModel(s.toModel()), curves, given);
         }
-        const SurfaceModel ext = extendedModel(s.model(), r);
+        const SurfaceModel ext = extendedModel(s.toModel(), r);
         py::dict d;
         d["surface"] = std::make_shared<SurfaceHandle>(Surface::create(ext));
         d["u"] = vec1(r.u);

@@ -105,7 +105,7 @@ TEST(CliSample, ObjSurfaceMeshWithNormalsAndUv) {
   ASSERT_EQ(o.vn.size(), o.v.size());
   ASSERT_EQ(o.vt.size(), o.v.size());
   ASSERT_EQ(o.faces.size(), items.size() * 2 * 4 * 3);
-  const double tol = kFp64Rel * extent(surface.model().points);
+  const double tol = kFp64Rel * extent(surface.controlPoints());
   for (size_t k = 0; k < items.size(); ++k) {
     for (int a = 0; a < 5; ++a) {
       for (int b = 0; b < 4; ++b) {
@@ -203,7 +203,7 @@ TEST(CliSample, PlySurfaceBinaryMatchesCore) {
   EXPECT_EQ(p.props[6], "s");
   EXPECT_EQ(p.props[8], "du_x");
   const size_t np = p.props.size();
-  const double tol = kFp64Rel * extent(surface.model().points);
+  const double tol = kFp64Rel * extent(surface.controlPoints());
   for (size_t k = 0; k < items.size(); ++k) {
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 4; ++b) {
@@ -310,7 +310,7 @@ TEST(CliSample, Float32RawWithinFp32Tolerance) {
   const auto bytes = readBytes(dir / "s.f32");
   ASSERT_EQ(bytes.size(), items.size() * 16 * 3 * 4);
   const float* f = reinterpret_cast<const float*>(bytes.data());
-  const double tol = kFp32Rel * extent(surface.model().points);
+  const double tol = kFp32Rel * extent(surface.controlPoints());
   for (size_t k = 0; k < items.size(); ++k) {
     for (int q = 0; q < 16; ++q) {
       const float* rec = f + (k * 16 + static_cast<size_t>(q)) * 3;

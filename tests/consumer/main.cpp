@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
       gpu::GpuSurface gpuSurface(ctx, surface, Precision::Float);
       gpu::SurfaceEvaluator surfaceEval(ctx, Precision::Float);
       const auto gotS = surfaceEval.evaluateListAt(gpuSurface, uv);
-      const double extS = extent(surface.model().points);
+      const double extS = extent(surface.controlPoints());
       for (size_t k = 0; k < uv.size(); ++k) {
         compare("surface point", k, cpuS[k].point, gotS[k].point, kPointTol * extS);
         compare("surface du", k, cpuS[k].du, gotS[k].du, kDerivTol * (extS + glm::length(cpuS[k].du)));

@@ -107,7 +107,6 @@ void checkSurface(CaseReport& r) {
         r.fail(fieldAt("base_nodes", i) + ": column count differs from the net");
       for (int j = 0; j < model->cols && j < static_cast<int>(nodes[i].size()) && j < static_cast<int>(vs[i].size());
            ++j) {
-        const size_t k = static_cast<size_t>(i) * model->cols + j;
         r.compare(fieldAt("base_nodes", i, j), nodes[i][j], surface.alphaNode(i, j), 3, tolNode);
         r.compare(fieldAt("V", i, j), vs[i][j], surface.alphaVertex(i, j), 3, tolV);
       }

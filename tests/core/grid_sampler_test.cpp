@@ -139,7 +139,7 @@ TEST(GridSampler, CurvesMatchReferenceEvaluator) {
 // 1/sin of the partials' angle, which the smooth test nets keep above ~0.05). Returns the largest
 // relative difference.
 double expectGridMatchesEvaluate(const Surface& surface, int Su, int Sv, double fieldUlps, const std::string& what) {
-  const double scale = boxDiagonal(surface.model().points);
+  const double scale = boxDiagonal(surface.controlPoints());
   Collected got;
   sampleSurfaceGrid(surface, {Su, Sv, 0, 0}, kSurfaceFields, got.consumer(), {2, 64});
   const auto items = surfaceGridItems(surface);

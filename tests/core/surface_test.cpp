@@ -106,6 +106,50 @@ void expectFiniteDifferences(const Surface& s, int i, int j, double u, double v,
 
 // ---- α-EB surfaces ------------------------------------------------------------------------------
 
+// The surface keeps its points only inside its patch net (built in the points' own block): the
+// net entry by entry against the §5.1 combinations of the model's points (extendedIndices, computed
+// here apart from create), and the points, α and weights the surface gives back, bit for bit.
+void expectNetAndPointsOf(const SurfaceModel& m, const Surface& s) {
+  const bool phantom = m.family.construction == Construction::AlphaEB;
+  int offset = 0;
+  const auto eu = extendedIndices(m.rows, m.closedU, phantom, s.basisU().count, s.basisU().centre, offset);
+  const auto ev = extendedIndices(m.cols, m.closedV, phantom, s.basisV().count, s.basisV().centre, offset);
+  ASSERT_EQ(size_t(s.netRows()), eu.size());
+  ASSERT_EQ(size_t(s.netCols()), ev.size());
+  for (size_t a = 0; a < eu.size(); ++a)
+    for (size_t b = 0; b < ev.size(); ++b) {
+      auto rowPoint = [&](int i) {
+        const ExtendedIndex& y = ev[b];
+        return y.w1 == 0.0 ? m.at(i, y.i0) : y.w0 * m.at(i, y.i0) + y.w1 * m.at(i, y.i1);
+      };
+      const ExtendedIndex& x = eu[a];
+      const dvec3 want = x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1);
+      ASSERT_EQ(s.patchNet()[a * ev.size() + b], want) << "net entry (" << a << ", " << b << ")";
+    }
+  EXPECT_EQ(s.controlPoints(), m.points);
+  for (int i = 0; i < m.rows; ++i)
+    for (int j = 0; j < m.cols; ++j) ASSERT_EQ(s.controlPoint(i, j), m.at(i, j)) << i << "," << j;
+  const SurfaceModel back = s.toModel();
+  EXPECT_EQ(back.points, m.points);
+  EXPECT_EQ(back.alpha, m.alpha);
+  EXPECT_EQ(back.weights, m.weights);
+  EXPECT_EQ(back.rows, m.rows);
+  EXPECT_EQ(back.cols, m.cols);
+  EXPECT_EQ(back.closedU, m.closedU);
+  EXPECT_EQ(back.closedV, m.closedV);
+}
+
+// A model whose points have room for the net (io's readers reserve netCapacity) gives its block to
+// the net: no second copy of a big net, ever.
+template <class Make>
+void expectTheNetTakesThePointsBlock(Make make) {
+  SurfaceModel m = make();
+  m.points.reserve(netCapacity(m.rows, m.cols));
+  const dvec3* block = m.points.data();
+  const Surface s = Surface::create(std::move(m));
+  EXPECT_EQ(s.patchNet().data(), block);
+}
+
 struct AlphaParam {
   int degree;
   double lambda;
@@ -134,8 +178,8 @@ class AlphaSurface : public ::testing::TestWithParam<AlphaParam> {
 };
 
 TEST_P(AlphaSurface, InterpolatesTheNet) {
-  const Surface s = Surface::create(model(1));
-  const auto& m = s.model();
+  const SurfaceModel m = model(1);
+  const Surface s = Surface::create(m);
   const PatchRange r = s.patches();
   EXPECT_EQ(r.u.first, 0);
   EXPECT_EQ(r.u.last, m.closedU ? m.rows - 1 : m.rows - 2);
@@ -152,8 +196,8 @@ TEST_P(AlphaSurface, InterpolatesTheNet) {
 }
 
 TEST_P(AlphaSurface, IsC2AcrossPatchBoundaries) {
-  const Surface s = Surface::create(model(2));
-  const auto& m = s.model();
+  const SurfaceModel m = model(2);
+  const Surface s = Surface::create(m);
   const PatchRange r = s.patches();
   for (int i = r.u.first; i <= r.u.last; ++i) {
     for (int j = r.v.first; j <= r.v.last; ++j) {
@@ -181,8 +225,8 @@ TEST_P(AlphaSurface, BoundaryRowIsTheAlphaEBCurveOfTheBoundaryPolygon) {
   // curve of the boundary polygon with its own phantom points. Because the boundary nodes and V
   // then coincide with the curve's, the whole α-EB boundary row is the α-EB curve of that
   // polygon with the boundary α (checked for the u = 0 row and, if v is open, the v = 0 column).
-  const Surface s = Surface::create(model(4));
-  const auto& m = s.model();
+  const SurfaceModel m = model(4);
+  const Surface s = Surface::create(m);
   const SpanBasis basis = xuWangSpanBasis(GetParam().degree, GetParam().lambda);
   auto check = [&](bool alongV, int line, bool closed) {
     CurveModel c;
@@ -231,8 +275,8 @@ TEST_P(AlphaSurface, BoundaryRowIsTheAlphaEBCurveOfTheBoundaryPolygon) {
 }
 
 TEST_P(AlphaSurface, ExtendedNetFollowsThePhantomRule) {
-  const Surface s = Surface::create(model(5));
-  const auto& m = s.model();
+  const SurfaceModel m = model(5);
+  const Surface s = Surface::create(m);
   const auto& E = s.extendedNet();
   const int cols = s.netCols();
   EXPECT_EQ(s.netRows(), m.closedU ? m.rows + 3 : m.rows + 2);
@@ -251,6 +295,12 @@ TEST_P(AlphaSurface, ExtendedNetFollowsThePhantomRule) {
   else
     expected = m.at(m.rows - 1, m.cols - 1);
   EXPECT_TRUE(near(corner, expected, kFp64Rel * scale_, "corner P_{-1,-1} (§5.1)"));
+}
+
+TEST_P(AlphaSurface, KeepsItsPointsOnlyInsideItsExtendedNet) {
+  const SurfaceModel m = model(7);
+  expectNetAndPointsOf(m, Surface::create(m));
+  expectTheNetTakesThePointsBlock([&] { return model(7); });
 }
 
 TEST_P(AlphaSurface, NormalsAreFiniteUnitVectorsEverywhere) {
@@ -311,8 +361,8 @@ double angle(const dvec3& a, const dvec3& b) {
 }
 
 TEST(SurfaceAlphaOneVertex, NormalIsTheDiagonalLimitInEveryAdjacentPatch) {
-  const Surface s = Surface::create(alphaOneModel(false));
-  const auto& m = s.model();
+  const SurfaceModel m = alphaOneModel(false);
+  const Surface s = Surface::create(m);
   // Every patch around vertex (1,1): patches (0,0), (0,1), (1,0), (1,1) with the vertex at their
   // corners (1,1), (1,0), (0,1), (0,0).
   for (int pi = 0; pi <= 1; ++pi) {
@@ -356,8 +406,8 @@ TEST(SurfaceAlphaOneVertex, NormalIsTheDiagonalLimitInEveryAdjacentPatch) {
 
 TEST(SurfaceAlphaOneVertex, AllOnesReduceToTheBilinearCornerNormal) {
   // All α = 1: V = P, A_u = P_{p',q} - P, so n ∥ (P_10 - P_00) x (P_01 - P_00) at corner (0,0).
-  const Surface s = Surface::create(alphaOneModel(true));
-  const auto& m = s.model();
+  const SurfaceModel m = alphaOneModel(true);
+  const Surface s = Surface::create(m);
   for (int i = 0; i <= 2; ++i)
     for (int j = 0; j <= 2; ++j) {
       const SurfacePoint p = s.evaluate(i, j, 0.0, 0.0);
@@ -422,6 +472,12 @@ TEST_P(PlainSurface, DerivativesMatchFiniteDifferences) {
         for (double v : {0.2, 0.65}) expectFiniteDifferences(s, i, j, u, v, scale_, "plain");
 }
 
+TEST_P(PlainSurface, KeepsItsPointsOnlyInsideItsPatchNet) {
+  const SurfaceModel m = make(35).toModel();
+  expectNetAndPointsOf(m, Surface::create(m));
+  expectTheNetTakesThePointsBlock([&] { return m; });
+}
+
 TEST_P(PlainSurface, PatchJointsAreContinuous) {
   const Surface s = make(32);
   const auto& m = s.model();
@@ -458,7 +514,7 @@ TEST_P(PlainSurface, RowsAreCurvesOfTheSameFamily) {
   // is the curve of one column in v (partition of unity in u).
   const auto& p = GetParam();
   const Surface s0 = make(33);
-  const auto& m0 = s0.model();
+  const SurfaceModel m0 = s0.toModel();
   SurfaceModel m = m0;
   for (int i = 0; i < m.rows; ++i)
     for (int j = 0; j < m.cols; ++j) m.points[static_cast<size_t>(i) * m.cols + j] = m0.at(0, j);
@@ -486,7 +542,7 @@ TEST_P(PlainSurface, RowsAreCurvesOfTheSameFamily) {
 TEST_P(PlainSurface, PlanarNetGivesThePlaneAndItsNormal) {
   const auto& p = GetParam();
   const Surface s0 = make(34);
-  SurfaceModel m = s0.model();
+  SurfaceModel m = s0.toModel();
   const dvec3 n = glm::normalize(dvec3(0.3, -0.5, 0.8));
   const dvec3 e1 = glm::normalize(glm::cross(n, dvec3(1, 0, 0))), e2 = glm::cross(n, e1);
   // An affine image of the parameter grid: rows along e1, columns along e2 (so du x dv ∥ n),
@@ -597,6 +653,24 @@ TEST(KnotVectorSurface, MatchesItsCurvesAndFiniteDifferences) {
       EXPECT_TRUE(near(p.duv, fduv, kFdRel * (scale + glm::length(p.duv)) * 100, "duv"));
       EXPECT_TRUE(finiteUnit(p.normal));
     }
+}
+
+TEST(KnotVectorSurface, KeepsItsPointsAndWeightsOnce) {
+  SurfaceModel m = makeSurface(family(Construction::BSpline, 0, 3, 0.0), 5, 6, false, false, randomNet(5, 6, 43));
+  m.orderV = 4;
+  m.knotsU = {0, 0, 0, 0.3, 0.7, 1, 1, 1};
+  m.knotsV = {0, 0, 0, 0, 0.5, 1.5, 2, 2, 2, 2};
+  for (int k = 0; k < 30; ++k) m.weights.push_back(0.5 + 0.05 * k);
+  SurfaceModel moved = m;
+  const dvec3* points = moved.points.data();
+  const double* weights = moved.weights.data();
+  const Surface s = Surface::create(std::move(moved));
+  EXPECT_EQ(s.knotData().points.data(), points);
+  EXPECT_EQ(s.knotData().weights.data(), weights);
+  EXPECT_EQ(s.weights(), m.weights);
+  EXPECT_EQ(s.controlPoints(), m.points);
+  EXPECT_EQ(s.toModel().knotsV, m.knotsV);
+  EXPECT_EQ(s.toModel().weights, m.weights);
 }
 
 TEST(SurfaceCreate, ValidatesTheModel) {

@@ -67,7 +67,7 @@ Job makeJob(const std::string& modelFile, io::OutputFormat format, int samples) 
     l.samplesU = l.samplesV = samples;
     l.closedU = j.surface->model().closedU;
     l.closedV = j.surface->model().closedV;
-    l.job = io::jobFingerprint(j.surface->model(), l, format);
+    l.job = io::jobFingerprint(*j.surface, l, format);
   } else {
     j.curve.emplace(Curve::create(std::get<CurveModel>(std::move(model))));
     l.spanU = curveGridItems(*j.curve);

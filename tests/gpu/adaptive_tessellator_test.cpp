@@ -210,7 +210,7 @@ void expectTopologyOfRates(const gpu::AdaptiveTessellator::Mesh& mesh, const Tes
 void expectVerticesOfSurface(const gpu::AdaptiveTessellator::Mesh& mesh, const TessTopology& topo, const Surface& cpu,
                              const std::string& what) {
   const TessPatches patches(cpu);
-  const double scale = boxOf(cpu.model()).diagonal();
+  const double scale = boxOf(cpu.toModel()).diagonal();
   double worst = 0.0, worstNormal = 0.0;
   for (uint32_t k = 0; k < topo.vertexCount; ++k) {
     const TessSample& s = topo.samples[k];

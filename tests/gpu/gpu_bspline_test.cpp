@@ -272,7 +272,7 @@ TEST_P(GpuBSpline, KnotPatchGridMatchesCpuWhereItApplies) {
                  (c.rational ? " rational" : ""));
     EXPECT_EQ(gpu::knotPatchGridJob(state, grid, c.fields).has_value(), c.patches);
     const double h = std::min(minInterval(m.knotsU), minInterval(m.knotsV));
-    const double tol = 4.0 * relFor(pr) * bboxDiag(m.points), tol1 = tol * 8 * c.order / h,
+    const double tol = 4.0 * relFor(pr) * bboxDiag(cpu.controlPoints()), tol1 = tol * 8 * c.order / h,
                  tol2 = tol * 64 * c.order * c.order / (h * h);
     const auto items = surfaceGridItems(cpu);
     double worst = 0.0;  // error / tolerance
@@ -315,7 +315,7 @@ TEST_P(GpuBSpline, SurfacesMatchCpu) {
     const Surface cpu = knotSurface(c.ku, c.kv, c.rows, c.cols, c.cu, c.cv, 31u * c.ku + c.kv);
     const auto& m = cpu.model();
     const double h = std::min(minInterval(m.knotsU), minInterval(m.knotsV)), k = std::max(c.ku, c.kv);
-    const double tol = 4.0 * relFor(pr) * bboxDiag(m.points), tol1 = tol * 8 * k / h, tol2 = tol * 64 * k * k / (h * h);
+    const double tol = 4.0 * relFor(pr) * bboxDiag(cpu.controlPoints()), tol1 = tol * 8 * k / h, tol2 = tol * 64 * k * k / (h * h);
     gpu::GpuSurface state(ctx_, cpu, pr);
     const auto items = surfaceGridItems(cpu);
     auto checkPoint = [&](const SurfacePoint& e, const SurfacePoint& g, const std::string& where) {

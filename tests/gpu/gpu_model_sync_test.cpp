@@ -111,7 +111,7 @@ class GpuModelSyncTest : public VulkanTest {
 
   void expectGpuMatchesHeld(gpu::GpuSurface& state, const std::string& after) {
     const Surface& cpu = state.surface();
-    const double tol = rel() * boxDiagonal(cpu.model().points) / minAlpha(cpu.model().alpha);
+    const double tol = rel() * boxDiagonal(cpu.controlPoints()) / minAlpha(cpu.model().alpha);
     const auto [ulo, uhi] = cpu.parameterRangeU();
     const auto [vlo, vhi] = cpu.parameterRangeV();
     std::vector<std::pair<double, double>> uv;

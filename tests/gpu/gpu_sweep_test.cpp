@@ -273,7 +273,7 @@ void compareSurfaceGrid(const Surface& cpu, gpu::SurfaceEvaluator& ev, gpu::GpuS
   const bool fp64 = pr == Precision::Double;
   const auto& m = cpu.model();
   const double g = m.alpha.empty() ? 1.0 : 1.0 / *std::min_element(m.alpha.begin(), m.alpha.end());
-  const double tol = (fp64 ? kFp64Rel : kFp32Rel) * bboxDiag(m.points) * g * 4.0;
+  const double tol = (fp64 ? kFp64Rel : kFp32Rel) * bboxDiag(cpu.controlPoints()) * g * 4.0;
   const double mm = std::max(cpu.basisU().count, cpu.basisV().count);
   GridSpec grid;
   grid.samplesU = su;

@@ -195,7 +195,7 @@ class TessellatorTest : public VulkanTest {
       const SurfacePoint e = cpu.evaluate(s.a + r.u.first, s.b + r.v.first, s.u, s.v);
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.point[c] - double(v[k].position[c])));
     }
-    return worst / scaleOf(cpu.model());
+    return worst / scaleOf(cpu.toModel());
   }
 };
 
@@ -423,7 +423,7 @@ TEST_P(TessellatorPrecisionTest, UniformAndMixedRatesMatchCpu) {
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.point[c] - double(v[k].position[c])));
       EXPECT_EQ(v[k].uv[0], float(s.a + cpu.patches().u.first) + float(s.u)) << "vertex " << k;
     }
-    EXPECT_LE(worst / scaleOf(cpu.model()), posTol);
+    EXPECT_LE(worst / scaleOf(cpu.toModel()), posTol);
     expectUnitNormals(v);
     expectInteriorNormals(tess, cpu, v, pr);
   }
@@ -497,7 +497,7 @@ TEST_P(TessellatorPrecisionTest, KnotVectorAndRationalSurfacesMatchCpu) {
         EXPECT_LE(std::abs(double(v[k].uv[1]) - V), uvTol) << "vertex " << k;
         if (torus) worstTorus = std::max(worstTorus, std::abs(std::hypot(std::hypot(got.x, got.y) - R, got.z) - r));
       }
-      EXPECT_LE(worst / scaleOf(cpu.model()), posTol);
+      EXPECT_LE(worst / scaleOf(cpu.toModel()), posTol);
       // The fp32 bound (fp32 vertices either way): 1e-6 of the torus's size.
       if (torus) {
         EXPECT_LE(worstTorus / (R + r), 1e-6);

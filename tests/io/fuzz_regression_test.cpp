@@ -44,8 +44,8 @@ TEST(FuzzRegression, OpenAlphaEBSurfaceLastNodesStayInsideTheExtendedNet) {
   const std::string input =
       R"({"kind":"surface","construction":"alpha_eb","degree":4,"lambda":-3,"alpha":0.5,)"
       R"("points":[[[0,0,0],[1,0,1],[2,0,0]],[[0,1,1],[1,1,2],[2,1,1]],[[0,2,0],[1,2,1],[2,2,3]]]})";
-  const Surface surface = Surface::create(std::get<SurfaceModel>(io::parseModelText(input)));
-  const SurfaceModel& m = surface.model();
+  const SurfaceModel m = std::get<SurfaceModel>(io::parseModelText(input));
+  const Surface surface = Surface::create(m);
   // Open in both directions: the phantom rule of §5.1 per direction, P_{3,3} = 2 P_{2,·} - P_{1,·} etc.
   auto P = [&](int i, int j) {
     auto row = [&](int r) {

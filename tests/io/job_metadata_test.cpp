@@ -142,7 +142,10 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   s.family.order = 3;
   s.orderV = 4;
   s.rows = s.cols = 4;
-  const JobMetadata b = jobMetadataOf(s, model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
+  s.knotsU = {0, 0, 0, 0.5, 1, 1, 1};  // order 3: 4 + 3 knots
+  s.knotsV = {0, 0, 0, 0, 1, 1, 1, 1};
+  s.points.assign(16, glm::dvec3(0.0));
+  const JobMetadata b = jobMetadataOf(Surface::create(s), model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
   EXPECT_EQ(b.grid(), "5x6");
   const json j = metadataJson(b);
   EXPECT_EQ(j["order"], json::array({3, 4}));
@@ -155,7 +158,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   // A rational B-spline says so ("rational": true, and a comment line); it is another job than the
   // same net without weights.
   s.weights.assign(16, 0.5);
-  const JobMetadata r = jobMetadataOf(s, model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
+  const JobMetadata r = jobMetadataOf(Surface::create(s), model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
   EXPECT_TRUE(r.rational);
   EXPECT_EQ(metadataJson(r)["rational"], true);
   EXPECT_NE(metadataComments(r, "# ").find("# rational: true\n"), std::string::npos);

@@ -86,11 +86,12 @@ vk::ContextOptions noSuchDevice() {
 }
 
 TEST(SamplingNetScale, ExponentBringsLargeAndTinyNetsIntoRange) {
-  EXPECT_EQ(sampling::netScale({{1.0, -3.0, 0.5}}, Precision::Float), 0);
-  EXPECT_EQ(sampling::netScale({{1e30, 0.0, 0.0}}, Precision::Float), -std::ilogb(1e30));
-  EXPECT_EQ(sampling::netScale({{1e30, 0.0, 0.0}}, Precision::Double), 0);  // inside fp64's band
-  EXPECT_EQ(sampling::netScale({{0.0, 3e-310, 0.0}}, Precision::Double), -std::ilogb(3e-310));
-  EXPECT_EQ(sampling::netScale({}, Precision::Float), 0);
+  using Net = std::vector<glm::dvec3>;
+  EXPECT_EQ(sampling::netScale(Net{{1.0, -3.0, 0.5}}, Precision::Float), 0);
+  EXPECT_EQ(sampling::netScale(Net{{1e30, 0.0, 0.0}}, Precision::Float), -std::ilogb(1e30));
+  EXPECT_EQ(sampling::netScale(Net{{1e30, 0.0, 0.0}}, Precision::Double), 0);  // inside fp64's band
+  EXPECT_EQ(sampling::netScale(Net{{0.0, 3e-310, 0.0}}, Precision::Double), -std::ilogb(3e-310));
+  EXPECT_EQ(sampling::netScale(Net{}, Precision::Float), 0);
 }
 
 TEST(SamplingPath, CpuRequestComputesFp64AndNamesTheCpu) {
