@@ -27,8 +27,6 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -44,6 +42,22 @@ def child(cmd):
         sys.exit(f"big_model: {' '.join(cmd)} failed: {err.strip()}")
     return wall, usage.ru_maxrss * 1024
 
+
+MAKE_NET = r"""
+import sys, time
+import numpy as np
+path, n = sys.argv[1], int(sys.argv[2])
+u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+np.save(path, np.stack([u, v, 0.1 * np.sin(8 * u) * np.cos(6 * v)], axis=-1))
+del u, v
+np.load(path)  # warm the page cache
+loads = []
+for _ in range(3):
+    t = time.perf_counter()
+    np.load(path)
+    loads.append(time.perf_counter() - t)
+print(min(loads))
+"""
 
 PYTHON_ARRAY = r"""
 import json, sys, time
@@ -96,21 +110,16 @@ def main():
     work = tempfile.mkdtemp(prefix="shapespline_big_")
     try:
         n = a.n
-        u, v = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
         net = os.path.join(work, "net.npy")
-        np.save(net, np.stack([u, v, 0.1 * np.sin(8 * u) * np.cos(6 * v)], axis=-1))
-        del u, v
+        # The net is made and numpy.load timed in a child interpreter: a child forked from a parent
+        # that held the array would report the parent's RSS as its own max RSS (wait4 counts the
+        # memory the child had before its exec).
+        load_s = float(subprocess.run([sys.executable, "-c", MAKE_NET, net, str(n)], check=True, capture_output=True,
+                                      text=True).stdout)
         with open(os.path.join(work, "m.json"), "w") as f:
             json.dump({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": 0.5,
                        "points": {"npy": "net.npy"}}, f)
         net_bytes = os.path.getsize(net)
-        np.load(net)  # warm the page cache
-        loads = []
-        for _ in range(3):
-            t = time.perf_counter()
-            np.load(net)
-            loads.append(time.perf_counter() - t)
-        load_s = min(loads)
         info = subprocess.run([a.cli, "info"], capture_output=True, text=True)
         has_vulkan = info.returncode == 0 and "selected:" in info.stdout
         rss_ceiling = 1.5 * net_bytes + 100e6
@@ -123,7 +132,8 @@ def main():
             first_s, first_rss = child(base + ["-o", os.path.join(work, "first.f32"), "--shard", f"1/{n - 1}"])
             whole_s, whole_rss = child(base + ["-o", os.path.join(work, "whole.f32")])
             os.remove(os.path.join(work, "whole.f32"))
-            rows.append({"device": device, "first_sample_s": first_s, "whole_s": whole_s, "max_rss": whole_rss,
+            rows.append({"device": device, "first_sample_s": first_s, "first_max_rss": first_rss, "whole_s": whole_s,
+                         "max_rss": whole_rss,
                          "first_over_ceiling": first_s / (2 * load_s), "rss_over_ceiling": whole_rss / rss_ceiling})
         result = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "cores": os.cpu_count(), "n": n,
                   "net_bytes": net_bytes, "numpy_load_s": load_s, "rss_ceiling": rss_ceiling, "rows": rows}
