@@ -673,6 +673,46 @@ TEST(KnotVectorSurface, KeepsItsPointsAndWeightsOnce) {
   EXPECT_EQ(s.toModel().weights, m.weights);
 }
 
+// create checks the V rule of §4.2 (V within fp64) with a bound over the whole net first and vertex
+// by vertex only where the bound cannot clear the net: both ways the first vertex that breaks the
+// rule is named.
+TEST(SurfaceCreate, RefusesTheFirstVertexWhoseVLeavesFp64) {
+  SurfaceModel m = makeSurface(family(Construction::AlphaEB, 5, 0, 0.0), 6, 7, false, false, randomNet(6, 7, 51));
+  m.alpha.assign(42, 0.5);
+  EXPECT_NO_THROW(Surface::create(m));
+  m.alpha[2 * 7 + 3] = 1e-310;  // (1-α)/α overflows: only this vertex's V leaves fp64
+  try {
+    Surface::create(m);
+    ADD_FAILURE() << "accepted a V beyond fp64";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(e.field(), "alpha[2][3]");
+  }
+  // Large coordinates: a checkerboard of z = ±1e307 with α = 1e-3 makes V about 1e310 wherever P and
+  // its node differ; the expected vertex is the first whose V overflows, from the nodes of the same
+  // net with a harmless α (a node does not depend on α).
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 7; ++j) m.points[static_cast<size_t>(i) * 7 + j] = dvec3(i, j, (i + j) % 2 ? 1e307 : -1e307);
+  m.alpha.assign(42, 0.5);
+  const Surface harmless = Surface::create(m);
+  std::string first;
+  for (int i = 0; i < 6 && first.empty(); ++i)
+    for (int j = 0; j < 7 && first.empty(); ++j) {
+      const dvec3 p = m.at(i, j), v = p + ((1.0 - 1e-3) / 1e-3) * (p - harmless.alphaNode(i, j));
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        first = "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]";
+    }
+  ASSERT_FALSE(first.empty()) << "the test net should make some V overflow";
+  m.alpha.assign(42, 1e-3);
+  try {
+    Surface::create(m);
+    ADD_FAILURE() << "accepted a net whose V are beyond fp64";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(e.field(), first);
+  }
+  m.alpha.assign(42, 0.5);  // V = 2P - node: inside fp64 at this scale
+  EXPECT_NO_THROW(Surface::create(m));
+}
+
 TEST(SurfaceCreate, ValidatesTheModel) {
   SurfaceModel m = makeSurface(family(Construction::AlphaEB, 4, 0, 0.0), 3, 3, false, false, randomNet(3, 3, 51));
   m.alpha.assign(9, 1.5);  // α > 1 is outside the model (§11)
