@@ -35,6 +35,20 @@ std::vector<glm::dvec4> netPoints(const Curve& c) {
 std::vector<glm::dvec4> netPoints(const Surface& s) {
   return s.usesKnotVector() ? netRecords(s.knotData().points, s.knotData().weights) : netRecords(s.patchNet(), {});
 }
+// NET's bytes at `precision` and how to write them: netPoints converted; a net without weights is
+// converted straight into the buffer (a band of a 4096² net took 16-80 bytes a point in arrays).
+NetUpload netUpload(const Curve& c, Precision precision) {
+  auto bytes = std::make_shared<std::vector<std::byte>>(toReal4(netPoints(c), precision));
+  return {bytes->size(), [bytes](std::byte* to) { std::memcpy(to, bytes->data(), bytes->size()); }};
+}
+NetUpload netUpload(const Surface& s, Precision precision) {
+  if (s.usesKnotVector() && !s.weights().empty()) {
+    auto bytes = std::make_shared<std::vector<std::byte>>(toReal4(netPoints(s), precision));
+    return {bytes->size(), [bytes](std::byte* to) { std::memcpy(to, bytes->data(), bytes->size()); }};
+  }
+  const std::span<const glm::dvec3> points = s.usesKnotVector() ? std::span(s.knotData().points) : std::span(s.patchNet());
+  return {points.size() * 4 * realSize(precision), [points, precision](std::byte* to) { writeReal4(points, precision, to); }};
+}
 
 std::vector<double> inverseSpanLengths(const Curve& c) {
   std::vector<double> invH;
@@ -148,12 +162,11 @@ uint32_t GpuModel::invHOffset() const {
   return invHCount_ == 0 ? layout::kNoOffset : static_cast<uint32_t>(layout::kParamHeader + alphaCount_);
 }
 
-void GpuModel::createBuffers(std::span<const glm::dvec4> net, std::span<const double> params) {
+void GpuModel::createBuffers(const NetUpload& net, std::span<const double> params) {
   const size_t rs = realSize(precision_);
-  net_ = vk::Buffer::create(*ctx_, net.size() * 4 * rs, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.net");
-  const auto bytes = toReal4(net, precision_);
-  net_.upload(bytes);
-  stats_.netBytes += bytes.size();
+  net_ = vk::Buffer::create(*ctx_, net.bytes, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.net");
+  net_.uploadWith(net.bytes, net.write);
+  stats_.netBytes += net.bytes;
   ++stats_.netWrites;
   params_ = vk::Buffer::create(*ctx_, params.size() * rs, vk::kStorageUsage, vk::MemoryUse::DeviceLocal, "gpu.params");
   const size_t vertBytes = vertexBufferBytes(alphaEB(), uint64_t(rows_) * cols_, precision_);
@@ -230,7 +243,7 @@ GpuCurve::GpuCurve(std::shared_ptr<vk::Context> ctx, const Curve& curve, Precisi
     invHCount_ = inverseSpanLengths(curve_).size();
   }
   rational_ = !curve_.model().weights.empty();
-  createBuffers(netPoints(curve_), paramsOf(curve_));
+  createBuffers(netUpload(curve_, precision), paramsOf(curve_));
 }
 
 std::vector<double> GpuCurve::paramsOf(const Curve& c) const {
@@ -288,8 +301,8 @@ void GpuCurve::updateControlPoint(int i, const glm::dvec3& p) {
 
 // ---- GpuSurface ---------------------------------------------------------------------------------
 
-GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision)
-    : GpuModel(std::move(ctx), precision, surface.parameterization()), surface_(surface) {
+GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, Surface surface, Precision precision)
+    : GpuModel(std::move(ctx), precision, surface.parameterization()), surface_(std::move(surface)) {
   const SurfaceShape& m = surface_.model();
   rows_ = static_cast<uint32_t>(m.rows);
   cols_ = static_cast<uint32_t>(m.cols);
@@ -308,7 +321,7 @@ GpuSurface::GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface,
     alphaCount_ = m.alpha.size();
   }
   rational_ = !surface_.weights().empty();
-  createBuffers(netPoints(surface_), paramsOf(surface_));
+  createBuffers(netUpload(surface_, precision), paramsOf(surface_));
 }
 
 std::vector<double> GpuSurface::paramsOf(const Surface& s) const {

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -37,6 +38,12 @@ struct ModelBufferBytes {
 };
 ModelBufferBytes modelBufferBytes(const Curve& curve, Precision precision);
 ModelBufferBytes modelBufferBytes(const Surface& surface, Precision precision);
+
+// NET's size in bytes and the function that writes them (into the mapped buffer or a staging one).
+struct NetUpload {
+  size_t bytes = 0;
+  std::function<void(std::byte*)> write;
+};
 
 // Buffers shared by GpuCurve and GpuSurface. Every parameterization fact comes from the core
 // Curve/Surface the mirror holds; this class only lays it out in NET, PARAMS and VERTS.
@@ -82,7 +89,7 @@ class GpuModel {
 
  protected:
   GpuModel(std::shared_ptr<vk::Context> ctx, Precision precision, Parameterization parameterization);
-  void createBuffers(std::span<const glm::dvec4> net, std::span<const double> params);
+  void createBuffers(const NetUpload& net, std::span<const double> params);
   // The PARAMS block (a few hundred bytes) of bases u, v, α and 1/h, with the knot tail.
   std::vector<double> paramBlock(const SpanBasis& u, const SpanBasis& v, std::span<const double> alpha,
                                  std::span<const double> invH) const;
@@ -157,7 +164,8 @@ class GpuSurface : public GpuModel {
  public:
   // Uploads the patch net (core/surface.h) and the parameter block; knot-vector B-spline surfaces
   // upload their control net, knots and interval records. Double needs shaderFloat64.
-  GpuSurface(std::shared_ptr<vk::Context> ctx, const Surface& surface, Precision precision);
+  // The surface is held (moved in where the caller passes a temporary, as a band of a big net).
+  GpuSurface(std::shared_ptr<vk::Context> ctx, Surface surface, Precision precision);
 
   const Surface& surface() const { return surface_; }
   const SurfaceShape& model() const { return surface_.model(); }

@@ -44,31 +44,43 @@
 
 namespace shapespline::gpu {
 
+namespace {
+// Value i of a REAL array at `out`. The REAL4 converters write straight into their result: a band
+// of a 4096² net went through two temporary arrays of 32 bytes a point before.
+void putReal(std::byte* out, size_t i, double value, Precision p) {
+  if (p == Precision::Double) {
+    std::memcpy(out + 8 * i, &value, 8);
+  } else {
+    const float f = static_cast<float>(value);
+    std::memcpy(out + 4 * i, &f, 4);
+  }
+}
+}  // namespace
+
 std::vector<std::byte> toReal(std::span<const double> values, Precision p) {
   std::vector<std::byte> out(values.size() * realSize(p));
-  for (size_t i = 0; i < values.size(); ++i) {
-    if (p == Precision::Double) {
-      std::memcpy(out.data() + 8 * i, &values[i], 8);
-    } else {
-      const float f = static_cast<float>(values[i]);
-      std::memcpy(out.data() + 4 * i, &f, 4);
-    }
-  }
+  for (size_t i = 0; i < values.size(); ++i) putReal(out.data(), i, values[i], p);
   return out;
 }
 
+void writeReal4(std::span<const glm::dvec3> points, Precision p, std::byte* out) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (int k = 0; k < 3; ++k) putReal(out, 4 * i + size_t(k), points[i][k], p);
+    putReal(out, 4 * i + 3, 0.0, p);
+  }
+}
+
 std::vector<std::byte> toReal4(std::span<const glm::dvec3> points, Precision p) {
-  std::vector<double> v(points.size() * 4, 0.0);
-  for (size_t i = 0; i < points.size(); ++i)
-    for (int k = 0; k < 3; ++k) v[4 * i + k] = points[i][k];
-  return toReal(v, p);
+  std::vector<std::byte> out(points.size() * 4 * realSize(p));
+  writeReal4(points, p, out.data());
+  return out;
 }
 
 std::vector<std::byte> toReal4(std::span<const glm::dvec4> records, Precision p) {
-  std::vector<double> v(records.size() * 4);
+  std::vector<std::byte> out(records.size() * 4 * realSize(p));
   for (size_t i = 0; i < records.size(); ++i)
-    for (int k = 0; k < 4; ++k) v[4 * i + k] = records[i][k];
-  return toReal(v, p);
+    for (int k = 0; k < 4; ++k) putReal(out.data(), 4 * i + size_t(k), records[i][k], p);
+  return out;
 }
 
 void requirePrecision(const vk::Context& ctx, Precision p) {

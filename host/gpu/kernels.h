@@ -30,6 +30,8 @@ inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }
 std::vector<std::byte> toReal(std::span<const double> values, Precision p);
 // xyz of each point into REAL4 bytes (w = 0).
 std::vector<std::byte> toReal4(std::span<const glm::dvec3> points, Precision p);
+// The same into `out` (points.size() * 4 REALs, w = +0.0): for an upload that converts in place.
+void writeReal4(std::span<const glm::dvec3> points, Precision p, std::byte* out);
 std::vector<std::byte> toReal4(std::span<const glm::dvec4> records, Precision p);
 
 // Throws std::runtime_error naming the device when Double is asked of a device without shaderFloat64.

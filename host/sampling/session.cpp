@@ -322,7 +322,8 @@ void sampleOnGpuInBands(const std::shared_ptr<vk::Context>& ctx, gpu::SurfaceEva
     const size_t rows = static_cast<size_t>(pr.u.last - pr.u.first + 1), perBand = static_cast<size_t>(r.bandRows);
     const size_t jobFirst = grid.firstItem, jobEnd = grid.itemCount ? grid.firstItem + grid.itemCount : rows * itemsV;
     for (size_t row = jobFirst / itemsV; row * itemsV < jobEnd; row += perBand) {
-      const size_t lastRow = std::min(row + perBand, rows) - 1;
+      // A band ends at the job's last row: a shard of one row builds a mirror of one row.
+      const size_t lastRow = std::min({row + perBand, rows, (jobEnd + itemsV - 1) / itemsV}) - 1;
       const size_t bandFirst = row * itemsV, bandEnd = (lastRow + 1) * itemsV;
       const size_t first = std::max(jobFirst, bandFirst), end = std::min(jobEnd, bandEnd);
       gpu::GpuSurface mirror(ctx, s.patchRows(pr.u.first + int(row), pr.u.first + int(lastRow)), r.computedPrecision);

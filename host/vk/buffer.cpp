@@ -177,20 +177,24 @@ void Buffer::checkRange(VkDeviceSize offset, VkDeviceSize bytes, const char* wha
 }
 
 void Buffer::upload(std::span<const std::byte> data, VkDeviceSize offset) {
-  checkRange(offset, data.size(), "Buffer::upload");
-  if (data.empty()) return;
+  uploadWith(data.size(), [&](std::byte* to) { std::memcpy(to, data.data(), data.size()); }, offset);
+}
+
+void Buffer::uploadWith(VkDeviceSize size, const std::function<void(std::byte*)>& fill, VkDeviceSize offset) {
+  checkRange(offset, size, "Buffer::upload");
+  if (size == 0) return;
   if (mapped_) {
-    std::memcpy(mapped_ + offset, data.data(), data.size());
+    fill(mapped_ + offset);
     if (!(flags_ & kHostCoherent)) {
-      VkMappedMemoryRange range = atomRange(*ctx_, memory_.get(), allocationSize_, offset, data.size());
+      VkMappedMemoryRange range = atomRange(*ctx_, memory_.get(), allocationSize_, offset, size);
       check(vkFlushMappedMemoryRanges(ctx_->device(), 1, &range), "vkFlushMappedMemoryRanges");
     }
     return;
   }
-  Buffer staging = create(*ctx_, data.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, "staging upload");
-  staging.upload(data, 0);
+  Buffer staging = create(*ctx_, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload, "staging upload");
+  staging.uploadWith(size, fill, 0);
   runOneShot(*ctx_, [&](VkCommandBuffer cmd) {
-    recordCopy(cmd, staging, *this, data.size(), 0, offset);
+    recordCopy(cmd, staging, *this, size, 0, offset);
     transferBarrier(cmd);
   });
 }

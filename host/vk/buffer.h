@@ -9,6 +9,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include <cstddef>
+#include <functional>
 #include <span>
 #include <type_traits>
 
@@ -58,6 +59,9 @@ class Buffer {
   // when mapped, otherwise through a staging buffer (needs TRANSFER_DST / TRANSFER_SRC usage).
   // Throws std::out_of_range when [offset, offset + size) is outside the buffer.
   void upload(std::span<const std::byte> data, VkDeviceSize offset = 0);
+  // The same for `size` bytes that fill(destination) writes: straight into the mapped memory, or
+  // into the staging buffer. A big net converted on the way needs no array of its bytes.
+  void uploadWith(VkDeviceSize size, const std::function<void(std::byte*)>& fill, VkDeviceSize offset = 0);
   void download(std::span<std::byte> out, VkDeviceSize offset = 0) const;
   template <typename T>
   void uploadSpan(std::span<const T> data, VkDeviceSize offset = 0) {
