@@ -62,8 +62,8 @@ void rethrowDeviceError() {
 
 template <>
 void Handle<Curve>::checkQueries(std::span<const sampling::CurveQuery> queries) const {
-  const auto [u0, u1] = model_.parameterRange();
-  const SpanRange s = model_.spans();
+  const auto [u0, u1] = model_->parameterRange();
+  const SpanRange s = model_->spans();
   for (size_t i = 0; i < queries.size(); ++i) {
     const auto& q = queries[i];
     if (q.global) {
@@ -81,9 +81,9 @@ void Handle<Curve>::checkQueries(std::span<const sampling::CurveQuery> queries) 
 
 template <>
 void Handle<Surface>::checkQueries(std::span<const sampling::SurfaceQuery> queries) const {
-  const auto [u0, u1] = model_.parameterRangeU();
-  const auto [v0, v1] = model_.parameterRangeV();
-  const PatchRange p = model_.patches();
+  const auto [u0, u1] = model_->parameterRangeU();
+  const auto [v0, v1] = model_->parameterRangeV();
+  const PatchRange p = model_->patches();
   for (size_t i = 0; i < queries.size(); ++i) {
     const auto& q = queries[i];
     if (q.global) {

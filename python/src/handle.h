@@ -71,17 +71,19 @@ template <class Model>
 class Handle {
  public:
   using K = Kind<Model>;
-  explicit Handle(Model model) : model_(std::move(model)) {}
+  explicit Handle(Model model) : model_(std::make_shared<const Model>(std::move(model))) {}
 
-  // A copy of the current model (value type; the caller may use it without the lock).
-  Model model() const {
+  // The current model, as an immutable snapshot the caller may use without the lock: a setter
+  // replaces the handle's snapshot and leaves this one as it was. Not a copy (a 2048² surface is
+  // 130 MB, and every property read took one).
+  std::shared_ptr<const Model> model() const {
     std::shared_lock lock(mutex_);
     return model_;
   }
 
   sampling::Report plan(const sampling::DeviceRequest& request) const {
     std::shared_lock lock(mutex_);
-    return python::plan(model_, request);
+    return python::plan(*model_, request);
   }
 
   // A grid job: Session::plan decides; the CPU path runs the core sampler, the GPU path the
@@ -95,18 +97,18 @@ class Handle {
                               const std::array<double*, kFieldCount>& jobPlanes = {}) {
     {
       std::shared_lock lock(mutex_);
-      sampling::Report r = python::plan(model_, request);
+      sampling::Report r = python::plan(*model_, request);
       if (!r.gpu) {
         sampling::GridOptions o;
         o.chunkPoints = chunkPoints;
         o.slice = slice;
         o.jobPlanes = jobPlanes;
-        sampling::sampleOnCpu(model_, r, grid, fields, consumer, o);
+        sampling::sampleOnCpu(*model_, r, grid, fields, consumer, o);
         return r;
       }
     }
     std::unique_lock lock(mutex_);
-    sampling::Report r = python::plan(model_, request);  // again: the model may have changed
+    sampling::Report r = python::plan(*model_, request);  // again: the model may have changed
     if (!r.gpu) {
       lock.unlock();
       return sampleGrid(request, grid, fields, consumer, chunkPoints, slice, jobPlanes);
@@ -116,7 +118,7 @@ class Handle {
       sampling::GridOptions o;
       o.chunkPoints = chunkPoints;
       o.slice = slice;
-      return session().sampleGrid(model_, request, grid, fields, consumer, o);
+      return session().sampleGrid(*model_, request, grid, fields, consumer, o);
     }
     try {
       Resident& res = resident(r, chunkPoints);
@@ -138,15 +140,15 @@ class Handle {
     sampling::ListResult<typename K::Point> out;
     {
       std::shared_lock lock(mutex_);
-      out.report = python::plan(model_, request);
+      out.report = python::plan(*model_, request);
       checkQueries(queries);
       if (!out.report.gpu) {
-        out.points = sampling::evaluateOnCpu(model_, out.report, queries);
+        out.points = sampling::evaluateOnCpu(*model_, out.report, queries);
         return out;
       }
     }
     std::unique_lock lock(mutex_);
-    out.report = python::plan(model_, request);
+    out.report = python::plan(*model_, request);
     if (!out.report.gpu) {
       lock.unlock();
       return evaluate(request, queries);
@@ -170,7 +172,7 @@ class Handle {
   template <class Edit, class Change>
   void change(Edit&& edit, Change&& onMirror) {
     std::unique_lock lock(mutex_);
-    typename K::ModelData data = K::dataOf(model_);
+    typename K::ModelData data = K::dataOf(*model_);
     edit(data);
     Model created = Model::create(std::move(data));
     for (size_t p = 0; p < resident_.size(); ++p) {
@@ -187,7 +189,7 @@ class Handle {
       }
       if (!keep) res.reset();
     }
-    model_ = std::move(created);
+    model_ = std::make_shared<const Model>(std::move(created));
   }
 
   ResidentStats stats(Precision precision) const {
@@ -208,12 +210,12 @@ class Handle {
   auto withDevice(const sampling::DeviceRequest& request, GpuJob&& job, CpuJob&& cpu) {
     {
       std::shared_lock lock(mutex_);
-      const sampling::Report r = python::plan(model_, request);
-      if (!r.gpu) return cpu(model_, r);
+      const sampling::Report r = python::plan(*model_, request);
+      if (!r.gpu) return cpu(*model_, r);
     }
     std::unique_lock lock(mutex_);
-    const sampling::Report r = python::plan(model_, request);
-    if (!r.gpu) return cpu(model_, r);
+    const sampling::Report r = python::plan(*model_, request);
+    if (!r.gpu) return cpu(*model_, r);
     try {
       Resident& res = resident(r, 0);
       return job(session().vulkanContext(), *res.mirror, r);
@@ -244,7 +246,7 @@ class Handle {
         Model scaled = scaledModel(fresh.scale);
         fresh.mirror = std::make_unique<typename K::Mirror>(ctx, scaled, r.computedPrecision);
       } else {
-        fresh.mirror = std::make_unique<typename K::Mirror>(ctx, model_, r.computedPrecision);
+        fresh.mirror = std::make_unique<typename K::Mirror>(ctx, *model_, r.computedPrecision);
       }
       ++built_[p];
       res = std::move(fresh);
@@ -263,9 +265,9 @@ class Handle {
 
   Model scaledModel(int k) const {
     if constexpr (std::is_same_v<Model, Curve>) {
-      return sampling::scaledCurve(model_, k);
+      return sampling::scaledCurve(*model_, k);
     } else {
-      return sampling::scaledSurface(model_, k);
+      return sampling::scaledSurface(*model_, k);
     }
   }
 
@@ -274,7 +276,7 @@ class Handle {
   std::vector<typename K::Point> gpuPoints(Resident& res, std::span<const typename K::Query> queries);
 
   mutable std::shared_mutex mutex_;
-  Model model_;
+  std::shared_ptr<const Model> model_;  // never null; replaced whole by change()
   std::array<std::optional<Resident>, 2> resident_;  // [fp32, fp64]
   std::array<uint64_t, 2> built_{};
 };

@@ -253,7 +253,7 @@ py::object reportObject(const sampling::Report& r) { return py::cast(r); }
 // The items of the job: [first_item, first_item + count).
 template <class Model>
 GridSpec jobGrid(Handle<Model>& h, GridSpec spec, long long firstItem, long long itemCount) {
-  const size_t total = gridItems(h.model());
+  const size_t total = gridItems(*h.model());
   if (firstItem < 0 || static_cast<size_t>(firstItem) >= total) {
     argumentError("first_item", "must be in [0, " + std::to_string(total) + ")", std::to_string(firstItem));
   }
@@ -343,7 +343,8 @@ std::shared_ptr<ChunkStream> sampleChunks(Handle<Model>& h, py::object grid, py:
   if (chunkPoints < 0) argumentError("chunk_points", "must be >= 0", std::to_string(chunkPoints));
   if (queue < 1 || queue > 64) argumentError("queue", "must be in [1, 64]", std::to_string(queue));
   const GridSpec g = jobGrid(h, parseGrid<Model>(grid, samples), firstItem, itemCount);
-  Model snapshot = h.model();
+  const auto held = h.model();
+  const Model& snapshot = *held;
   {
     py::gil_scoped_release release;
     python::plan(snapshot, request);  // device errors here, on the caller's thread
@@ -424,10 +425,10 @@ py::object sampleModelData(io::Model m, py::object grid, py::object fields, cons
 py::object sampleAnyModel(py::object item, py::object grid, py::object fields, const sampling::DeviceRequest& request,
                           bool withReport) {
   if (py::isinstance<CurveHandle>(item)) {
-    return sampleSnapshot(item.cast<CurveHandle&>().model(), grid, fields, request, withReport);
+    return sampleSnapshot(*item.cast<CurveHandle&>().model(), grid, fields, request, withReport);
   }
   if (py::isinstance<SurfaceHandle>(item)) {
-    return sampleSnapshot(item.cast<SurfaceHandle&>().model(), grid, fields, request, withReport);
+    return sampleSnapshot(*item.cast<SurfaceHandle&>().model(), grid, fields, request, withReport);
   }
   if (py::isinstance<py::dict>(item)) return sampleModelData(parseDict(item.cast<py::dict>()), grid, fields, request, withReport);
   if (py::isinstance<py::str>(item) || py::hasattr(item, "__fspath__")) {
@@ -683,29 +684,29 @@ void checkLambdaFamily(const Model& m) {
 template <class Model, class Class>
 void bindCommon(Class& cls) {
   using H = Handle<Model>;
-  cls.def_property_readonly("construction", [](const H& h) { return nameOf(h.model().model().family.construction); },
+  cls.def_property_readonly("construction", [](const H& h) { return nameOf(h.model()->model().family.construction); },
                             "The construction: extended_bspline, alpha_eb, gb, ubp, gubp or bspline.")
-      .def_property_readonly("degree", [](const H& h) { return h.model().model().family.degree; },
+      .def_property_readonly("degree", [](const H& h) { return h.model()->model().family.degree; },
                              "Xu-Wang degree 4..6 (extended_bspline, alpha_eb), else 0.")
-      .def_property_readonly("mu", [](const H& h) { return vecArray(h.model().model().family.mu); },
+      .def_property_readonly("mu", [](const H& h) { return vecArray(h.model()->model().family.mu); },
                              "GUBP half vector mu_0..mu_floor(k/2) (empty for other constructions).")
-      .def_property_readonly("alpha", [](const H& h) { return vecArray(h.model().model().alpha); },
+      .def_property_readonly("alpha", [](const H& h) { return vecArray(h.model()->model().alpha); },
                              "alpha_eb tension per control point (row-major for surfaces); empty otherwise.")
-      .def_property_readonly("uses_knot_vector", [](const H& h) { return h.model().usesKnotVector(); },
+      .def_property_readonly("uses_knot_vector", [](const H& h) { return h.model()->usesKnotVector(); },
                              "True for a bspline with a knot vector (the parameter is the knot parameter).")
-      .def_property_readonly("item_count", [](const H& h) { return gridItems(h.model()); },
+      .def_property_readonly("item_count", [](const H& h) { return gridItems(*h.model()); },
                              "Items of a grid job: spans (curves) or patches (surfaces), in sample() order.")
       .def_property(
-          "lambda_", [](const H& h) { return h.model().model().family.lambda; },
+          "lambda_", [](const H& h) { return h.model()->model().family.lambda; },
           [](H& h, double v) {
-            checkLambdaFamily(h.model());
+            checkLambdaFamily(*h.model());
             h.change([&](auto& d) { d.family.lambda = v; }, [&](auto& mirror, int) { mirror.setLambda(v); });
           },
           "Global shape parameter lambda (setting it re-evaluates without re-uploading the net).")
       .def(
           "set_lambda",
           [](H& h, double v) {
-            checkLambdaFamily(h.model());
+            checkLambdaFamily(*h.model());
             h.change([&](auto& d) { d.family.lambda = v; }, [&](auto& mirror, int) { mirror.setLambda(v); });
           },
           py::arg("lambda_"), "Set lambda (ValueError naming 'lambda' when out of range; nothing changes then).")
@@ -713,7 +714,7 @@ void bindCommon(Class& cls) {
           "set_mu",
           [](H& h, py::object mu) {
             const std::vector<double> v = doubles(mu, "mu");
-            if (h.model().model().family.construction != Construction::GUBP) throw ModelError("mu", "", "only gubp has mu");
+            if (h.model()->model().family.construction != Construction::GUBP) throw ModelError("mu", "", "only gubp has mu");
             FamilySpec f;
             h.change([&](auto& d) { d.family.mu = v, f = d.family; }, [&](auto& mirror, int) { mirror.setParameters(f); });
           },
@@ -734,23 +735,23 @@ void bindCommon(Class& cls) {
           "Upload counters of the resident GPU model of one precision: resident, mirrors_built (full net uploads), "
           "net_bytes, net_writes, param_bytes, param_writes, vertex_passes.")
       .def(
-          "to_dict", [](const H& h) { return fromJson(io::toJson(H::K::dataOf(h.model()))); },
+          "to_dict", [](const H& h) { return fromJson(io::toJson(H::K::dataOf(*h.model()))); },
           "The model as a dict with the keys of the model file format (docs/format.md).")
       .def(
           "save",
           [](const H& h, const std::string& path) {
-            const std::string text = io::toJson(H::K::dataOf(h.model())).dump(2) + "\n";
+            const std::string text = io::toJson(H::K::dataOf(*h.model())).dump(2) + "\n";
             py::module_::import("pathlib").attr("Path")(path).attr("write_text")(text);
           },
           py::arg("path"), "Write the model file (JSON).")
       .def(
-          "copy", [](const H& h) { return std::make_shared<H>(h.model()); },
+          "copy", [](const H& h) { return std::make_shared<H>(*h.model()); },
           "An independent copy (no resident GPU model).")
       .def_property_readonly(
-          "alpha_nodes", [](const H& h) { return points3(h.model().alphaNodes(), Precision::Double); },
+          "alpha_nodes", [](const H& h) { return points3(h.model()->alphaNodes(), Precision::Double); },
           "alpha_eb only: node_j = C_j(0) of the base curve/surface per vertex, (N, 3) (row-major for surfaces).")
       .def_property_readonly(
-          "alpha_v", [](const H& h) { return points3(h.model().alphaV(), Precision::Double); },
+          "alpha_v", [](const H& h) { return points3(h.model()->alphaV(), Precision::Double); },
           "alpha_eb only: the V point of each vertex, (N, 3).");
 }
 
@@ -873,21 +874,22 @@ PYBIND11_MODULE(shapespline, m) {
           py::arg("model"), "A curve from a dict with the keys of a model file.")
       .def_property_readonly("kind", [](const CurveHandle&) { return "curve"; })
       .def_property_readonly("points", [](const CurveHandle& h) {
-        const Curve c = h.model();
+        const auto held = h.model();
+        const Curve& c = *held;
         return modelPoints(c.model().points, c.dimension());
       }, "Control points (n, dimension).")
-      .def_property_readonly("dimension", [](const CurveHandle& h) { return h.model().dimension(); })
-      .def_property_readonly("closed", [](const CurveHandle& h) { return h.model().model().closed; })
-      .def_property_readonly("order", [](const CurveHandle& h) { return h.model().model().family.order; })
-      .def_property_readonly("knots", [](const CurveHandle& h) { return vecArray(h.model().model().knots); })
-      .def_property_readonly("weights", [](const CurveHandle& h) { return vecArray(h.model().model().weights); },
+      .def_property_readonly("dimension", [](const CurveHandle& h) { return h.model()->dimension(); })
+      .def_property_readonly("closed", [](const CurveHandle& h) { return h.model()->model().closed; })
+      .def_property_readonly("order", [](const CurveHandle& h) { return h.model()->model().family.order; })
+      .def_property_readonly("knots", [](const CurveHandle& h) { return vecArray(h.model()->model().knots); })
+      .def_property_readonly("weights", [](const CurveHandle& h) { return vecArray(h.model()->model().weights); },
                              "Weights of a rational bspline (empty: not rational).")
       .def_property_readonly("spans", [](const CurveHandle& h) {
-        const SpanRange s = h.model().spans();
+        const SpanRange s = h.model()->spans();
         return py::make_tuple(s.first, s.last);
       }, "Valid span indices (first, last), inclusive (knot-vector B-splines: knot interval indices).")
       .def_property_readonly("parameter_range", [](const CurveHandle& h) {
-        const auto r = h.model().parameterRange();
+        const auto r = h.model()->parameterRange();
         return py::make_tuple(r.first, r.second);
       }, "(u_min, u_max) of the global parameter.")
       .def(
@@ -917,17 +919,17 @@ PYBIND11_MODULE(shapespline, m) {
       .def(
           "set_alpha",
           [](CurveHandle& h, py::object value, py::object index) {
-            if (h.model().model().family.construction != Construction::AlphaEB) throw ModelError("alpha", "", "only alpha_eb has alpha");
+            if (h.model()->model().family.construction != Construction::AlphaEB) throw ModelError("alpha", "", "only alpha_eb has alpha");
             if (!index.is_none()) {
               const int i = index.cast<int>();
               const double a = value.cast<double>();
-              const int n = int(h.model().model().points.size());
+              const int n = int(h.model()->model().points.size());
               if (i < 0 || i >= n) argumentError("index", "must be in [0, " + std::to_string(n) + ")", std::to_string(i));
               h.change([&](CurveModel& d) { d.alpha[size_t(i)] = a; }, [&](gpu::GpuCurve& g, int) { g.setAlpha(i, a); });
               return;
             }
             std::vector<double> v = doubles(value, "alpha");
-            const size_t n = h.model().model().points.size();
+            const size_t n = h.model()->model().points.size();
             if (v.size() == 1) v.assign(n, v[0]);
             if (v.size() != n) argumentError("alpha", "needs one value per control point (" + std::to_string(n) + ")");
             h.change([&](CurveModel& d) { d.alpha = v; }, [&](gpu::GpuCurve& g, int) { g.setAlphas(v); });
@@ -937,7 +939,8 @@ PYBIND11_MODULE(shapespline, m) {
       .def(
           "set_control_point",
           [](CurveHandle& h, int i, py::object p) {
-            const Curve c = h.model();
+            const auto held = h.model();
+            const Curve& c = *held;
             const int n = int(c.model().points.size());
             if (i < 0 || i >= n) argumentError("index", "must be in [0, " + std::to_string(n) + ")", std::to_string(i));
             const glm::dvec3 q = onePoint(p, "point", c.dimension());
@@ -946,7 +949,8 @@ PYBIND11_MODULE(shapespline, m) {
           },
           py::arg("index"), py::arg("point"), "Move control point `index` (only the changed net entries are rewritten).")
       .def("__repr__", [](const CurveHandle& h) {
-        const Curve c = h.model();
+        const auto held = h.model();
+        const Curve& c = *held;
         return "<shapespline.Curve " + nameOf(c.model().family.construction) + ", " +
                std::to_string(c.model().points.size()) + " points" + (c.model().closed ? ", closed" : "") + ">";
       });
@@ -980,32 +984,38 @@ PYBIND11_MODULE(shapespline, m) {
           py::arg("model"), "A surface from a dict with the keys of a model file.")
       .def_property_readonly("kind", [](const SurfaceHandle&) { return "surface"; })
       .def_property_readonly("points", [](const SurfaceHandle& h) {
-        const Surface s = h.model();
+        const auto held = h.model();
+        const Surface& s = *held;
         py::array a = modelPoints(s.controlPoints(), 3);
         return a.attr("reshape")(s.model().rows, s.model().cols, 3);
       }, "Control net (rows, cols, 3).")
       .def_property_readonly("shape", [](const SurfaceHandle& h) {
-        const SurfaceShape sm = h.model().model();
+        const auto held = h.model();
+        const SurfaceShape& sm = held->model();
         return py::make_tuple(sm.rows, sm.cols);
       }, "(rows, cols) of the control net.")
       .def_property_readonly("closed", [](const SurfaceHandle& h) {
-        const SurfaceShape sm = h.model().model();
+        const auto held = h.model();
+        const SurfaceShape& sm = held->model();
         return py::make_tuple(sm.closedU, sm.closedV);
       })
       .def_property_readonly("order", [](const SurfaceHandle& h) {
-        const SurfaceShape sm = h.model().model();
+        const auto held = h.model();
+        const SurfaceShape& sm = held->model();
         return py::make_tuple(sm.family.order, sm.orderV ? sm.orderV : sm.family.order);
       })
       .def_property_readonly("knots", [](const SurfaceHandle& h) {
-        const SurfaceShape sm = h.model().model();
+        const auto held = h.model();
+        const SurfaceShape& sm = held->model();
         return py::make_tuple(vecArray(sm.knotsU), vecArray(sm.knotsV));
       })
       .def_property_readonly("patches", [](const SurfaceHandle& h) {
-        const PatchRange p = h.model().patches();
+        const PatchRange p = h.model()->patches();
         return py::make_tuple(py::make_tuple(p.u.first, p.u.last), py::make_tuple(p.v.first, p.v.last));
       }, "((first_u, last_u), (first_v, last_v)) valid patch indices, inclusive.")
       .def_property_readonly("parameter_range", [](const SurfaceHandle& h) {
-        const Surface s = h.model();
+        const auto held = h.model();
+        const Surface& s = *held;
         const auto u = s.parameterRangeU(), v = s.parameterRangeV();
         return py::make_tuple(py::make_tuple(u.first, u.second), py::make_tuple(v.first, v.second));
       }, "((U_min, U_max), (V_min, V_max)).")
@@ -1044,7 +1054,8 @@ PYBIND11_MODULE(shapespline, m) {
       .def(
           "set_alpha",
           [](SurfaceHandle& h, py::object value, py::object index) {
-            const SurfaceShape sm = h.model().model();
+            const auto held = h.model();
+            const SurfaceShape& sm = held->model();
             if (sm.family.construction != Construction::AlphaEB) throw ModelError("alpha", "", "only alpha_eb has alpha");
             if (!index.is_none()) {
               const auto ij = index.cast<std::pair<int, int>>();
@@ -1068,7 +1079,8 @@ PYBIND11_MODULE(shapespline, m) {
       .def(
           "set_control_point",
           [](SurfaceHandle& h, int i, int j, py::object p) {
-            const SurfaceShape sm = h.model().model();
+            const auto held = h.model();
+            const SurfaceShape& sm = held->model();
             if (i < 0 || i >= sm.rows || j < 0 || j >= sm.cols) {
               argumentError("index", "must be (i, j) inside the " + std::to_string(sm.rows) + " x " + std::to_string(sm.cols) + " net");
             }
@@ -1080,7 +1092,8 @@ PYBIND11_MODULE(shapespline, m) {
           },
           py::arg("i"), py::arg("j"), py::arg("point"), "Move control point (i, j).")
       .def("__repr__", [](const SurfaceHandle& h) {
-        const SurfaceShape sm = h.model().model();
+        const auto held = h.model();
+        const SurfaceShape& sm = held->model();
         return "<shapespline.Surface " + nameOf(sm.family.construction) + ", " +
                std::to_string(sm.rows) + " x " + std::to_string(sm.cols) + " points>";
       });

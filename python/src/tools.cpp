@@ -109,7 +109,7 @@ py::array rows(const std::vector<glm::dvec3>& pts, int dims) {
 }
 
 CurveModel gbModel(const CurveHandle& h) {
-  const CurveModel m = h.model().model();
+  const CurveModel m = h.model()->model();
   if (m.family.construction != Construction::GB) throw ModelError("construction", "", "GB tools need a 'gb' curve");
   return m;
 }
@@ -219,7 +219,8 @@ void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHand
   curve.def(
       "unclamp_right",
       [](const CurveHandle& h, py::object newKnots) {
-        const Curve c = h.model();
+        const auto held = h.model();
+        const Curve& c = *held;
         if (!c.usesKnotVector()) throw ModelError("knots", "", "unclamping needs a 'bspline' curve with a knot vector");
         const BSplineCurveData un = unclampRight(bsplineCurveFromModel(c.model()), doubles(newKnots, "new_knots"));
         py::dict d;
@@ -233,7 +234,8 @@ void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHand
   curve.def(
       "extend",
       [](const CurveHandle& h, py::object targets, py::object u) {
-        const Curve c = h.model();
+        const auto held = h.model();
+        const Curve& c = *held;
         if (!c.usesKnotVector()) throw ModelError("knots", "", "extend needs a 'bspline' curve with a knot vector");
         int dims = 0;
         const std::vector<glm::dvec3> pts = pointRows(targets, "targets", &dims);
@@ -263,7 +265,8 @@ void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHand
   surface.def(
       "extend_u",
       [](const SurfaceHandle& h, py::object targetCurves, py::object u) {
-        const Surface s = h.model();
+        const auto held = h.model();
+        const Surface& s = *held;
         if (!s.usesKnotVector()) throw ModelError("knots", "", "extend_u needs a 'bspline' surface with knot vectors");
         std::vector<std::vector<glm::dvec3>> curves;
         size_t i = 0;
