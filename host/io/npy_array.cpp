@@ -179,10 +179,13 @@ NpyHeader parseNpyHeader(std::string_view head, std::uint64_t fileBytes) {
 size_t pointCapacity(const std::vector<std::uint64_t>& shape) {
   std::uint64_t count = 1;
   for (std::uint64_t d : shape) count *= d;
+  const size_t points = size_t(count / 3);
   constexpr std::uint64_t kIntExtent = std::numeric_limits<int>::max() / 2;
-  if (shape.size() == 3 && shape[2] == 3 && shape[0] <= kIntExtent && shape[1] <= kIntExtent)
-    return std::max(size_t(count / 3), netCapacity(int(shape[0]), int(shape[1])));
-  return size_t(count / 3);
+  if (shape.size() != 3 || shape[2] != 3 || shape[0] > kIntExtent || shape[1] > kIntExtent) return points;
+  // At most a quarter more than the points: a net has only a few rows and columns more (0.1% at
+  // 4096²), and a shape like (1, 10^8, 3), which no surface accepts, must not reserve 11 times the
+  // array budget.
+  return std::clamp(netCapacity(int(shape[0]), int(shape[1])), points, points + points / 4);
 }
 
 NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes, NpyLayout layout) {

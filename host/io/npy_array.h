@@ -53,7 +53,7 @@ NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueB
                       NpyLayout layout = NpyLayout::Values);
 
 // Room for the values of an array of `shape` read as points: the surface net's capacity for
-// (rows, cols, 3), the points themselves otherwise.
+// (rows, cols, 3) but at most a quarter more than the points, the points themselves otherwise.
 size_t pointCapacity(const std::vector<std::uint64_t>& shape);
 
 }  // namespace shapespline::io

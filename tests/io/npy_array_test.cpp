@@ -3,6 +3,8 @@
 // refused with the rule it breaks, before any value is read; readNpyArray keeps to its budget.
 #include <shapespline/io/npy_array.h>
 
+#include <shapespline/core/surface.h>
+
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -123,6 +125,32 @@ TEST_F(NpyFile, ReadsFloat64AndFloat32ValuesInCOrder) {
     ASSERT_EQ(a.values.size(), 6u);
     for (int k = 0; k < 6; ++k) EXPECT_EQ(a.values[size_t(k)], 0.5 * k - 1.0);
   }
+}
+
+// NpyLayout::Points: the same values in threes, in one block with room for a surface's patch net,
+// but never more than a quarter beyond the points (a shape no surface takes must not reserve more).
+TEST_F(NpyFile, ReadsPointsIntoOneBlockWithRoomForTheNet) {
+  std::string f8 = header(1, dict("<f8", "False", "(4, 5, 3)")), f4 = header(1, dict("<f4", "False", "(4, 5, 3)"));
+  for (int k = 0; k < 60; ++k) {
+    const double d = 0.25 * k - 3.0;
+    const float f = float(d);
+    f8.append(reinterpret_cast<const char*>(&d), 8);
+    f4.append(reinterpret_cast<const char*>(&f), 4);
+  }
+  for (const auto& path : {write("p8.npy", f8), write("p4.npy", f4)}) {
+    const NpyArray a = readNpyArray(path, 1 << 20, NpyLayout::Points);
+    EXPECT_TRUE(a.values.empty());
+    ASSERT_EQ(a.points.size(), 20u);
+    ASSERT_EQ(a.size(), 60u);
+    for (int k = 0; k < 60; ++k) EXPECT_EQ(a.data()[k], 0.25 * k - 3.0);
+    EXPECT_GE(a.points.capacity(), pointCapacity(a.shape));
+    EXPECT_EQ(readNpyArray(path, 1 << 20).values, std::vector<double>(a.data(), a.data() + a.size()));
+  }
+  // (4, 5, 3): a quarter more (25) caps the net's room; 4096² needs 0.5% more, which it gets.
+  EXPECT_EQ(pointCapacity({4, 5, 3}), 25u);
+  EXPECT_EQ(pointCapacity({4096, 4096, 3}), netCapacity(4096, 4096));
+  EXPECT_EQ(pointCapacity({1, 100000000, 3}), 125000000u);
+  EXPECT_EQ(pointCapacity({7, 3}), 7u);  // a curve: the points
 }
 
 TEST_F(NpyFile, KeepsToItsBudgetAndToRegularFiles) {
