@@ -20,6 +20,8 @@ struct FamilySpec {
   int order = 0;            // UBP/GUBP 3..10, BSpline 2..10 (u order for surfaces)
   double lambda = 0.0;      // ExtendedBSpline, AlphaEB, GB, UBP
   std::vector<double> mu;   // GUBP: the half vector mu_0..mu_{floor(k/2)}
+
+  bool operator==(const FamilySpec&) const = default;
 };
 
 struct CurveModel {
@@ -42,6 +44,7 @@ struct TrimLoops {
   double tolerance = 0.0;
 
   bool empty() const { return loops.empty(); }
+  bool operator==(const TrimLoops&) const = default;
 };
 
 // Everything about a surface model except its control points and weights. A built Surface
@@ -58,6 +61,8 @@ struct SurfaceShape {
   std::vector<double> knotsU;        // BSpline with knot vectors only
   std::vector<double> knotsV;
   TrimLoops trim;                    // BSpline with knot vectors only; empty: the whole domain
+
+  bool operator==(const SurfaceShape&) const = default;
 };
 
 struct SurfaceModel : SurfaceShape {
@@ -66,6 +71,8 @@ struct SurfaceModel : SurfaceShape {
                                      // row-major (rational, docs/math.md §10.8); empty: all 1
 
   const glm::dvec3& at(int i, int j) const { return points[static_cast<size_t>(i) * cols + j]; }
+  // Every field equal, bit for bit but for the sign of zero and NaN (==).
+  bool operator==(const SurfaceModel&) const = default;
 };
 
 // A model that breaks a rule of docs/format.md / docs/math.md §11. `field` is a JSON-path-like
