@@ -206,7 +206,8 @@ void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet) 
   if (quiet) return;
   std::vector<Warning> warnings = precisionWarnings(model);
   if (gpuFloat) {
-    floatWarnings([&](auto&& f) { std::for_each(model.points.begin(), model.points.end(), f); }, model.dimension, model.alpha, [](size_t k) { return "[" + std::to_string(k) + "]"; },
+    const auto eachPoint = [&](auto&& f) { std::for_each(model.points.begin(), model.points.end(), f); };
+    floatWarnings(eachPoint, model.dimension, model.alpha, [](size_t k) { return "[" + std::to_string(k) + "]"; },
                   warnings);
   }
   print(warnings);

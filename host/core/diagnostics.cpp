@@ -126,7 +126,9 @@ std::vector<Warning> precisionWarnings(const CurveModel& model) {
   return out;
 }
 
-std::vector<Warning> precisionWarnings(const SurfaceModel& model) { return surfaceWarnings(model, eachOf(model.points)); }
+std::vector<Warning> precisionWarnings(const SurfaceModel& model) {
+  return surfaceWarnings(model, eachOf(model.points));
+}
 
 std::vector<Warning> precisionWarnings(const Surface& surface) {
   return surfaceWarnings(surface.model(), [&surface](auto&& f) {

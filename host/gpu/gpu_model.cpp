@@ -37,17 +37,17 @@ std::vector<glm::dvec4> netPoints(const Surface& s) {
 }
 // NET's bytes at `precision` and how to write them: netPoints converted; a net without weights is
 // converted straight into the buffer (a band of a 4096² net took 16-80 bytes a point in arrays).
-NetUpload netUpload(const Curve& c, Precision precision) {
-  auto bytes = std::make_shared<std::vector<std::byte>>(toReal4(netPoints(c), precision));
+NetUpload uploadOf(std::vector<std::byte> converted) {
+  auto bytes = std::make_shared<const std::vector<std::byte>>(std::move(converted));
   return {bytes->size(), [bytes](std::byte* to) { std::memcpy(to, bytes->data(), bytes->size()); }};
 }
+NetUpload netUpload(const Curve& c, Precision precision) { return uploadOf(toReal4(netPoints(c), precision)); }
 NetUpload netUpload(const Surface& s, Precision precision) {
-  if (s.usesKnotVector() && !s.weights().empty()) {
-    auto bytes = std::make_shared<std::vector<std::byte>>(toReal4(netPoints(s), precision));
-    return {bytes->size(), [bytes](std::byte* to) { std::memcpy(to, bytes->data(), bytes->size()); }};
-  }
-  const std::span<const glm::dvec3> points = s.usesKnotVector() ? std::span(s.knotData().points) : std::span(s.patchNet());
-  return {points.size() * 4 * realSize(precision), [points, precision](std::byte* to) { writeReal4(points, precision, to); }};
+  if (s.usesKnotVector() && !s.weights().empty()) return uploadOf(toReal4(netPoints(s), precision));
+  const std::span<const glm::dvec3> points =
+      s.usesKnotVector() ? std::span(s.knotData().points) : std::span(s.patchNet());
+  return {points.size() * 4 * realSize(precision),
+          [points, precision](std::byte* to) { writeReal4(points, precision, to); }};
 }
 
 std::vector<double> inverseSpanLengths(const Curve& c) {

@@ -14,7 +14,9 @@ std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, int k) {
   return points;
 }
 
-double largestCoordinate(double m, const glm::dvec3& p) { return std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
+double largestCoordinate(double m, const glm::dvec3& p) {
+  return std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+}
 
 // The exponent for a net whose largest |coordinate| is m.
 int scaleFor(double m, Precision precision) {
