@@ -76,29 +76,102 @@ DirectionTable tabulate(const SpanBasis& basis, int samples) {
 }
 
 
-// dst[b] = sum_s rows[s][b] * t[s] over the samples b < n, summed in order s = 0, 1, ... starting
-// from 0.0 (the order fixes the bits; rows[s] is a tabulated basis row). The 4-function families
-// (all Xu-Wang and α-EB bases, cubic B-splines) get an unrolled loop that keeps the sum in registers.
-SHAPESPLINE_HOT_CLONES
-void contractRows4(const double* const* rows, const double* t, int n, double* dst) {
+// The v-contraction of one partial: dst[c][b] = sum_s rows[s][b] * T[s * kCoords + c] over the
+// samples b < n and the kCoords coordinates c, summed in order s = 0, 1, ... starting from 0.0
+// (the order fixes the bits). rows[s] is a tabulated basis row, T the u-contracted net points of the
+// sample row (coordinates interleaved). The 4-function families (all Xu-Wang and α-EB bases, cubic
+// B-splines) get an unrolled loop that keeps the sums in registers and loads each basis value once
+// for all coordinates.
+template <int kCoords>
+inline __attribute__((always_inline)) void contractCoordRows4(const double* const* rows, const double* T, int n,
+                                                              double* const* dst) {
   const double *r0 = rows[0], *r1 = rows[1], *r2 = rows[2], *r3 = rows[3];
-  const double t0 = t[0], t1 = t[1], t2 = t[2], t3 = t[3];
+  double t[kCoords][4];
+  for (int c = 0; c < kCoords; ++c)
+    for (int s = 0; s < 4; ++s) t[c][s] = T[s * kCoords + c];
+  // The destination rows are disjoint from the basis rows (ivdep: the compiler cannot see that
+  // through the pointer tables, and would not vectorise across samples).
+#pragma GCC ivdep
   for (int b = 0; b < n; ++b) {
-    double acc = 0.0;
-    acc += r0[b] * t0;
-    acc += r1[b] * t1;
-    acc += r2[b] * t2;
-    acc += r3[b] * t3;
-    dst[b] = acc;
+    const double x0 = r0[b], x1 = r1[b], x2 = r2[b], x3 = r3[b];
+    for (int c = 0; c < kCoords; ++c) {
+      double acc = 0.0;
+      acc += x0 * t[c][0];
+      acc += x1 * t[c][1];
+      acc += x2 * t[c][2];
+      acc += x3 * t[c][3];
+      dst[c][b] = acc;
+    }
   }
 }
 
-void contractRows(const double* const* rows, const double* t, int m, int n, double* dst) {
-  if (m == 4) return contractRows4(rows, t, n, dst);
-  for (int b = 0; b < n; ++b) {
-    double acc = 0.0;
-    for (int s = 0; s < m; ++s) acc += rows[s][b] * t[s];
-    dst[b] = acc;
+SHAPESPLINE_HOT_CLONES
+void contractCoordRows4x3(const double* const* rows, const double* T, int n, double* const* dst) {
+  contractCoordRows4<3>(rows, T, n, dst);
+}
+SHAPESPLINE_HOT_CLONES
+void contractCoordRows4x4(const double* const* rows, const double* T, int n, double* const* dst) {
+  contractCoordRows4<4>(rows, T, n, dst);
+}
+
+template <int kCoords>
+void contractCoordRows(const double* const* rows, const double* T, int m, int n, double* const* dst) {
+  if (m == 4) {
+    if constexpr (kCoords == 3) return contractCoordRows4x3(rows, T, n, dst);
+    if constexpr (kCoords == 4) return contractCoordRows4x4(rows, T, n, dst);
+  }
+  for (int c = 0; c < kCoords; ++c)
+    for (int b = 0; b < n; ++b) {
+      double acc = 0.0;
+      for (int s = 0; s < m; ++s) acc += rows[s][b] * T[s * kCoords + c];
+      dst[c][b] = acc;
+    }
+}
+
+// The largest row of net values a u-contraction handles: kMaxBasisCount points of 4 coordinates.
+constexpr int kMaxNetRow = 4 * kMaxBasisCount;
+
+// The u-contraction of one sample row: T[d][j] = sum_r w[d][r] * net[r][j] for the derivative
+// orders d with need[d], over the `width` doubles j of each of the m net rows (consecutive control
+// points, coordinates interleaved), summed in order r = 0, 1, ... from 0.0. A fixed width (four
+// points of 3 or 4 coordinates: every cubic row) keeps the sums in registers.
+template <int kWidth>
+inline __attribute__((always_inline)) void contractNetRowsFixed(const double* const* net,
+                                                                const double (*w)[kMaxBasisCount], const bool need[3],
+                                                                int m, double (*T)[kMaxNetRow]) {
+  for (int d = 0; d < 3; ++d) {
+    if (!need[d]) continue;
+    double acc[kWidth] = {};
+    for (int r = 0; r < m; ++r)
+      for (int j = 0; j < kWidth; ++j) acc[j] += w[d][r] * net[r][j];
+    for (int j = 0; j < kWidth; ++j) T[d][j] = acc[j];
+  }
+}
+
+SHAPESPLINE_HOT_CLONES
+void contractNetRows12(const double* const* net, const double (*w)[kMaxBasisCount], const bool need[3], int m,
+                       double (*T)[kMaxNetRow]) {
+  contractNetRowsFixed<12>(net, w, need, m, T);
+}
+SHAPESPLINE_HOT_CLONES
+void contractNetRows16(const double* const* net, const double (*w)[kMaxBasisCount], const bool need[3], int m,
+                       double (*T)[kMaxNetRow]) {
+  contractNetRowsFixed<16>(net, w, need, m, T);
+}
+
+void contractNetRows(const double* const* net, const double (*w)[kMaxBasisCount], const bool need[3], int m, int width,
+                     double (*T)[kMaxNetRow]) {
+  if (width == 12) return contractNetRows12(net, w, need, m, T);
+  if (width == 16) return contractNetRows16(net, w, need, m, T);
+  for (int d = 0; d < 3; ++d) {
+    if (!need[d]) continue;
+    for (int j = 0; j < width; ++j) T[d][j] = 0.0;
+    for (int r = 0; r < m; ++r) {
+      const double wr = w[d][r];
+      const double* p = net[r];
+#pragma GCC ivdep  // T is the caller's local array, never part of the net
+      for (int j = 0; j < width; ++j) T[d][j] += wr * p[j];
+    }
   }
 }
 
@@ -212,31 +285,28 @@ template <class Vec, class RowFn>
 void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, int cols, int a, const bool need[6],
                      RowFn row) {
   constexpr int kCoords = Vec::length();
+  static_assert(sizeof(Vec) == kCoords * sizeof(double), "net points are read as interleaved doubles");
   const int mu = tu.order, mv = tv.order;
   const Vec* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
   const bool needD[3] = {true, need[1] || need[4], need[3]};
+  double w[3][kMaxBasisCount];
+  for (int d = 0; d < 3; ++d)
+    for (int r = 0; r < mu; ++r) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
   for (int b0 = 0; b0 < tv.samples;) {
     const int b1 = tv.runEnd(b0);
     const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
-    Vec T[3][kMaxBasisCount];
-    for (int s = 0; s < mv; ++s) {
-      T[0][s] = T[1][s] = T[2][s] = Vec(0.0);
-      for (int r = 0; r < mu; ++r) {
-        const Vec& p = P[static_cast<size_t>(r) * cols + firstV + s];
-        for (int d = 0; d < 3; ++d)
-          if (needD[d]) T[d][s] += tu.row(d, r)[a] * p;
-      }
-    }
+    const double* netRows[kMaxBasisCount];
+    for (int r = 0; r < mu; ++r) netRows[r] = &P[static_cast<size_t>(r) * cols + firstV][0];
+    double T[3][kMaxNetRow];
+    contractNetRows(netRows, w, needD, mu, mv * kCoords, T);
     for (int k = 0; k < 6; ++k) {
       if (!need[k]) continue;
       const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
       const double* basisRows[kMaxBasisCount];
       for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s) + b0;
-      for (int c = 0; c < kCoords; ++c) {
-        double t[kMaxBasisCount];
-        for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
-        contractRows(basisRows, t, mv, b1 - b0, row(k, c) + b0);
-      }
+      double* dst[kCoords];
+      for (int c = 0; c < kCoords; ++c) dst[c] = row(k, c) + b0;
+      contractCoordRows<kCoords>(basisRows, T[du], mv, b1 - b0, dst);
     }
     b0 = b1;
   }
@@ -427,28 +497,24 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           }
         } else {
           // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
-          glm::dvec3 T[3][kMaxBasisCount];
-          for (int s = 0; s < mv; ++s) {
-            T[0][s] = T[1][s] = T[2][s] = glm::dvec3(0.0);
-            for (int r = 0; r < mu; ++r) {
-              const glm::dvec3& p = P[static_cast<size_t>(r) * stride + s];
-              T[0][s] += tu.row(0, r)[a] * p;
-              if (needU || needUV) T[1][s] += tu.row(1, r)[a] * p;
-              if (needUU) T[2][s] += tu.row(2, r)[a] * p;
-            }
+          const bool needD[3] = {true, needU || needUV, needUU};
+          double w[3][kMaxBasisCount];
+          const double* netRows[kMaxBasisCount];
+          for (int r = 0; r < mu; ++r) {
+            for (int d = 0; d < 3; ++d) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
+            netRows[r] = &P[static_cast<size_t>(r) * stride][0];
           }
-          // v-expansion over the whole row of samples: each needed (field, coordinate) row is one
+          double T[3][kMaxNetRow];
+          contractNetRows(netRows, w, needD, mu, mv * 3, T);
+          // v-expansion over the whole row of samples: each needed partial's rows are one
           // register-accumulated contraction over the basis rows (contiguous, vectorisable).
           for (int k = 0; k < 6; ++k) {
             if (!need[k]) continue;
             const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
             const double* basisRows[kMaxBasisCount];
             for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s);
-            for (int c = 0; c < 3; ++c) {
-              double t[kMaxBasisCount];
-              for (int s = 0; s < mv; ++s) t[s] = T[du][s][c];
-              contractRows(basisRows, t, mv, Sv, row(k, c));
-            }
+            double* dst[3] = {row(k, 0), row(k, 1), row(k, 2)};
+            contractCoordRows<3>(basisRows, T[du], mv, Sv, dst);
           }
         }
         if (!alphaEB && !normal) {
