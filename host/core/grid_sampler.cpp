@@ -276,42 +276,6 @@ void sampleKnotSpanRows(const KnotTable& tab, const glm::dvec3* points, const do
   }
 }
 
-// Row a of knot interval pair (i, j) of a knot-vector surface: the partials need[k] (kPartialOrders)
-// at every v sample into the structure-of-arrays rows row(k, c), c < 3 (a dvec3 net) or c < 4 (the
-// homogeneous net (w P, w) of a rational surface). As in the uniform path, the net is contracted in
-// u with row a's tabulated basis, then each needed row is one contraction over the v basis rows;
-// once per run of v samples that share a span (the last sample may lie on the next).
-template <class Vec, class RowFn>
-void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, int cols, int a, const bool need[6],
-                     RowFn row) {
-  constexpr int kCoords = Vec::length();
-  static_assert(sizeof(Vec) == kCoords * sizeof(double), "net points are read as interleaved doubles");
-  const int mu = tu.order, mv = tv.order;
-  const Vec* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
-  const bool needD[3] = {true, need[1] || need[4], need[3]};
-  double w[3][kMaxBasisCount];
-  for (int d = 0; d < 3; ++d)
-    for (int r = 0; r < mu; ++r) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
-  for (int b0 = 0; b0 < tv.samples;) {
-    const int b1 = tv.runEnd(b0);
-    const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
-    const double* netRows[kMaxBasisCount];
-    for (int r = 0; r < mu; ++r) netRows[r] = &P[static_cast<size_t>(r) * cols + firstV][0];
-    double T[3][kMaxNetRow];
-    contractNetRows(netRows, w, needD, mu, mv * kCoords, T);
-    for (int k = 0; k < 6; ++k) {
-      if (!need[k]) continue;
-      const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
-      const double* basisRows[kMaxBasisCount];
-      for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s) + b0;
-      double* dst[kCoords];
-      for (int c = 0; c < kCoords; ++c) dst[c] = row(k, c) + b0;
-      contractCoordRows<kCoords>(basisRows, T[du], mv, b1 - b0, dst);
-    }
-    b0 = b1;
-  }
-}
-
 // The homogeneous partials of a rational row (coordinates 0-2: A, coordinate 3: W) become the
 // surface's, in place, sample by sample (point_math.h rationalSurface). Rows of partials that are
 // not needed are never written, so they stay zero and the quotient rule keeps them zero: the
@@ -339,19 +303,100 @@ void quotientRuleFirst(double* const (*A)[3], const double* const* W, int sample
 SHAPESPLINE_HOT_CLONES
 void quotientRuleSecond(double* const (*A)[3], const double* const* W, int samples) { quotientRule<6>(A, W, samples); }
 
-// `rows` must start zeroed: see quotientRule.
+// Samples [b0, b1) of a rational row. `rows` must start zeroed: see quotientRule.
 template <class RowFn>
-void rationalRows(const bool need[6], int samples, RowFn row) {
+void rationalRows(const bool need[6], int b0, int b1, RowFn row) {
   double* A[6][3];
   const double* W[6];
   for (int k = 0; k < 6; ++k) {
-    for (int c = 0; c < 3; ++c) A[k][c] = row(k, c);
-    W[k] = row(k, 3);
+    for (int c = 0; c < 3; ++c) A[k][c] = row(k, c) + b0;
+    W[k] = row(k, 3) + b0;
   }
   if (need[3] || need[4] || need[5]) {
-    quotientRuleSecond(A, W, samples);
+    quotientRuleSecond(A, W, b1 - b0);
   } else {
-    quotientRuleFirst(A, W, samples);
+    quotientRuleFirst(A, W, b1 - b0);
+  }
+}
+
+// A rational surface's point, du and dv over one run of a row, four-function bases in v: the
+// homogeneous sums of contractCoordRows4 and the quotient rule of quotientRule<3>, per sample in
+// one pass, so that the homogeneous rows never go through memory. rows0/rows1: the v basis rows of
+// order 0 and 1; T0/T1: the net contracted in u to order 0 and 1 (coordinates interleaved, W last);
+// dst[k][c]: partial k (point, du, dv), coordinate c. The same sums and the same
+// pm::rationalSurface call, so the same bits as the two passes.
+SHAPESPLINE_HOT_CLONES
+void rationalFirstPartials4(const double* const* rows0, const double* const* rows1, const double* T0, const double* T1,
+                            int n, double* const (*dst)[3]) {
+  double t0[4][4], t1[4][4];  // [coordinate][basis function]
+  for (int c = 0; c < 4; ++c)
+    for (int s = 0; s < 4; ++s) t0[c][s] = T0[s * 4 + c], t1[c][s] = T1[s * 4 + c];
+#pragma GCC ivdep  // dst rows are disjoint from the basis rows
+  for (int b = 0; b < n; ++b) {
+    const double x[4] = {rows0[0][b], rows0[1][b], rows0[2][b], rows0[3][b]};
+    const double y[4] = {rows1[0][b], rows1[1][b], rows1[2][b], rows1[3][b]};
+    double h[3][4];  // homogeneous point, du, dv
+    for (int c = 0; c < 4; ++c) {
+      double p = 0.0, u = 0.0, v = 0.0;
+      for (int s = 0; s < 4; ++s) p += x[s] * t0[c][s];
+      for (int s = 0; s < 4; ++s) u += x[s] * t1[c][s];
+      for (int s = 0; s < 4; ++s) v += y[s] * t0[c][s];
+      h[0][c] = p, h[1][c] = u, h[2][c] = v;
+    }
+    glm::dvec3 q[6] = {glm::dvec3(h[0][0], h[0][1], h[0][2]), glm::dvec3(h[1][0], h[1][1], h[1][2]),
+                       glm::dvec3(h[2][0], h[2][1], h[2][2]), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+    pm::rationalSurface(q[0], q[1], q[2], q[3], q[4], q[5], h[0][3], h[1][3], h[2][3], 0.0, 0.0, 0.0);
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) dst[k][c][b] = q[k][c];
+  }
+}
+
+
+// Row a of knot interval pair (i, j) of a knot-vector surface: the partials need[k] (kPartialOrders)
+// at every v sample into the structure-of-arrays rows row(k, c), c < 3. As in the uniform path, the
+// net is contracted in u with row a's tabulated basis, then each needed row is one contraction over
+// the v basis rows; once per run of v samples that share a span (the last sample may lie on the
+// next). A dvec4 net is the homogeneous net (w P, w) of a rational surface: its rows have a fourth
+// coordinate, W, and the quotient rule turns each run into the surface's partials.
+template <class Vec, class RowFn>
+void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, int cols, int a, const bool need[6],
+                     RowFn row) {
+  constexpr int kCoords = Vec::length();
+  constexpr bool rational = kCoords == 4;  // the homogeneous net (w P, w)
+  static_assert(sizeof(Vec) == kCoords * sizeof(double), "net points are read as interleaved doubles");
+  const int mu = tu.order, mv = tv.order;
+  const Vec* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
+  const bool needD[3] = {true, need[1] || need[4], need[3]};
+  double w[3][kMaxBasisCount];
+  for (int d = 0; d < 3; ++d)
+    for (int r = 0; r < mu; ++r) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
+  for (int b0 = 0; b0 < tv.samples;) {
+    const int b1 = tv.runEnd(b0);
+    const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
+    const double* netRows[kMaxBasisCount];
+    for (int r = 0; r < mu; ++r) netRows[r] = &P[static_cast<size_t>(r) * cols + firstV][0];
+    double T[3][kMaxNetRow];
+    contractNetRows(netRows, w, needD, mu, mv * kCoords, T);
+    const double* basisRows[3][kMaxBasisCount];
+    for (int dv = 0; dv < 3; ++dv)
+      for (int s = 0; s < mv; ++s) basisRows[dv][s] = tv.row(dv, s) + b0;
+    if (rational && mv == 4 && need[1] && need[2] && !need[3] && !need[4] && !need[5]) {
+      double* const dst[3][3] = {{row(0, 0) + b0, row(0, 1) + b0, row(0, 2) + b0},
+                                 {row(1, 0) + b0, row(1, 1) + b0, row(1, 2) + b0},
+                                 {row(2, 0) + b0, row(2, 1) + b0, row(2, 2) + b0}};
+      rationalFirstPartials4(basisRows[0], basisRows[1], T[0], T[1], b1 - b0, dst);
+      b0 = b1;
+      continue;
+    }
+    for (int k = 0; k < 6; ++k) {
+      if (!need[k]) continue;
+      const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
+      double* dst[kCoords];
+      for (int c = 0; c < kCoords; ++c) dst[c] = row(k, c) + b0;
+      contractCoordRows<kCoords>(basisRows[dv], T[du], mv, b1 - b0, dst);
+    }
+    if (rational) rationalRows(need, b0, b1, row);
+    b0 = b1;
   }
 }
 
@@ -491,7 +536,6 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
         if (knotU) {
           if (rational) {
             knotRowPartials(*knotU, *knotV, homogeneous.data(), stride, a, need, row);
-            rationalRows(need, Sv, row);
           } else {
             knotRowPartials(*knotU, *knotV, P, stride, a, need, row);
           }
