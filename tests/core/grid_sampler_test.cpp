@@ -138,10 +138,11 @@ TEST(GridSampler, CurvesMatchReferenceEvaluator) {
 // magnitude (the net's size plus the value's), unit normals within 100 ulps of 1 (amplified by
 // 1/sin of the partials' angle, which the smooth test nets keep above ~0.05). Returns the largest
 // relative difference.
-double expectGridMatchesEvaluate(const Surface& surface, int Su, int Sv, double fieldUlps, const std::string& what) {
+double expectGridMatchesEvaluate(const Surface& surface, int Su, int Sv, double fieldUlps, const std::string& what,
+                                 FieldMask fields = kSurfaceFields) {
   const double scale = boxDiagonal(surface.controlPoints());
   Collected got;
-  sampleSurfaceGrid(surface, {Su, Sv, 0, 0}, kSurfaceFields, got.consumer(), {2, 64});
+  sampleSurfaceGrid(surface, {Su, Sv, 0, 0}, fields, got.consumer(), {2, 64});
   const auto items = surfaceGridItems(surface);
   EXPECT_EQ(got.data[0].size(), items.size() * Su * Sv * 3) << what;
   if (got.data[0].size() != items.size() * Su * Sv * 3) return INFINITY;
@@ -155,6 +156,7 @@ double expectGridMatchesEvaluate(const Surface& surface, int Su, int Sv, double 
         const Field fs[7] = {Field::Point, Field::Du, Field::Dv, Field::Duu, Field::Duv, Field::Dvv, Field::Normal};
         for (int k = 0; k < 7; ++k)
           for (int ax = 0; ax < 3; ++ax) {
+            if (!(fields & fieldBit(fs[k]))) continue;
             const double v = got.data[int(fs[k])][pt * 3 + ax];
             const double mag = k == 6 ? 1.0 : scale + glm::length(vals[k]);
             const double err = std::abs(v - vals[k][ax]);
@@ -250,6 +252,36 @@ TEST(GridSampler, KnotSurfacesMatchReferenceEvaluator) {
       // Same bases, the net contracted u first instead of v first: a few ulps.
       const double maxErr = expectGridMatchesEvaluate(surface, Su, Sv, 4, c.name);
       std::printf("knot surface %-20s %dx%d max relative |fast - reference| %.3e\n", c.name, Su, Sv, maxErr);
+    }
+  }
+}
+
+// Rational knot-vector surfaces (random weights in [0.5, 2]) against Surface::evaluate for the field
+// sets that take different row kernels: point + du + dv of bicubic rows in one pass with the
+// quotient rule, with the normal too, the point alone, and every field (second partials: the
+// homogeneous rows, then the quotient rule). "multiplicities" puts the last sample of some rows on
+// the next span, a run of one sample.
+TEST(GridSampler, RationalKnotSurfacesMatchReferenceEvaluator) {
+  std::vector<double> uniform;
+  for (int k = 0; k < 12; ++k) uniform.push_back(k);
+  const FieldMask firstPartials = fieldBit(Field::Point) | fieldBit(Field::Du) | fieldBit(Field::Dv);
+  const std::pair<const char*, SurfaceModel> cases[] = {
+      {"uniform bicubic", knotSurface(4, 4, uniform, uniform, 6)},
+      {"multiplicities", knotSurface(4, 4, {0, 0, 0, 0, 1, 1, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4},
+                                     {0, 0, 0, 0, 1, 2, 2, 2, 3, 3, 3, 3}, 7)},
+      {"orders 4 and 3",
+       knotSurface(4, 3, {0, 0, 0, 0, 0.1, 0.35, 0.4, 0.9, 1, 1, 1, 1}, {0, 0, 0, 0.2, 0.25, 0.7, 1, 1, 1}, 8)},
+  };
+  for (auto [name, model] : cases) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> weight(0.5, 2.0);
+    for (size_t k = 0; k < model.points.size(); ++k) model.weights.push_back(weight(rng));
+    const Surface surface = Surface::create(model);
+    for (FieldMask fields : {firstPartials, firstPartials | fieldBit(Field::Normal), fieldBit(Field::Point),
+                             kSurfaceFields}) {
+      const double maxErr = expectGridMatchesEvaluate(surface, 7, 6, 4, name, fields);
+      std::printf("rational knot surface %-16s fields %#04x max relative |fast - reference| %.3e\n", name,
+                  unsigned(fields), maxErr);
     }
   }
 }

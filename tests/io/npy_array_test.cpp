@@ -111,15 +111,28 @@ class NpyFile : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-TEST_F(NpyFile, ReadsFloat64AndFloat32ValuesInCOrder) {
-  std::string f8 = header(1, dict("<f8", "False", "(2, 3)")), f4 = header(1, dict("<f4", "False", "(2, 3)"));
-  for (int k = 0; k < 6; ++k) {
-    const double d = 0.5 * k - 1.0;
-    const float f = float(d);
-    f8.append(reinterpret_cast<const char*>(&d), 8);
-    f4.append(reinterpret_cast<const char*>(&f), 4);
+// A C-order .npy file of `values` as Real ("<f8" for double, "<f4" for float) in `shape`.
+template <class Real>
+std::string npyFile(const std::string& shape, const std::vector<double>& values) {
+  std::string bytes = header(1, dict(sizeof(Real) == 8 ? "<f8" : "<f4", "False", shape));
+  for (double v : values) {
+    const Real r = static_cast<Real>(v);
+    bytes.append(reinterpret_cast<const char*>(&r), sizeof r);
   }
-  for (const auto& path : {write("a.npy", f8), write("b.npy", f4)}) {
+  return bytes;
+}
+
+// value(k) for k < n.
+std::vector<double> valuesOf(int n, double (*value)(int)) {
+  std::vector<double> v;
+  for (int k = 0; k < n; ++k) v.push_back(value(k));
+  return v;
+}
+
+TEST_F(NpyFile, ReadsFloat64AndFloat32ValuesInCOrder) {
+  const auto values = valuesOf(6, [](int k) { return 0.5 * k - 1.0; });
+  for (const auto& path :
+       {write("a.npy", npyFile<double>("(2, 3)", values)), write("b.npy", npyFile<float>("(2, 3)", values))}) {
     const NpyArray a = readNpyArray(path, 1 << 20);
     EXPECT_EQ(a.shape, (std::vector<uint64_t>{2, 3}));
     ASSERT_EQ(a.values.size(), 6u);
@@ -130,14 +143,9 @@ TEST_F(NpyFile, ReadsFloat64AndFloat32ValuesInCOrder) {
 // NpyLayout::Points: the same values in threes, in one block with room for a surface's patch net,
 // but never more than a quarter beyond the points (a shape no surface takes must not reserve more).
 TEST_F(NpyFile, ReadsPointsIntoOneBlockWithRoomForTheNet) {
-  std::string f8 = header(1, dict("<f8", "False", "(4, 5, 3)")), f4 = header(1, dict("<f4", "False", "(4, 5, 3)"));
-  for (int k = 0; k < 60; ++k) {
-    const double d = 0.25 * k - 3.0;
-    const float f = float(d);
-    f8.append(reinterpret_cast<const char*>(&d), 8);
-    f4.append(reinterpret_cast<const char*>(&f), 4);
-  }
-  for (const auto& path : {write("p8.npy", f8), write("p4.npy", f4)}) {
+  const auto values = valuesOf(60, [](int k) { return 0.25 * k - 3.0; });
+  for (const auto& path :
+       {write("p8.npy", npyFile<double>("(4, 5, 3)", values)), write("p4.npy", npyFile<float>("(4, 5, 3)", values))}) {
     const NpyArray a = readNpyArray(path, 1 << 20, NpyLayout::Points);
     EXPECT_TRUE(a.values.empty());
     ASSERT_EQ(a.points.size(), 20u);
