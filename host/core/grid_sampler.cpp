@@ -175,6 +175,23 @@ void contractNetRows(const double* const* net, const double (*w)[kMaxBasisCount]
   }
 }
 
+// The u-contraction of sample row a: T[d][s * kCoords + c] = sum_r B_r^(d)(u_a) P[r][s][c] for the
+// derivative orders d with needD[d], over mv consecutive points of each of the mu net rows from P
+// (rows `stride` points apart). `Table` is a DirectionTable or a KnotTable (row(d, r): B_r^(d) at
+// every sample of the direction).
+template <class Table, class Vec>
+void contractInU(const Table& tu, int mu, int a, const bool needD[3], const Vec* P, size_t stride, int mv,
+                 double (*T)[kMaxNetRow]) {
+  static_assert(sizeof(Vec) == Vec::length() * sizeof(double), "net points are read as interleaved doubles");
+  double w[3][kMaxBasisCount];
+  const double* netRows[kMaxBasisCount];
+  for (int r = 0; r < mu; ++r) {
+    for (int d = 0; d < 3; ++d) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
+    netRows[r] = &P[static_cast<size_t>(r) * stride][0];
+  }
+  contractNetRows(netRows, w, needD, mu, mv * Vec::length(), T);
+}
+
 
 void checkGrid(const GridSpec& grid, size_t items, bool surface, size_t& first, size_t& count) {
   if (grid.samplesU < 2) throw std::invalid_argument("samplesU must be >= 2, got " + std::to_string(grid.samplesU));
@@ -363,20 +380,14 @@ void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, i
                      RowFn row) {
   constexpr int kCoords = Vec::length();
   constexpr bool rational = kCoords == 4;  // the homogeneous net (w P, w)
-  static_assert(sizeof(Vec) == kCoords * sizeof(double), "net points are read as interleaved doubles");
   const int mu = tu.order, mv = tv.order;
   const Vec* P = net + static_cast<size_t>(tu.span[static_cast<size_t>(a)] - mu + 1) * cols;
   const bool needD[3] = {true, need[1] || need[4], need[3]};
-  double w[3][kMaxBasisCount];
-  for (int d = 0; d < 3; ++d)
-    for (int r = 0; r < mu; ++r) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
   for (int b0 = 0; b0 < tv.samples;) {
     const int b1 = tv.runEnd(b0);
     const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
-    const double* netRows[kMaxBasisCount];
-    for (int r = 0; r < mu; ++r) netRows[r] = &P[static_cast<size_t>(r) * cols + firstV][0];
     double T[3][kMaxNetRow];
-    contractNetRows(netRows, w, needD, mu, mv * kCoords, T);
+    contractInU(tu, mu, a, needD, P + firstV, static_cast<size_t>(cols), mv, T);
     const double* basisRows[3][kMaxBasisCount];
     for (int dv = 0; dv < 3; ++dv)
       for (int s = 0; s < mv; ++s) basisRows[dv][s] = tv.row(dv, s) + b0;
@@ -540,16 +551,9 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
             knotRowPartials(*knotU, *knotV, P, stride, a, need, row);
           }
         } else {
-          // u-contraction: T_d[s] = sum_r B_r^(d)(u_a) P[r][s].
           const bool needD[3] = {true, needU || needUV, needUU};
-          double w[3][kMaxBasisCount];
-          const double* netRows[kMaxBasisCount];
-          for (int r = 0; r < mu; ++r) {
-            for (int d = 0; d < 3; ++d) w[d][r] = needD[d] ? tu.row(d, r)[a] : 0.0;
-            netRows[r] = &P[static_cast<size_t>(r) * stride][0];
-          }
           double T[3][kMaxNetRow];
-          contractNetRows(netRows, w, needD, mu, mv * 3, T);
+          contractInU(tu, mu, a, needD, P, static_cast<size_t>(stride), mv, T);
           // v-expansion over the whole row of samples: each needed partial's rows are one
           // register-accumulated contraction over the basis rows (contiguous, vectorisable).
           for (int k = 0; k < 6; ++k) {
