@@ -82,10 +82,20 @@ DirectionTable tabulate(const SpanBasis& basis, int samples) {
 // sample row (coordinates interleaved). The 4-function families (all Xu-Wang and α-EB bases, cubic
 // B-splines) get an unrolled loop that keeps the sums in registers and loads each basis value once
 // for all coordinates.
+// sum_s x[s] * t[s], s = 0..3, summed in that order from 0.0: the order of every four-function
+// v-contraction, fused with the quotient rule or not, so that all give the same bits.
+inline __attribute__((always_inline)) double orderedSum4(const double x[4], const double t[4]) {
+  double acc = 0.0;
+  acc += x[0] * t[0];
+  acc += x[1] * t[1];
+  acc += x[2] * t[2];
+  acc += x[3] * t[3];
+  return acc;
+}
+
 template <int kCoords>
 inline __attribute__((always_inline)) void contractCoordRows4(const double* const* rows, const double* T, int n,
                                                               double* const* dst) {
-  const double *r0 = rows[0], *r1 = rows[1], *r2 = rows[2], *r3 = rows[3];
   double t[kCoords][4];
   for (int c = 0; c < kCoords; ++c)
     for (int s = 0; s < 4; ++s) t[c][s] = T[s * kCoords + c];
@@ -93,15 +103,8 @@ inline __attribute__((always_inline)) void contractCoordRows4(const double* cons
   // through the pointer tables, and would not vectorise across samples).
 #pragma GCC ivdep
   for (int b = 0; b < n; ++b) {
-    const double x0 = r0[b], x1 = r1[b], x2 = r2[b], x3 = r3[b];
-    for (int c = 0; c < kCoords; ++c) {
-      double acc = 0.0;
-      acc += x0 * t[c][0];
-      acc += x1 * t[c][1];
-      acc += x2 * t[c][2];
-      acc += x3 * t[c][3];
-      dst[c][b] = acc;
-    }
+    const double x[4] = {rows[0][b], rows[1][b], rows[2][b], rows[3][b]};
+    for (int c = 0; c < kCoords; ++c) dst[c][b] = orderedSum4(x, t[c]);
   }
 }
 
@@ -190,6 +193,23 @@ void contractInU(const Table& tu, int mu, int a, const bool needD[3], const Vec*
     netRows[r] = &P[static_cast<size_t>(r) * stride][0];
   }
   contractNetRows(netRows, w, needD, mu, mv * Vec::length(), T);
+}
+
+// The v-contractions of samples [b0, b1) of a row (one run of a knot-vector row, or a whole uniform
+// row): every partial k with need[k] into its rows row(k, c), c < kCoords, from the u-contracted
+// T[du] and the v basis rows of order dv. `Table` as in contractInU.
+template <int kCoords, class Table, class RowFn>
+void contractInV(const Table& tv, int mv, int b0, int b1, const bool need[6], const double (*T)[kMaxNetRow],
+                 RowFn row) {
+  for (int k = 0; k < 6; ++k) {
+    if (!need[k]) continue;
+    const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
+    const double* basisRows[kMaxBasisCount];
+    for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s) + b0;
+    double* dst[kCoords];
+    for (int c = 0; c < kCoords; ++c) dst[c] = row(k, c) + b0;
+    contractCoordRows<kCoords>(basisRows, T[du], mv, b1 - b0, dst);
+  }
 }
 
 
@@ -337,7 +357,7 @@ void rationalRows(const bool need[6], int b0, int b1, RowFn row) {
 }
 
 // A rational surface's point, du and dv over one run of a row, four-function bases in v: the
-// homogeneous sums of contractCoordRows4 and the quotient rule of quotientRule<3>, per sample in
+// homogeneous sums of contractCoordRows4 (orderedSum4) and the quotient rule of quotientRule<3>, per sample in
 // one pass, so that the homogeneous rows never go through memory. rows0/rows1: the v basis rows of
 // order 0 and 1; T0/T1: the net contracted in u to order 0 and 1 (coordinates interleaved, W last);
 // dst[k][c]: partial k (point, du, dv), coordinate c. The same sums and the same
@@ -354,11 +374,9 @@ void rationalFirstPartials4(const double* const* rows0, const double* const* row
     const double y[4] = {rows1[0][b], rows1[1][b], rows1[2][b], rows1[3][b]};
     double h[3][4];  // homogeneous point, du, dv
     for (int c = 0; c < 4; ++c) {
-      double p = 0.0, u = 0.0, v = 0.0;
-      for (int s = 0; s < 4; ++s) p += x[s] * t0[c][s];
-      for (int s = 0; s < 4; ++s) u += x[s] * t1[c][s];
-      for (int s = 0; s < 4; ++s) v += y[s] * t0[c][s];
-      h[0][c] = p, h[1][c] = u, h[2][c] = v;
+      h[0][c] = orderedSum4(x, t0[c]);
+      h[1][c] = orderedSum4(x, t1[c]);
+      h[2][c] = orderedSum4(y, t0[c]);
     }
     glm::dvec3 q[6] = {glm::dvec3(h[0][0], h[0][1], h[0][2]), glm::dvec3(h[1][0], h[1][1], h[1][2]),
                        glm::dvec3(h[2][0], h[2][1], h[2][2]), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
@@ -388,25 +406,17 @@ void knotRowPartials(const KnotTable& tu, const KnotTable& tv, const Vec* net, i
     const int firstV = tv.span[static_cast<size_t>(b0)] - mv + 1;
     double T[3][kMaxNetRow];
     contractInU(tu, mu, a, needD, P + firstV, static_cast<size_t>(cols), mv, T);
-    const double* basisRows[3][kMaxBasisCount];
-    for (int dv = 0; dv < 3; ++dv)
-      for (int s = 0; s < mv; ++s) basisRows[dv][s] = tv.row(dv, s) + b0;
     if (rational && mv == 4 && need[1] && need[2] && !need[3] && !need[4] && !need[5]) {
+      const double* rows0[4] = {tv.row(0, 0) + b0, tv.row(0, 1) + b0, tv.row(0, 2) + b0, tv.row(0, 3) + b0};
+      const double* rows1[4] = {tv.row(1, 0) + b0, tv.row(1, 1) + b0, tv.row(1, 2) + b0, tv.row(1, 3) + b0};
       double* const dst[3][3] = {{row(0, 0) + b0, row(0, 1) + b0, row(0, 2) + b0},
                                  {row(1, 0) + b0, row(1, 1) + b0, row(1, 2) + b0},
                                  {row(2, 0) + b0, row(2, 1) + b0, row(2, 2) + b0}};
-      rationalFirstPartials4(basisRows[0], basisRows[1], T[0], T[1], b1 - b0, dst);
-      b0 = b1;
-      continue;
+      rationalFirstPartials4(rows0, rows1, T[0], T[1], b1 - b0, dst);
+    } else {
+      contractInV<kCoords>(tv, mv, b0, b1, need, T, row);
+      if (rational) rationalRows(need, b0, b1, row);
     }
-    for (int k = 0; k < 6; ++k) {
-      if (!need[k]) continue;
-      const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
-      double* dst[kCoords];
-      for (int c = 0; c < kCoords; ++c) dst[c] = row(k, c) + b0;
-      contractCoordRows<kCoords>(basisRows[dv], T[du], mv, b1 - b0, dst);
-    }
-    if (rational) rationalRows(need, b0, b1, row);
     b0 = b1;
   }
 }
@@ -554,16 +564,7 @@ void sampleSurfaceGrid(const Surface& surface, const GridSpec& grid, FieldMask f
           const bool needD[3] = {true, needU || needUV, needUU};
           double T[3][kMaxNetRow];
           contractInU(tu, mu, a, needD, P, static_cast<size_t>(stride), mv, T);
-          // v-expansion over the whole row of samples: each needed partial's rows are one
-          // register-accumulated contraction over the basis rows (contiguous, vectorisable).
-          for (int k = 0; k < 6; ++k) {
-            if (!need[k]) continue;
-            const int du = kPartialOrders[k][0], dv = kPartialOrders[k][1];
-            const double* basisRows[kMaxBasisCount];
-            for (int s = 0; s < mv; ++s) basisRows[s] = tv.row(dv, s);
-            double* dst[3] = {row(k, 0), row(k, 1), row(k, 2)};
-            contractCoordRows<3>(basisRows, T[du], mv, Sv, dst);
-          }
+          contractInV<3>(tv, mv, 0, Sv, need, T, row);
         }
         if (!alphaEB && !normal) {
           // Plain partials: the rows go out as they are (into interleaved planes, or records).
