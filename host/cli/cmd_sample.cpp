@@ -236,7 +236,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   // A part's manifest (`shapespline import`): every face, trimmed, into one point cloud.
   const bool part = isPartManifest(args.model);
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
-  io::Model model = part ? io::Model{} : loadModel(args.model, args.allowOutsideArrays, &arrayFiles);
+  std::optional<io::ModelDigest> modelDigest;  // the metadata's SHA-256, hashed beside the parse and build
+  if (!part) modelDigest.emplace(args.model);
+  io::Model model = part ? io::Model{} : loadModel(args.model, args.allowOutsideArrays, &arrayFiles, &*modelDigest);
   const bool isSurface = part || std::holds_alternative<SurfaceModel>(model);
   if (!part) std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
   if (args.trim && !part) requireTrimmable(args, model, format);
@@ -391,9 +393,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
     const Precision stored = format == io::OutputFormat::RawF32 || io::isGltf(format) ? Precision::Float
                              : format == io::OutputFormat::RawF64 ? Precision::Double
                                                                   : precision;
-    layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, arrayFiles, report.device, report.computedPrecision,
-                                                stored, su)
-                            : io::jobMetadataOf(*surface, args.model, arrayFiles, report.device,
+    layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, modelDigest->get(), report.device,
+                                                report.computedPrecision, stored, su)
+                            : io::jobMetadataOf(*surface, args.model, modelDigest->get(), report.device,
                                                 report.computedPrecision, stored, su, sv);
   } catch (const std::runtime_error& e) {
     throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());

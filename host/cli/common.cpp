@@ -23,7 +23,8 @@ namespace {
 constexpr size_t kMaxPathChars = 256;
 }  // namespace
 
-io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vector<std::filesystem::path>* arrayFiles) {
+io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vector<std::filesystem::path>* arrayFiles,
+                    io::ModelDigest* digest) {
   std::string text;
   try {
     text = io::readInputFile(path, "MODEL");
@@ -33,7 +34,8 @@ io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vecto
     throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
   // Array references ("points": {"npy": ...}) are resolved in the model file's folder.
-  io::ModelArrays arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays, io::kDefaultArrayBudget, {}, {}};
+  io::ModelArrays arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays, io::kDefaultArrayBudget, {}, {}, {}};
+  if (digest) arrays.onFile = [digest](const std::filesystem::path& file) { digest->add(file); };
   io::Model model = io::parseModelText(text, &arrays);
   if (arrayFiles) *arrayFiles = std::move(arrays.files);
   return model;

@@ -4,6 +4,7 @@
 #include <shapespline/core/curve.h>
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/core/surface.h>
+#include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/sampling/report.h>
 
@@ -42,9 +43,10 @@ void refuseOption(const GivenOptions& given, const std::string& option, const st
 
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...). Arrays it references are read from its folder, or from
-// anywhere with `allowOutsideArrays` (--allow-outside-arrays).
+// anywhere with `allowOutsideArrays` (--allow-outside-arrays). Each array file is also added to
+// `digest` (the model's SHA-256, hashed beside the parse) before it is read.
 io::Model loadModel(const std::string& path, bool allowOutsideArrays = false,
-                    std::vector<std::filesystem::path>* arrayFiles = nullptr);
+                    std::vector<std::filesystem::path>* arrayFiles = nullptr, io::ModelDigest* digest = nullptr);
 // Reads a JSON file; malformed JSON or an unreadable file is an InputError naming `field`.
 nlohmann::json readJsonFile(const std::string& path, const std::string& field);
 

@@ -1,6 +1,7 @@
 #include <shapespline/core/surface.h>
 
 #include <shapespline/core/huge_pages.h>
+#include <shapespline/core/value_scan.h>
 #include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
 #include <shapespline/core/value_text.h>
@@ -164,14 +165,15 @@ std::vector<glm::dvec3> netInPlace(std::vector<glm::dvec3> points, int rows, int
 }
 
 // True when no α-EB vertex V = P + ((1-α)/α)(P - node) can leave fp64 (§4.2): with M the largest
-// |coordinate| of the net, f the largest |(1-α)/α| and node = Σ w_r w_s (net entries) at (0,0),
-// |V| <= M + f (M + Σ|w_r| Σ|w_s| M). A factor 4 below the largest double leaves room for the
-// rounding of each sum; an infinite f or M gives false.
+// |coordinate| of the net, f the largest (1-α)/α and node = Σ w_r w_s (net entries) at (0,0),
+// |V| <= M + f (M + Σ|w_r| Σ|w_s| M). (1-α)/α falls as α grows in (0,1] (validated), so f is that
+// of the smallest α. A factor 4 below the largest double leaves room for the rounding of each sum;
+// an infinite f or M gives false.
 bool verticesSurelyFinite(const std::vector<glm::dvec3>& net, const std::vector<double>& alpha, const double weightU[3],
                           const double weightV[3]) {
-  double m = 0.0, f = 0.0;
-  for (const glm::dvec3& p : net) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  for (double a : alpha) f = std::max(f, std::abs((1.0 - a) / a));
+  const double m = largestMagnitude(reinterpret_cast<const double*>(net.data()), 3 * net.size());
+  const double smallest = valueRange(alpha.data(), alpha.size()).min;
+  const double f = (1.0 - smallest) / smallest;
   const double node = (std::abs(weightU[0]) + std::abs(weightU[1]) + std::abs(weightU[2])) *
                       (std::abs(weightV[0]) + std::abs(weightV[1]) + std::abs(weightV[2])) * m;
   const double bound = m + f * (m + node);

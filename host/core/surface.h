@@ -104,8 +104,15 @@ class Surface {
   // f(P_ij) for every control point, row-major; no copy of the net.
   template <class F>
   void forEachControlPoint(F&& f) const {
-    for (int i = 0; i < model_.rows; ++i)
-      for (int j = 0; j < model_.cols; ++j) f(controlPoint(i, j));
+    forEachControlRow([&f](const glm::dvec3* row, int cols) {
+      for (int j = 0; j < cols; ++j) f(row[j]);
+    });
+  }
+  // f(&P_i0, cols) for every row i in order: a row's points are contiguous in the net, so a pass
+  // over every point (a hash, a bound) can run over whole rows.
+  template <class F>
+  void forEachControlRow(F&& f) const {
+    for (int i = 0; i < model_.rows; ++i) f(&controlPoint(i, 0), model_.cols);
   }
   // A copy of the points, row-major (points[i * cols + j]).
   std::vector<glm::dvec3> controlPoints() const;

@@ -1,4 +1,5 @@
 #include <shapespline/core/validate.h>
+#include <shapespline/core/value_scan.h>
 #include <shapespline/core/value_text.h>
 
 #include <charconv>
@@ -143,6 +144,14 @@ void checkAlphaValue(double a, FieldName field) {
     fail(field(), shortestText(a), a == 0.0 ? "alpha must be in (0,1]: alpha = 0 makes V_j undefined" : "alpha must be in (0,1]");
 }
 
+// Every α finite and in (0,1]: two vectorised passes, so that only a net that breaks the rule is
+// checked value by value (to name the first one that does).
+bool alphaValuesInRange(const std::vector<double>& alpha) {
+  if (alpha.empty() || firstNonFinite(alpha.data(), alpha.size()) < alpha.size()) return false;
+  const ValueRange r = valueRange(alpha.data(), alpha.size());
+  return r.min > 0.0 && r.max <= 1.0;
+}
+
 }  // namespace
 
 LambdaDomain lambdaDomain(const FamilySpec& f) {
@@ -244,7 +253,8 @@ void validateCurve(const CurveModel& m) {
     if (m.alpha.size() != n)
       fail("alpha", std::to_string(m.alpha.size()) + " values",
            "alpha array length must equal the number of points (" + std::to_string(n) + ")");
-    for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], [&] { return idx("alpha", i); });
+    if (!alphaValuesInRange(m.alpha))
+      for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], [&] { return idx("alpha", i); });
   } else if (!m.alpha.empty()) {
     fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
@@ -314,22 +324,22 @@ void validateSurface(const SurfaceModel& m) {
   if (m.cols < minPoints(c, orderV, m.closedV))
     fail("points[0]", std::to_string(m.cols) + " columns",
          minRule(c, orderV, m.closedV, "surface", "columns (v direction)"));
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j)
-      for (int d = 0; d < 3; ++d)
-        if (!std::isfinite(m.at(i, j)[d]))
-          fail(idx(idx(idx("points", static_cast<size_t>(i)), static_cast<size_t>(j)), static_cast<size_t>(d)),
-               shortestText(m.at(i, j)[d]), "coordinates must be finite numbers");
+  if (const size_t k = firstNonFinite(reinterpret_cast<const double*>(m.points.data()), 3 * m.points.size()); k < 3 * m.points.size()) {
+    const size_t point = k / 3, cols = static_cast<size_t>(m.cols);
+    fail(idx(idx(idx("points", point / cols), point % cols), k % 3), shortestText(m.points[point][int(k % 3)]),
+         "coordinates must be finite numbers");
+  }
 
   if (c == Construction::AlphaEB) {
     if (m.alpha.empty()) fail("alpha", "missing", "alpha is required for alpha_eb");
     if (m.alpha.size() != m.points.size())
       fail("alpha", std::to_string(m.alpha.size()) + " values",
            "alpha must have one value per point (" + std::to_string(m.rows) + " x " + std::to_string(m.cols) + ")");
-    for (int i = 0; i < m.rows; ++i)
-      for (int j = 0; j < m.cols; ++j)
-        checkAlphaValue(m.alpha[static_cast<size_t>(i) * m.cols + j],
-                        [&] { return idx(idx("alpha", static_cast<size_t>(i)), static_cast<size_t>(j)); });
+    if (!alphaValuesInRange(m.alpha))
+      for (int i = 0; i < m.rows; ++i)
+        for (int j = 0; j < m.cols; ++j)
+          checkAlphaValue(m.alpha[static_cast<size_t>(i) * m.cols + j],
+                          [&] { return idx(idx("alpha", static_cast<size_t>(i)), static_cast<size_t>(j)); });
   } else if (!m.alpha.empty()) {
     fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }

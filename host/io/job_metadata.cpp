@@ -1,6 +1,7 @@
 #include <shapespline/io/job_metadata.h>
 
 #include <shapespline/core/family.h>
+#include <shapespline/core/value_scan.h>
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/text_escape.h>
 #include <shapespline/version.h>
@@ -8,10 +9,17 @@
 #include <openssl/evp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <condition_variable>
 #include <cstring>
+#include <deque>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
 #include <vector>
 
 #include <fcntl.h>
@@ -203,9 +211,9 @@ void JobMetadata::setAlpha(const std::vector<double>& values, int netRows, int n
   alphaSummary = {};
   alphaSummary.count = values.size();
   if (!values.empty()) {
-    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-    alphaSummary.min = *lo;
-    alphaSummary.max = *hi;
+    const ValueRange r = valueRange(values.data(), values.size());
+    alphaSummary.min = r.min;
+    alphaSummary.max = r.max;
   }
   alphaSummary.singular = static_cast<uint64_t>(std::count(values.begin(), values.end(), 1.0));
   if (alphaListed()) alpha = values;
@@ -448,8 +456,8 @@ std::string sha256Of(std::string_view bytes) {
 
 namespace {
 
-// Feeds a regular file's bytes to `h`, read in 64 KiB pieces.
-void hashFile(Sha256& h, const std::filesystem::path& path) {
+// Feeds a regular file's bytes to `h`, read in 64 KiB pieces; returns early once `stop` is set.
+void hashFile(Sha256& h, const std::filesystem::path& path, const std::atomic<bool>* stop = nullptr) {
   // O_NONBLOCK: a FIFO put in the file's place never blocks the open (it is refused below).
   Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
   if (fd.get() < 0) throw std::runtime_error(std::string("cannot open: ") + std::strerror(errno));
@@ -463,7 +471,7 @@ void hashFile(Sha256& h, const std::filesystem::path& path) {
       if (errno == EINTR) continue;
       throw std::runtime_error(std::string("read failed: ") + std::strerror(errno));
     }
-    if (n == 0) break;
+    if (n == 0 || (stop && *stop)) break;
     h.update(buffer.data(), static_cast<size_t>(n));
   }
 }
@@ -476,21 +484,82 @@ std::string sha256OfFile(const std::filesystem::path& path) {
   return h.hex();
 }
 
+struct ModelDigest::State {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<std::filesystem::path> files;  // added, not yet hashed
+  bool closed = false;                      // get(): no more files
+  std::atomic<bool> cancelled = false;      // destroyed without get()
+  std::string digits;
+  std::exception_ptr error;
+  std::thread worker;
+
+  std::optional<std::filesystem::path> next() {
+    std::unique_lock lock(mutex);
+    changed.wait(lock, [&] { return !files.empty() || closed || cancelled; });
+    if (cancelled || files.empty()) return std::nullopt;
+    std::filesystem::path file = std::move(files.front());
+    files.pop_front();
+    return file;
+  }
+  void run() {
+    try {
+      Sha256 h;
+      while (const auto file = next()) hashFile(h, *file, &cancelled);
+      digits = h.hex();
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  void finish(bool cancel) {
+    {
+      std::lock_guard lock(mutex);
+      closed = true;
+      cancelled = cancel;
+    }
+    changed.notify_one();
+    worker.join();
+  }
+};
+
+ModelDigest::ModelDigest(std::filesystem::path modelFile) : state_(std::make_unique<State>()) {
+  state_->files.push_back(std::move(modelFile));
+  state_->worker = std::thread([s = state_.get()] { s->run(); });
+}
+
+ModelDigest::~ModelDigest() {
+  if (state_->worker.joinable()) state_->finish(true);
+}
+
+void ModelDigest::add(const std::filesystem::path& arrayFile) {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->files.push_back(arrayFile);
+  }
+  state_->changed.notify_one();
+}
+
+std::string ModelDigest::get() {
+  state_->finish(false);
+  if (state_->error) std::rethrow_exception(state_->error);
+  return std::move(state_->digits);
+}
+
+std::string modelSha256(const std::filesystem::path& modelPath, const std::vector<std::filesystem::path>& arrayFiles) {
+  ModelDigest digest(modelPath);
+  for (const std::filesystem::path& array : arrayFiles) digest.add(array);
+  return digest.get();
+}
+
 namespace {
 
-JobMetadata common(const FamilySpec& f, const std::string& modelPath,
-                   const std::vector<std::filesystem::path>& arrayFiles, std::string_view device, Precision computed,
-                   Precision output) {
+JobMetadata common(const FamilySpec& f, const std::string& modelPath, std::string modelSha256, std::string_view device,
+                   Precision computed, Precision output) {
   JobMetadata m;
   m.toolVersion = SHAPESPLINE_VERSION_STRING;
   m.toolCommit = SHAPESPLINE_GIT_COMMIT;
   m.modelFile = modelPath;
-  // The model file's bytes, then those of each .npy array it names: shards sampled from changed
-  // arrays differ here (merge compares it); a model without arrays hashes as sha256sum does.
-  Sha256 h;
-  hashFile(h, modelPath);
-  for (const std::filesystem::path& array : arrayFiles) hashFile(h, array);
-  m.modelSha256 = h.hex();
+  m.modelSha256 = std::move(modelSha256);
   // Only what the family uses, so that metadataFromJson(metadataJson(m)) == m.
   const FamilyTraits& t = familyOf(f.construction);
   m.construction = f.construction;
@@ -506,10 +575,11 @@ JobMetadata common(const FamilySpec& f, const std::string& modelPath,
 
 }  // namespace
 
-JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
-                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
-                          Precision computedPrecision, Precision outputPrecision, int samplesU) {
-  JobMetadata m = common(model.family, modelPath, arrayFiles, device, computedPrecision, outputPrecision);
+JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string modelSha256,
+                          std::string_view device, Precision computedPrecision, Precision outputPrecision,
+                          int samplesU) {
+  JobMetadata m =
+      common(model.family, modelPath, std::move(modelSha256), device, computedPrecision, outputPrecision);
   m.surface = false;
   m.rational = !model.weights.empty();
   if (m.usesAlpha()) m.setAlpha(model.alpha, 0, 0);
@@ -518,11 +588,12 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
   return m;
 }
 
-JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath,
-                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
-                          Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV) {
+JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath, std::string modelSha256,
+                          std::string_view device, Precision computedPrecision, Precision outputPrecision,
+                          int samplesU, int samplesV) {
   const SurfaceShape& model = surface.model();
-  JobMetadata m = common(model.family, modelPath, arrayFiles, device, computedPrecision, outputPrecision);
+  JobMetadata m =
+      common(model.family, modelPath, std::move(modelSha256), device, computedPrecision, outputPrecision);
   m.surface = true;
   m.rational = !surface.weights().empty();
   if (twoOrders(m)) m.orderV = model.orderV;

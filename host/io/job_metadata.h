@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -117,15 +118,39 @@ std::string sha256OfFile(const std::filesystem::path& path);
 // SHA-256 of bytes in memory, the same digits.
 std::string sha256Of(std::string_view bytes);
 
-// The metadata of sampling `model`, read from `modelPath` and the .npy `arrayFiles` it names
-// (ModelArrays::files; hashed in that order after the file, with sha256OfFile's errors), on
+// The model's SHA-256 for its metadata: the bytes of the model file, then those of each .npy array
+// it names (ModelArrays::files, in that order). A model without arrays gives sha256sum's digits.
+// Reading a big net's arrays a second time and hashing them takes a while (0.25 s for 400 MB), so
+// the hash runs on a thread of its own, beside the parse: the model file's bytes from the start,
+// each array's as soon as add() names it (ModelArrays::onFile), before the parser reads it.
+class ModelDigest {
+ public:
+  explicit ModelDigest(std::filesystem::path modelFile);
+  ~ModelDigest();  // stops the hashing after the current file when get() was not called
+  ModelDigest(const ModelDigest&) = delete;
+  ModelDigest& operator=(const ModelDigest&) = delete;
+
+  void add(const std::filesystem::path& arrayFile);
+  // The 64 hex digits, once every file added is hashed; sha256OfFile's errors (the first file that
+  // failed). Call once.
+  std::string get();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// ModelDigest's digits for a model whose arrays are known.
+std::string modelSha256(const std::filesystem::path& modelPath, const std::vector<std::filesystem::path>& arrayFiles);
+
+// The metadata of sampling `model`, read from `modelPath` whose modelSha256 is `modelSha256`, on
 // `device` in `computedPrecision`, stored in `outputPrecision`, samplesU per span or samplesU x
 // samplesV per patch. The tool version and commit are this build's (shapespline/version.h).
-JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
-                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
-                          Precision computedPrecision, Precision outputPrecision, int samplesU);
-JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath,
-                          const std::vector<std::filesystem::path>& arrayFiles, std::string_view device,
-                          Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV);
+JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string modelSha256,
+                          std::string_view device, Precision computedPrecision, Precision outputPrecision,
+                          int samplesU);
+JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath, std::string modelSha256,
+                          std::string_view device, Precision computedPrecision, Precision outputPrecision,
+                          int samplesU, int samplesV);
 
 }  // namespace shapespline::io

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <shapespline/core/huge_pages.h>
+#include <shapespline/core/value_scan.h>
 #include <shapespline/core/validate.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
@@ -158,6 +159,7 @@ NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays,
   const std::filesystem::path file = referencedFile(ref, key, arrays);
   name = shortText(ref.at("npy").get<std::string>());
   try {
+    if (arrays->onFile) arrays->onFile(file);
     NpyArray a = readNpyArray(file, arrays->maxValueBytes, layout);
     arrays->files.push_back(file);
     return a;
@@ -188,8 +190,7 @@ NpyArray referencedArray(const json& ref, const std::string& key, ModelArrays* a
   for (std::uint64_t d : a.shape)
     if (d > kMaxArrayExtent) throw ModelError(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
   const double* values = a.data();
-  for (size_t k = 0; k < a.size(); ++k) {
-    if (std::isfinite(values[k])) continue;
+  if (const size_t k = firstNonFinite(values, a.size()); k < a.size()) {
     std::vector<std::uint64_t> index(a.shape.size());
     for (size_t d = a.shape.size(), rest = k; d-- > 0; rest /= a.shape[d]) index[d] = rest % a.shape[d];
     std::string at;
@@ -497,7 +498,7 @@ Model parseModelText(std::string_view text, ModelArrays* arrays) {
 }
 
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside, std::uint64_t maxValueBytes) {
-  ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}, {}};
+  ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}, {}, {}};
   return parseModelText(readInputFile(path, "(file)"), &arrays);
 }
 

@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <string_view>
@@ -47,6 +48,8 @@ struct ModelArrays {
   // The .npy files the parser read, in key order (points, alpha, weights): what the job metadata
   // hashes with the model file, and what an output must not replace.
   std::vector<std::filesystem::path> files;
+  // Called with each file of `files` as it is found, before it is read (io::ModelDigest::add).
+  std::function<void(const std::filesystem::path&)> onFile;
 };
 
 // JSON value -> validated model. Throws ModelError. Without `arrays`, an array reference is refused

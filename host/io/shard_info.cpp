@@ -33,7 +33,9 @@ class Fnv1a {
   }
   // Arrays (a net can hold 10^8 values) go a word at a time, 8 times faster than byte-wise FNV:
   // each word is xored in, multiplied, and its high half folded down so that the next multiply
-  // carries every bit of it (a multiply alone moves bits only upwards).
+  // carries every bit of it (a multiply alone moves bits only upwards). Four words are mixed into
+  // four independent lanes (the multiply's latency, not its throughput, bounded a single chain),
+  // which then enter the hash in order; the words past a multiple of four follow one by one.
   void f64s(const std::vector<double>& v) {
     u64(v.size());
     words(reinterpret_cast<const unsigned char*>(v.data()), v.size());
@@ -44,13 +46,13 @@ class Fnv1a {
     words(reinterpret_cast<const unsigned char*>(v.data()), 3 * v.size());
   }
   void words(const unsigned char* data, size_t count) {
-    for (size_t i = 0; i < count; ++i) {
-      uint64_t w;
-      std::memcpy(&w, data + 8 * i, 8);
-      h_ ^= w;
-      h_ *= 1099511628211ull;
-      h_ ^= h_ >> 32;
+    uint64_t lane[4] = {h_, h_ ^ 1, h_ ^ 2, h_ ^ 3};
+    size_t i = 0;
+    for (; i + 4 <= count; i += 4) {
+      for (int k = 0; k < 4; ++k) lane[k] = mix(lane[k], load(data + 8 * (i + size_t(k))));
     }
+    for (int k = 0; k < 4; ++k) h_ = mix(h_, lane[k]);
+    for (; i < count; ++i) h_ = mix(h_, load(data + 8 * i));
   }
   std::string hex() const {
     static const char* digits = "0123456789abcdef";
@@ -60,6 +62,17 @@ class Fnv1a {
   }
 
  private:
+  static uint64_t load(const unsigned char* p) {
+    uint64_t w;
+    std::memcpy(&w, p, 8);
+    return w;
+  }
+  static uint64_t mix(uint64_t h, uint64_t w) {
+    h ^= w;
+    h *= 1099511628211ull;
+    return h ^ (h >> 32);
+  }
+
   uint64_t h_ = 14695981039346656037ull;
 };
 
@@ -152,9 +165,11 @@ std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, O
   h.u64(m.closedV ? 1 : 0);
   h.u64(static_cast<uint64_t>(m.rows));
   h.u64(static_cast<uint64_t>(m.cols));
-  // The points' words in model order, as Fnv1a::points hashes a vector, read from the net in place.
+  // The points' words in model order, a row at a time, read from the net in place.
   h.u64(static_cast<uint64_t>(m.rows) * static_cast<uint64_t>(m.cols));
-  surface.forEachControlPoint([&h](const glm::dvec3& p) { h.words(reinterpret_cast<const unsigned char*>(&p), 3); });
+  surface.forEachControlRow([&h](const glm::dvec3* row, int cols) {
+    h.words(reinterpret_cast<const unsigned char*>(row), 3 * static_cast<size_t>(cols));
+  });
   h.f64s(m.alpha);
   h.f64s(m.knotsU);
   h.f64s(m.knotsV);

@@ -1,5 +1,7 @@
 #include <shapespline/sampling/net_scale.h>
 
+#include <shapespline/core/value_scan.h>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -14,10 +16,6 @@ std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, int k) {
   return points;
 }
 
-double largestCoordinate(double m, const glm::dvec3& p) {
-  return std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-}
-
 // The exponent for a net whose largest |coordinate| is m.
 int scaleFor(double m, Precision precision) {
   if (!(m > 0.0) || !std::isfinite(m)) return 0;
@@ -29,16 +27,16 @@ int scaleFor(double m, Precision precision) {
 }  // namespace
 
 int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
-  double m = 0.0;
-  for (const auto& p : points) m = largestCoordinate(m, p);
-  return scaleFor(m, precision);
+  return scaleFor(largestMagnitude(reinterpret_cast<const double*>(points.data()), 3 * points.size()), precision);
 }
 
 int netScale(const Curve& curve, Precision precision) { return netScale(curve.model().points, precision); }
 
 int netScale(const Surface& surface, Precision precision) {
   double m = 0.0;
-  surface.forEachControlPoint([&](const glm::dvec3& p) { m = largestCoordinate(m, p); });
+  surface.forEachControlRow([&m](const glm::dvec3* row, int cols) {
+    m = std::max(m, largestMagnitude(reinterpret_cast<const double*>(row), 3 * static_cast<size_t>(cols)));
+  });
   return scaleFor(m, precision);
 }
 

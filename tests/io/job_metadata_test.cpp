@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <thread>
 #include <unistd.h>
 
 namespace shapespline::io {
@@ -74,7 +76,9 @@ std::string commentValue(const std::string& text, const std::string& prefix, con
 class TempFile {
  public:
   explicit TempFile(const std::string& bytes) {
-    path_ = fs::temp_directory_path() / ("shapespline_sha_" + std::to_string(::getpid()) + ".bin");
+    static int count = 0;
+    path_ = fs::temp_directory_path() /
+            ("shapespline_sha_" + std::to_string(::getpid()) + "_" + std::to_string(count++) + ".bin");
     std::ofstream(path_, std::ios::binary) << bytes;
   }
   ~TempFile() {
@@ -118,6 +122,43 @@ TEST(JobMetadata, Sha256OfFileRefusesWhatItCannotRead) {
   EXPECT_THROW(sha256OfFile(fs::temp_directory_path()), std::runtime_error);  // a folder
 }
 
+// The model's digest is that of the model file's bytes followed by each array's, whichever order
+// the files arrive in relative to the hashing thread; it fails on a file it cannot read, and a
+// digest dropped unread (the job failed before its metadata) stops without waiting for the rest.
+TEST(JobMetadata, ModelDigestHashesTheModelThenItsArrays) {
+  std::mt19937 rng(11);
+  auto randomBytes = [&](size_t n) {
+    std::string b(n, '\0');
+    for (char& c : b) c = static_cast<char>(rng());
+    return b;
+  };
+  const std::string model = randomBytes(1'000), points = randomBytes(200'003), alpha = randomBytes(70'000);
+  const TempFile m(model), p(points), a(alpha);
+  EXPECT_EQ(modelSha256(m.path(), {}), sha256Of(model));
+  EXPECT_EQ(modelSha256(m.path(), {p.path(), a.path()}), sha256Of(model + points + alpha));
+  EXPECT_NE(modelSha256(m.path(), {a.path(), p.path()}), sha256Of(model + points + alpha));  // the order counts
+  {
+    ModelDigest late(m.path());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the model file is likely hashed by now
+    late.add(p.path());
+    late.add(a.path());
+    EXPECT_EQ(late.get(), sha256Of(model + points + alpha));
+  }
+  ModelDigest missing(m.path());
+  missing.add("/nonexistent/shapespline/net.npy");
+  EXPECT_THROW(missing.get(), std::runtime_error);
+  EXPECT_THROW(modelSha256("/nonexistent/shapespline/model.json", {p.path()}), std::runtime_error);
+  const TempFile b(randomBytes(size_t{32} << 20));
+  const auto start = std::chrono::steady_clock::now();
+  {
+    ModelDigest dropped(m.path());
+    for (int k = 0; k < 100; ++k) dropped.add(b.path());
+  }
+  // Hashing the 3.2 GB added would take two seconds or more (OpenSSL: 1.7 GB/s with SHA
+  // instructions); a dropped digest stops after the 64 KiB piece it is at.
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(500));
+}
+
 TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   CurveModel c;
   c.family.construction = Construction::AlphaEB;
@@ -127,7 +168,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   c.points.resize(3);
   c.alpha = {1.0, 0.5, 1.0};
   const std::string model = std::string(SHAPESPLINE_SOURCE_DIR) + "/examples/models/open_aeb.json";
-  const JobMetadata m = jobMetadataOf(c, model, {}, "llvmpipe", Precision::Float, Precision::Float, 9);
+  const JobMetadata m = jobMetadataOf(c, model, modelSha256(model, {}), "llvmpipe", Precision::Float, Precision::Float, 9);
   EXPECT_EQ(m.toolVersion, SHAPESPLINE_VERSION_STRING);
   EXPECT_EQ(m.toolCommit, SHAPESPLINE_GIT_COMMIT);
   EXPECT_EQ(m.modelFile, model);
@@ -145,7 +186,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   s.knotsU = {0, 0, 0, 0.5, 1, 1, 1};  // order 3: 4 + 3 knots
   s.knotsV = {0, 0, 0, 0, 1, 1, 1, 1};
   s.points.assign(16, glm::dvec3(0.0));
-  const JobMetadata b = jobMetadataOf(Surface::create(s), model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
+  const JobMetadata b = jobMetadataOf(Surface::create(s), model, modelSha256(model, {}), "cpu", Precision::Double, Precision::Double, 5, 6);
   EXPECT_EQ(b.grid(), "5x6");
   const json j = metadataJson(b);
   EXPECT_EQ(j["order"], json::array({3, 4}));
@@ -158,7 +199,7 @@ TEST(JobMetadata, BuilderTakesTheModelAndThisBuild) {
   // A rational B-spline says so ("rational": true, and a comment line); it is another job than the
   // same net without weights.
   s.weights.assign(16, 0.5);
-  const JobMetadata r = jobMetadataOf(Surface::create(s), model, {}, "cpu", Precision::Double, Precision::Double, 5, 6);
+  const JobMetadata r = jobMetadataOf(Surface::create(s), model, modelSha256(model, {}), "cpu", Precision::Double, Precision::Double, 5, 6);
   EXPECT_TRUE(r.rational);
   EXPECT_EQ(metadataJson(r)["rational"], true);
   EXPECT_NE(metadataComments(r, "# ").find("# rational: true\n"), std::string::npos);
