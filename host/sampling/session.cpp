@@ -259,7 +259,11 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   // do; anything else goes to the CPU with the sizes, rather than failing at the bind.
   const uint64_t largest = gpu::modelBufferBytes(model, request.precision).largest();
   const uint64_t limit = bufferLimit(*ctx);
-  if (largest > limit) {
+  // A grid job's buffers are also kept within the band budget (host memory: a band's surface, and
+  // the device buffers themselves on llvmpipe or while staged), where the net can be split.
+  const uint64_t budget = bandBudgetBytes_ ? std::min(limit, bandBudgetBytes_) : limit;
+  if (request.grid && largest > budget) r.bandRows = patchRowsPerBand(model, request.precision, budget);
+  if (largest > limit && r.bandRows == 0) {
     r.bandRows = request.grid ? patchRowsPerBand(model, request.precision, limit) : 0;
     if (r.bandRows == 0) {
       return fallBack("the model needs a " + std::to_string(largest) + "-byte device buffer in " +

@@ -39,6 +39,8 @@ namespace shapespline::sampling {
 // slice stage reads it (e2e .f32 at 2^18: 0.90 s, at 2^15: 0.66 s and 23 MB instead of 87 MB
 // resident, 15.2 M points with second derivatives on a 2-core machine).
 inline constexpr size_t kDefaultCpuChunkPoints = size_t{1} << 15;
+// Session::setBandBudgetBytes's default (docs/performance.md, "One big net").
+inline constexpr uint64_t kDefaultBandBudgetBytes = uint64_t{8} << 20;
 
 struct GridOptions {
   int threads = 0;         // CPU sampler threads (0 = one per available core: SamplerOptions::threads)
@@ -134,6 +136,11 @@ class Session {
   // bands of patch rows (Report::bandRows); a list job goes to the CPU. Tests force tiny bands with
   // it; a caller may keep device memory for itself.
   void setMaxBufferBytes(uint64_t bytes) { maxBufferBytes_ = bytes; }
+  // The most bytes one buffer of a grid job's model may take before its net is split into bands,
+  // although the device would hold it whole (kDefaultBandBudgetBytes; 0: the device's limits only).
+  // A band's surface is host memory, and so are its device buffers on llvmpipe and while staged
+  // on other devices: without it, a 4096² net on llvmpipe held 1 GB beside its 537 MB model.
+  void setBandBudgetBytes(uint64_t bytes) { bandBudgetBytes_ = bytes; }
 
  private:
   // One body for curves and surfaces each (session.cpp).
@@ -157,6 +164,7 @@ class Session {
   std::shared_ptr<vk::Context> ctx_;
   std::optional<std::string> noDevice_;  // why creating the context failed
   uint64_t maxBufferBytes_ = 0;
+  uint64_t bandBudgetBytes_ = kDefaultBandBudgetBytes;
   std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::CurveEvaluator>> curveEvaluators_;
   std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::SurfaceEvaluator>> surfaceEvaluators_;
 };

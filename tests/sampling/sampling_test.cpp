@@ -212,8 +212,8 @@ TEST_F(SamplingGpu, ModelBeyondOneStorageBindingFallsBackWithTheSizes) {
   EXPECT_TRUE(session.plan(c, {DeviceKind::Auto, p, false}).gpu);
 }
 
-// A surface net over the session's buffer limit is sampled on the GPU in bands of patch rows
-// (Surface::patchRows), each band its own mirror: the chunks are bit for bit those of the whole
+// A surface net over the session's buffer limit (or its band budget) is sampled on the GPU in bands
+// of patch rows (Surface::patchRows), each band its own mirror: the chunks are bit for bit those of the whole
 // net on the device (same kernels, same inputs), for whole jobs and item ranges that start and end
 // inside bands; list jobs and knot-vector nets go to the CPU with the reason.
 TEST_F(SamplingGpu, NetsOverTheBufferLimitAreSampledInBandsWithTheSameBits) {
@@ -233,14 +233,18 @@ TEST_F(SamplingGpu, NetsOverTheBufferLimitAreSampledInBandsWithTheSameBits) {
       SCOPED_TRACE(std::string(name) + (p == Precision::Double ? " fp64" : " fp32"));
       DeviceRequest request{DeviceKind::Vulkan, p, true};
       request.grid = true;
-      sampling::Session whole(ctx_), bands(ctx_);
-      // Room for about three patch rows: the net is the largest buffer.
+      sampling::Session whole(ctx_), bands(ctx_), budget(ctx_);
+      // Room for about three patch rows: the net is the largest buffer. `budget` splits the net
+      // because of its band budget, under the device's limits.
       const gpu::ModelBufferBytes all = gpu::modelBufferBytes(s, p);
-      bands.setMaxBufferBytes(all.largest() * 4 / (s.patches().u.last - s.patches().u.first + 1));
+      const uint64_t threeRows = all.largest() * 4 / (s.patches().u.last - s.patches().u.first + 1);
+      bands.setMaxBufferBytes(threeRows);
+      budget.setBandBudgetBytes(threeRows);
       const sampling::Report r = bands.plan(s, request);
       ASSERT_TRUE(r.gpu);
       EXPECT_GE(r.bandRows, 1);
       EXPECT_LT(r.bandRows, s.patches().u.last - s.patches().u.first + 1);
+      EXPECT_EQ(budget.plan(s, request).bandRows, r.bandRows);
       EXPECT_EQ(whole.plan(s, request).bandRows, 0);
       // {9, 4}: inside one patch row, so its band ends before the bands' size (the job's last row).
       for (const auto& range : {std::pair<size_t, size_t>{0, 0}, {5, 17}, {9, 4}, {items - 3, 3}}) {
@@ -268,10 +272,14 @@ TEST_F(SamplingGpu, NetsOverTheBufferLimitAreSampledInBandsWithTheSameBits) {
         };
         const auto [firstWhole, bytesWhole] = run(whole);
         const auto [firstBands, bytesBands] = run(bands);
+        const auto [firstBudget, bytesBudget] = run(budget);
         EXPECT_EQ(firstBands, first);
+        EXPECT_EQ(firstBudget, first);
         EXPECT_EQ(firstWhole, first);
-        for (size_t k = 0; k < 4; ++k)
+        for (size_t k = 0; k < 4; ++k) {
           EXPECT_TRUE(bytesBands[k] == bytesWhole[k]) << "items from " << first << ": field " << k << " differs";
+          EXPECT_TRUE(bytesBudget[k] == bytesWhole[k]) << "items from " << first << ": field " << k << " differs";
+        }
       }
       // A list job needs the whole net on the device.
       DeviceRequest list = request;
@@ -281,6 +289,10 @@ TEST_F(SamplingGpu, NetsOverTheBufferLimitAreSampledInBandsWithTheSameBits) {
       EXPECT_FALSE(lr.gpu);
       ASSERT_EQ(lr.fallbacks.size(), 1u);
       EXPECT_NE(lr.fallbacks[0].find("only grid jobs are split into bands"), std::string::npos) << lr.fallbacks[0];
+      // The band budget is no limit: a list job on that session runs on the GPU, whole.
+      const sampling::Report br = budget.plan(s, list);
+      EXPECT_TRUE(br.gpu);
+      EXPECT_EQ(br.bandRows, 0);
     }
   }
   // Knot-vector nets are not split.
@@ -292,6 +304,12 @@ TEST_F(SamplingGpu, NetsOverTheBufferLimitAreSampledInBandsWithTheSameBits) {
   EXPECT_FALSE(kr.gpu);
   ASSERT_EQ(kr.fallbacks.size(), 1u);
   EXPECT_NE(kr.fallbacks[0].find("knot-vector nets and curves are not split into bands"), std::string::npos) << kr.fallbacks[0];
+  // Over the band budget alone, they stay on the GPU, whole.
+  sampling::Session small(ctx_);
+  small.setBandBudgetBytes(64);
+  const sampling::Report sr = small.plan(Surface::create(nurbsTorus(3.0, 1.0)), grid);
+  EXPECT_TRUE(sr.gpu);
+  EXPECT_EQ(sr.bandRows, 0);
 }
 
 // More knots than fp32 PARAMS indices address exactly: the fp32 GPU path falls back, naming them;
