@@ -238,6 +238,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
   std::optional<io::ModelDigest> modelDigest;  // the metadata's SHA-256, hashed beside the parse and build
   if (!part) modelDigest.emplace(args.model);
+  std::optional<sampling::Session> own;
+  sampling::Session& session = shared ? *shared : own.emplace();
+  if (!part) session.prepare(request);  // the device, also beside the parse
   io::Model model = part ? io::Model{} : loadModel(args.model, args.allowOutsideArrays, &arrayFiles, &*modelDigest);
   const bool isSurface = part || std::holds_alternative<SurfaceModel>(model);
   if (!part) std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
@@ -382,8 +385,6 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   // A shard (--shard given) also writes its record OUT.shard.json, last in the set (jobs/shard_files.h).
   io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(jobs::shardRecordPath(args.out), "-o");
   const std::string extraRole = format == io::OutputFormat::Gltf ? "buffer" : "sidecar";
-  std::optional<sampling::Session> own;
-  sampling::Session& session = shared ? *shared : own.emplace();
   const sampling::Report report = curve ? session.plan(*curve, request) : session.plan(*surface, request);
   printNotices(report, args.quiet);
   layout.device = report.device;

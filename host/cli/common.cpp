@@ -3,6 +3,7 @@
 #include <shapespline/core/diagnostics.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/number_text.h>
+#include <shapespline/sampling/net_scale.h>
 
 #include <unistd.h>
 
@@ -230,15 +231,12 @@ void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet) {
 
 void requireFloatRange(const std::vector<glm::dvec3>& points, Precision precision) {
   if (precision != Precision::Float) return;
-  for (const auto& p : points) {
-    for (int d = 0; d < 3; ++d) {
-      if (std::abs(p[d]) > kMaxFloatNet) {
-        throw InputError("--precision", "float",
-                         "the control net reaches " + num3(std::abs(p[d])) + " but fp32 output holds at most 3.4e38 "
-                         "(coordinates above " + num3(kMaxFloatNet) + " leave no headroom for derivatives): use "
-                         "--precision double");
-      }
-    }
+  const double largest = sampling::largestCoordinate(points);
+  if (largest > kMaxFloatNet) {
+    throw InputError("--precision", "float",
+                     "the control net reaches " + num3(largest) + " but fp32 output holds at most 3.4e38 "
+                     "(coordinates above " + num3(kMaxFloatNet) + " leave no headroom for derivatives): use "
+                     "--precision double");
   }
 }
 

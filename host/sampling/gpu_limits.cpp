@@ -1,5 +1,7 @@
 #include <shapespline/sampling/gpu_limits.h>
 
+#include <shapespline/core/value_scan.h>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -16,9 +18,9 @@ std::optional<std::string> limitation(const FamilySpec& family, const std::vecto
   }
   if (family.construction == Construction::AlphaEB) {
     const double limit = fp32 ? kMinAlphaGpuFloat : kMinAlphaGpuDouble;
-    const auto lowest = std::min_element(alpha.begin(), alpha.end());
-    if (lowest != alpha.end() && *lowest < limit) {
-      std::snprintf(text, sizeof text, "alpha = %.3g is below %.0e", *lowest, limit);
+    const double lowest = alpha.empty() ? limit : valueRange(alpha.data(), alpha.size()).min;
+    if (lowest < limit) {
+      std::snprintf(text, sizeof text, "alpha = %.3g is below %.0e", lowest, limit);
       return std::string(text) + ", the smallest the " + (fp32 ? "fp32" : "fp64") +
              " GPU kernels represent in V = P + ((1-alpha)/alpha)(P - node)";
     }

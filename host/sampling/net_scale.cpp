@@ -16,29 +16,32 @@ std::vector<glm::dvec3> scaled(std::vector<glm::dvec3> points, int k) {
   return points;
 }
 
-// The exponent for a net whose largest |coordinate| is m.
-int scaleFor(double m, Precision precision) {
+}  // namespace
+
+int netScaleFor(double m, Precision precision) {
   if (!(m > 0.0) || !std::isfinite(m)) return 0;
   const int e = std::ilogb(m);  // m in [2^e, 2^(e+1)), also for subnormal m (e down to -1074)
   const int band = precision == Precision::Float ? 20 : 200;
   return e >= -band && e < band ? 0 : -e;
 }
 
-}  // namespace
-
-int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
-  return scaleFor(largestMagnitude(reinterpret_cast<const double*>(points.data()), 3 * points.size()), precision);
+double largestCoordinate(const std::vector<glm::dvec3>& points) {
+  return largestMagnitude(reinterpret_cast<const double*>(points.data()), 3 * points.size());
 }
-
-int netScale(const Curve& curve, Precision precision) { return netScale(curve.model().points, precision); }
-
-int netScale(const Surface& surface, Precision precision) {
+double largestCoordinate(const Curve& curve) { return largestCoordinate(curve.model().points); }
+double largestCoordinate(const Surface& surface) {
   double m = 0.0;
   surface.forEachControlRow([&m](const glm::dvec3* row, int cols) {
     m = std::max(m, largestMagnitude(reinterpret_cast<const double*>(row), 3 * static_cast<size_t>(cols)));
   });
-  return scaleFor(m, precision);
+  return m;
 }
+
+int netScale(const std::vector<glm::dvec3>& points, Precision precision) {
+  return netScaleFor(largestCoordinate(points), precision);
+}
+int netScale(const Curve& curve, Precision precision) { return netScaleFor(largestCoordinate(curve), precision); }
+int netScale(const Surface& surface, Precision precision) { return netScaleFor(largestCoordinate(surface), precision); }
 
 Curve scaledCurve(const Curve& curve, int k) {
   CurveModel m = curve.model();

@@ -22,6 +22,12 @@ namespace shapespline::sampling {
 int netScale(const std::vector<glm::dvec3>& points, Precision precision);
 int netScale(const Curve& curve, Precision precision);
 int netScale(const Surface& surface, Precision precision);
+// The same in two steps, for a caller that needs the exponent of more than one precision (one
+// pass over a big net): the largest |coordinate| of the net, and the exponent for it.
+double largestCoordinate(const std::vector<glm::dvec3>& points);
+double largestCoordinate(const Curve& curve);
+double largestCoordinate(const Surface& surface);
+int netScaleFor(double largestCoordinate, Precision precision);
 
 // The model with its net multiplied by 2^k (validated again by create).
 Curve scaledCurve(const Curve& curve, int k);

@@ -167,18 +167,26 @@ Session::Session(std::shared_ptr<vk::Context> ctx) : ctx_(std::move(ctx)) {
 }
 Session::~Session() = default;
 
-const std::shared_ptr<vk::Context>& Session::context(Precision precision) {
-  if (!ctx_ && !noDevice_) {
-    vk::ContextOptions options = options_;
-    options.preferFp64 = options.preferFp64 || precision == Precision::Double;
-    try {
-      ctx_ = vk::Context::create(options);
-    } catch (const vk::NoDeviceError& e) {
-      noDevice_ = e.reason();
-    } catch (const vk::VulkanError& e) {
-      throwDeviceError(e);
-    }
+void Session::createContext(Precision precision) {
+  vk::ContextOptions options = options_;
+  options.preferFp64 = options.preferFp64 || precision == Precision::Double;
+  try {
+    ctx_ = vk::Context::create(options);
+  } catch (const vk::NoDeviceError& e) {
+    noDevice_ = e.reason();
+  } catch (const vk::VulkanError& e) {
+    throwDeviceError(e);
   }
+}
+
+void Session::prepare(const DeviceRequest& request) {
+  if (request.device == DeviceKind::Cpu || ctx_ || noDevice_ || preparing_.valid()) return;
+  preparing_ = std::async(std::launch::async, [this, precision = request.precision] { createContext(precision); });
+}
+
+const std::shared_ptr<vk::Context>& Session::context(Precision precision) {
+  if (preparing_.valid()) preparing_.get();  // its DeviceError, if creating the context failed
+  if (!ctx_ && !noDevice_) createContext(precision);
   return ctx_;
 }
 
@@ -242,7 +250,8 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   // The CPU path scales only nets beyond 2^200 down (where sums and products would overflow): fp64
   // holds tiny nets as they are, and scaling them up would make the derivatives of tiny knot
   // intervals (net / h^r) overflow. The GPU's exponent is set below.
-  r.netScaleExponent = std::min(0, netScale(model, Precision::Double));
+  const double magnitude = largestCoordinate(model);  // one pass over the net for both exponents
+  r.netScaleExponent = std::min(0, netScaleFor(magnitude, Precision::Double));
   if (request.device == DeviceKind::Cpu) return r;
   auto fallBack = [&](const std::string& why) {
     if (request.require) throw DeviceError(why + "; the CPU fallback is disabled", true);
@@ -277,7 +286,7 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   r.gpu = true;
   r.device = ctx->deviceName();
   r.computedPrecision = request.precision;
-  r.netScaleExponent = netScale(model, request.precision);
+  r.netScaleExponent = netScaleFor(magnitude, request.precision);
   return r;
 }
 

@@ -19,6 +19,7 @@
 #include <shapespline/vk/context.h>
 
 #include <array>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -131,6 +132,12 @@ class Session {
   // after plan() chose the GPU.
   const std::shared_ptr<vk::Context>& vulkanContext() const { return ctx_; }
 
+  // Starts creating the Vulkan context a job of `request` will plan on, on a thread of its own, so
+  // that the caller can read its model meanwhile (instance, device and driver take 0.1-0.2 s on
+  // llvmpipe); the next plan waits for it and reports as it would have. Nothing for a CPU request
+  // or when the context exists.
+  void prepare(const DeviceRequest& request);
+
   // The most bytes one device buffer of a model may take (0, the default: the device's
   // maxStorageBufferRange and maxMemoryAllocationSize). A grid job on a larger net is sampled in
   // bands of patch rows (Report::bandRows); a list job goes to the CPU. Tests force tiny bands with
@@ -153,8 +160,10 @@ class Session {
                        const ChunkConsumer& consumer, const GridOptions& options);
   template <class Model, class Query>
   auto evaluateFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries);
-  // The context, created on first call; nullptr (and noDevice_ set) when there is no device.
+  // The context, created on first call (or by prepare()); nullptr (and noDevice_ set) when there
+  // is no device.
   const std::shared_ptr<vk::Context>& context(Precision precision);
+  void createContext(Precision precision);
   // The grid evaluator of this precision and plane size, made on first use and kept: a session
   // that samples many models (`sample A.json B.json ...`) compiles each pipeline once.
   gpu::CurveEvaluator& curveEvaluator(Precision precision, size_t maxPlaneBytes);
@@ -163,6 +172,7 @@ class Session {
   vk::ContextOptions options_;
   std::shared_ptr<vk::Context> ctx_;
   std::optional<std::string> noDevice_;  // why creating the context failed
+  std::future<void> preparing_;          // prepare()'s createContext, until context() collects it
   uint64_t maxBufferBytes_ = 0;
   uint64_t bandBudgetBytes_ = kDefaultBandBudgetBytes;
   std::map<std::pair<Precision, size_t>, std::unique_ptr<gpu::CurveEvaluator>> curveEvaluators_;

@@ -140,7 +140,45 @@ TEST(SamplingPath, NoDeviceFallsBackWithTheReasonOrRefusesWhenRequired) {
 
 // ---- on the GPU (validation on) --------------------------------------------------------------
 
+// prepare() only moves the context's creation earlier: the plans that follow report what they would
+// have, the fallback and the refusal without a device included.
+TEST(SamplingPath, PreparedSessionPlansAsAPlainOne) {
+  const Curve c = Curve::create(exampleModel<CurveModel>("open_aeb.json"));
+  sampling::Session prepared(noSuchDevice());
+  prepared.prepare({DeviceKind::Vulkan, Precision::Float, true});
+  prepared.prepare({DeviceKind::Vulkan, Precision::Float, true});  // again while the first runs: nothing
+  const sampling::Report r = prepared.plan(c, {DeviceKind::Auto, Precision::Float, false});
+  EXPECT_FALSE(r.gpu);
+  ASSERT_EQ(r.fallbacks.size(), 1u);
+  EXPECT_NE(r.fallbacks[0].find("no Vulkan device (no usable device name contains"), std::string::npos) << r.fallbacks[0];
+  EXPECT_THROW(prepared.plan(c, {DeviceKind::Vulkan, Precision::Float, true}), sampling::DeviceError);
+  sampling::Session cpu(noSuchDevice());
+  cpu.prepare({DeviceKind::Cpu, Precision::Float, true});
+  EXPECT_EQ(cpu.vulkanContext(), nullptr);  // a CPU request creates nothing
+  { sampling::Session dropped(noSuchDevice()); dropped.prepare({DeviceKind::Auto, Precision::Double, false}); }
+}
+
 class SamplingGpu : public VulkanTest {};
+
+TEST_F(SamplingGpu, PreparedSessionPlansOnItsOwnDevice) {
+  vk::ContextOptions options;
+  options.validation = true;
+  options.persistentPipelineCache = false;
+  options.deviceName = ctx().deviceName();
+  sampling::Session session(options);
+  session.prepare({DeviceKind::Vulkan, Precision::Float, true});
+  const Surface s = Surface::create(exampleModel<SurfaceModel>("surface_aeb.json"));
+  const sampling::Report r = session.plan(s, {DeviceKind::Vulkan, Precision::Float, true});
+  EXPECT_TRUE(r.gpu);
+  EXPECT_EQ(r.device, ctx().deviceName());
+  ASSERT_NE(session.vulkanContext(), nullptr);
+  EXPECT_TRUE(session.vulkanContext()->validationMessages().empty())
+      << formatValidationMessages(session.vulkanContext()->validationMessages());
+  // Its grid is the shared context's, bit for bit.
+  sampling::Session shared(ctx_);
+  const DeviceRequest request{DeviceKind::Vulkan, Precision::Float, true};
+  EXPECT_EQ(gathered(session, s, request, Field::Point), gathered(shared, s, request, Field::Point));
+}
 
 TEST_F(SamplingGpu, AutoAndVulkanUseTheDeviceInTheRequestedPrecision) {
   sampling::Session session(ctx_);
