@@ -35,7 +35,9 @@ io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vecto
     throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
   // Array references ("points": {"npy": ...}) are resolved in the model file's folder.
-  io::ModelArrays arrays{std::filesystem::path(path).parent_path(), allowOutsideArrays, io::kDefaultArrayBudget, {}, {}, {}};
+  io::ModelArrays arrays;
+  arrays.folder = std::filesystem::path(path).parent_path();
+  arrays.allowOutside = allowOutsideArrays;
   if (digest) arrays.onFile = [digest](const std::filesystem::path& file) { digest->add(file); };
   io::Model model = io::parseModelText(text, &arrays);
   if (arrayFiles) *arrayFiles = std::move(arrays.files);

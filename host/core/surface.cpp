@@ -1,9 +1,9 @@
 #include <shapespline/core/surface.h>
 
 #include <shapespline/core/huge_pages.h>
-#include <shapespline/core/value_scan.h>
 #include <shapespline/core/point_math.h>
 #include <shapespline/core/validate.h>
+#include <shapespline/core/value_scan.h>
 #include <shapespline/core/value_text.h>
 
 #include <glm/geometric.hpp>

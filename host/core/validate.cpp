@@ -324,7 +324,8 @@ void validateSurface(const SurfaceModel& m) {
   if (m.cols < minPoints(c, orderV, m.closedV))
     fail("points[0]", std::to_string(m.cols) + " columns",
          minRule(c, orderV, m.closedV, "surface", "columns (v direction)"));
-  if (const size_t k = firstNonFinite(reinterpret_cast<const double*>(m.points.data()), 3 * m.points.size()); k < 3 * m.points.size()) {
+  const size_t coords = 3 * m.points.size();
+  if (const size_t k = firstNonFinite(reinterpret_cast<const double*>(m.points.data()), coords); k < coords) {
     const size_t point = k / 3, cols = static_cast<size_t>(m.cols);
     fail(idx(idx(idx("points", point / cols), point % cols), k % 3), shortestText(m.points[point][int(k % 3)]),
          "coordinates must be finite numbers");

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include <shapespline/core/huge_pages.h>
-#include <shapespline/core/value_scan.h>
 #include <shapespline/core/validate.h>
+#include <shapespline/core/value_scan.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/output_set.h>
@@ -498,7 +498,10 @@ Model parseModelText(std::string_view text, ModelArrays* arrays) {
 }
 
 Model loadModelFile(const std::filesystem::path& path, bool allowOutside, std::uint64_t maxValueBytes) {
-  ModelArrays arrays{path.parent_path(), allowOutside, maxValueBytes, {}, {}, {}};
+  ModelArrays arrays;
+  arrays.folder = path.parent_path();
+  arrays.allowOutside = allowOutside;
+  arrays.maxValueBytes = maxValueBytes;
   return parseModelText(readInputFile(path, "(file)"), &arrays);
 }
 
