@@ -301,7 +301,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
     if (!args.shard.empty()) throw InputError("--shard", args.shard, "a part is sampled whole (not sharded yet)");
     PartJob job{format, request, su, sv, fields, precision, {}};
     job.check = [fileFloat](const GridChunk& c, size_t first, size_t count) { requireFinite(c, first, count, fileFloat); };
-    return samplePartInto(args, job, outputs, summary, shared);
+    return samplePartInto(args, job, outputs, summary, &session);
   }
   const bool meshFormat = io::isMesh(format);
   if (args.meshLayout != "welded" && args.meshLayout != "per-item") {

@@ -146,7 +146,7 @@ class Session {
   // The most bytes one buffer of a grid job's model may take before its net is split into bands,
   // although the device would hold it whole (kDefaultBandBudgetBytes; 0: the device's limits only).
   // A band's surface is host memory, and so are its device buffers on llvmpipe and while staged
-  // on other devices: without it, a 4096² net on llvmpipe held 1 GB beside its 537 MB model.
+  // on other devices: without it, a 4096² α-EB job on llvmpipe held 1 GB for a 537 MB model.
   void setBandBudgetBytes(uint64_t bytes) { bandBudgetBytes_ = bytes; }
 
  private:
