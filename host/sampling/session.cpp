@@ -184,6 +184,11 @@ void Session::prepare(const DeviceRequest& request) {
   preparing_ = std::async(std::launch::async, [this, precision = request.precision] { createContext(precision); });
 }
 
+const std::shared_ptr<vk::Context>& Session::vulkanContext() const {
+  static const std::shared_ptr<vk::Context> none;
+  return preparing_.valid() ? none : ctx_;  // ctx_ may still be being written by prepare()'s thread
+}
+
 const std::shared_ptr<vk::Context>& Session::context(Precision precision) {
   if (preparing_.valid()) preparing_.get();  // its DeviceError, if creating the context failed
   if (!ctx_ && !noDevice_) createContext(precision);

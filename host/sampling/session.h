@@ -129,8 +129,9 @@ class Session {
   // The Vulkan context once a plan or job on the GPU path created it (nullptr before that and when
   // there is no device). A front end that keeps device-side models between jobs (the Python
   // module's gpu::GpuCurve/GpuSurface, so parameter changes need no net upload) builds them on it,
-  // after plan() chose the GPU.
-  const std::shared_ptr<vk::Context>& vulkanContext() const { return ctx_; }
+  // after plan() chose the GPU. A context that prepare() is still creating is not shown (nullptr)
+  // until a plan has collected it.
+  const std::shared_ptr<vk::Context>& vulkanContext() const;
 
   // Starts creating the Vulkan context a job of `request` will plan on, on a thread of its own, so
   // that the caller can read its model meanwhile (instance, device and driver take 0.1-0.2 s on

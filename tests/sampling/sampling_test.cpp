@@ -167,6 +167,7 @@ TEST_F(SamplingGpu, PreparedSessionPlansOnItsOwnDevice) {
   options.deviceName = ctx().deviceName();
   sampling::Session session(options);
   session.prepare({DeviceKind::Vulkan, Precision::Float, true});
+  EXPECT_EQ(session.vulkanContext(), nullptr);  // not before a plan collects it
   const Surface s = Surface::create(exampleModel<SurfaceModel>("surface_aeb.json"));
   const sampling::Report r = session.plan(s, {DeviceKind::Vulkan, Precision::Float, true});
   EXPECT_TRUE(r.gpu);
