@@ -75,13 +75,6 @@ DirectionTable tabulate(const SpanBasis& basis, int samples) {
   return tab;
 }
 
-
-// The v-contraction of one partial: dst[c][b] = sum_s rows[s][b] * T[s * kCoords + c] over the
-// samples b < n and the kCoords coordinates c, summed in order s = 0, 1, ... starting from 0.0
-// (the order fixes the bits). rows[s] is a tabulated basis row, T the u-contracted net points of the
-// sample row (coordinates interleaved). The 4-function families (all Xu-Wang and α-EB bases, cubic
-// B-splines) get an unrolled loop that keeps the sums in registers and loads each basis value once
-// for all coordinates.
 // sum_s x[s] * t[s], s = 0..3, summed in that order from 0.0: the order of every four-function
 // v-contraction, fused with the quotient rule or not, so that all give the same bits.
 inline __attribute__((always_inline)) double orderedSum4(const double x[4], const double t[4]) {
@@ -93,6 +86,12 @@ inline __attribute__((always_inline)) double orderedSum4(const double x[4], cons
   return acc;
 }
 
+// The v-contraction of one partial: dst[c][b] = sum_s rows[s][b] * T[s * kCoords + c] over the
+// samples b < n and the kCoords coordinates c, summed in order s = 0, 1, ... starting from 0.0
+// (the order fixes the bits). rows[s] is a tabulated basis row, T the u-contracted net points of the
+// sample row (coordinates interleaved). The 4-function families (all Xu-Wang and α-EB bases, cubic
+// B-splines) get an unrolled loop that keeps the sums in registers and loads each basis value once
+// for all coordinates.
 template <int kCoords>
 inline __attribute__((always_inline)) void contractCoordRows4(const double* const* rows, const double* T, int n,
                                                               double* const* dst) {
