@@ -51,21 +51,24 @@ BlockPool& pool() {
 
 }  // namespace
 
-BlockWriter::BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks) : out_(out), blockBytes_(blockBytes) {
+BlockWriter::BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks, Writes writes)
+    : out_(out), blockBytes_(blockBytes) {
   for (size_t k = 0; k < blocks; ++k) {
     storage_.push_back(pool().take(blockBytes));
     free_.push_back(k);
   }
-  thread_ = std::thread([this] { run(); });
+  if (writes == Writes::OnOwnThread) thread_ = std::thread([this] { run(); });
 }
 
 BlockWriter::~BlockWriter() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
+  if (thread_.joinable()) {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    queued_.notify_one();
+    thread_.join();
   }
-  queued_.notify_one();
-  thread_.join();
   pool().keep(storage_);
 }
 
@@ -81,6 +84,17 @@ BlockWriter::Block BlockWriter::acquire() {
 }
 
 void BlockWriter::submit(Block block, uint64_t offset, size_t size) {
+  if (!thread_.joinable()) {  // Writes::OnCaller: positioned writes of disjoint ranges need no lock
+    std::exception_ptr error;
+    try {
+      out_.writeAt(offset, block.data, size);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    std::lock_guard lock(mutex_);
+    done(block.index, error);
+    return;
+  }
   bool idle;
   {
     std::lock_guard lock(mutex_);
@@ -118,10 +132,14 @@ void BlockWriter::run() {
     }
     lock.lock();
     writing_ = false;
-    free_.push_back(p.index);
-    if (error && !failure_) failure_ = error;
-    if (acquirers_ > 0) freed_.notify_all();
+    done(p.index, error);
   }
+}
+
+void BlockWriter::done(size_t index, std::exception_ptr error) {
+  free_.push_back(index);
+  if (error && !failure_) failure_ = error;
+  if (acquirers_ > 0) freed_.notify_all();
 }
 
 }  // namespace shapespline::io

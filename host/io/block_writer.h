@@ -4,7 +4,8 @@
 // serialises the writes of one file anyway (its inode lock), so workers writing themselves spent
 // half their time waiting for each other (e2e .f32 of 15.2 M points x 3 fields: 0.42 s with one
 // worker or two). Memory is bounded: `blocks` buffers of `blockBytes`, reused, and kept for the next
-// writer up to a bound (block_writer.cpp).
+// writer up to a bound (block_writer.cpp). A job of one block gains nothing from the thread and
+// pays its start and a wake-up per block, so it may write on the caller's thread instead (Writes).
 #include <shapespline/io/atomic_file.h>
 
 #include <condition_variable>
@@ -31,7 +32,12 @@ class BlockWriter {
     size_t bytes = 0;
   };
 
-  BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks);
+  // Where submit()'s blocks are written: by a thread of the writer's own while the caller goes on,
+  // or at once by the thread that submits them. Either way a failed write is rethrown by the next
+  // acquire() or finish(), never by submit().
+  enum class Writes { OnOwnThread, OnCaller };
+
+  BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks, Writes writes = Writes::OnOwnThread);
   ~BlockWriter();  // stops the thread; blocks not yet written are dropped (the file is being discarded)
   BlockWriter(const BlockWriter&) = delete;
   BlockWriter& operator=(const BlockWriter&) = delete;
@@ -51,6 +57,7 @@ class BlockWriter {
     size_t size;
   };
   void run();
+  void done(size_t index, std::exception_ptr error);  // under mutex_
 
   AtomicFile& out_;
   size_t blockBytes_;
@@ -67,7 +74,7 @@ class BlockWriter {
   size_t head_ = 0;
   bool writing_ = false, stop_ = false;
   std::exception_ptr failure_;
-  std::thread thread_;
+  std::thread thread_;  // none for Writes::OnCaller
 };
 
 }  // namespace shapespline::io
