@@ -20,10 +20,11 @@ namespace shapespline::io {
 std::vector<Field> recordFields(FieldMask mask);
 
 // The records of a raw or .npy file placed by point index (record k of the file at base + k x
-// record size), written by an io::BlockWriter thread. They come from the CPU sampler's workers,
-// encoded as they compute (sink(), SampleWriter::recordSink), or from any sampler's chunk planes:
-// per slice (slice(), SampleWriter::writeSlice) or, when the caller delivers neither, from
-// consume(). Chunks must be of the layout's items; finish() before the file is committed.
+// record size), written by an io::BlockWriter (on a thread of its own unless the job fits one
+// block). They come from the CPU sampler's workers, encoded as they compute (sink(),
+// SampleWriter::recordSink), or from any sampler's chunk planes: per slice (slice(),
+// SampleWriter::writeSlice) or, when the caller delivers neither, from consume(). Chunks must be of
+// the layout's items; finish() before the file is committed.
 class PlacedRecords {
  public:
   PlacedRecords() = default;
@@ -46,6 +47,7 @@ class PlacedRecords {
   uint64_t base_ = 0;
   size_t recordBytes_ = 0;
   std::atomic<bool> written_{false};  // records came from slices or a sink: consume() adds none
+  bool writerThread_ = true;          // the BlockWriter writes on a thread of its own
   std::unique_ptr<BlockWriter> writer_;
 };
 

@@ -27,7 +27,8 @@ std::vector<Field> recordFields(FieldMask mask) {
 
 // 1 MiB blocks, four per core: enough for the workers to fill blocks while one is being written.
 // A smaller job gets blocks of its own size (one of a batch of small models allocated and faulted
-// in 8 MiB for 300 KB of records).
+// in 8 MiB for 300 KB of records), written on the sampler's thread: a writer thread for one block
+// overlaps nothing and costs its start and wake-ups (docs/performance.md, batches).
 constexpr size_t kBlockBytes = size_t{1} << 20;
 
 void PlacedRecords::begin(AtomicFile& out, const SampleLayout& layout, const std::vector<Field>& fields, bool float64,
@@ -40,7 +41,10 @@ void PlacedRecords::begin(AtomicFile& out, const SampleLayout& layout, const std
   const size_t blocks = 4 * static_cast<size_t>(availableCores());
   const uint64_t jobBytes = layout.pointCount() * recordBytes_;
   const size_t blockBytes = static_cast<size_t>(std::min<uint64_t>(kBlockBytes, jobBytes));
-  writer_ = std::make_unique<BlockWriter>(out, std::max(blockBytes, recordBytes_), blocks);
+  writerThread_ = jobBytes > kBlockBytes;
+  writer_ = std::make_unique<BlockWriter>(out, std::max(blockBytes, recordBytes_), blocks,
+                                          writerThread_ ? BlockWriter::Writes::OnOwnThread
+                                                        : BlockWriter::Writes::OnCaller);
   written_ = false;
 }
 
@@ -77,7 +81,7 @@ RecordSink PlacedRecords::sink() {
   s.fields = fields_;
   s.float64 = float64_;
   s.maxPoints = writer_->blockBytes() / recordBytes_;
-  s.ownThreads = 1;  // the BlockWriter's
+  s.ownThreads = writerThread_ ? 1 : 0;  // the BlockWriter's
   s.acquire = [this] {
     written_.store(true, std::memory_order_relaxed);
     const BlockWriter::Block block = writer_->acquire();
