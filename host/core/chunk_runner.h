@@ -204,12 +204,18 @@ inline const RecordSink* usableSink(const SamplerOptions& options, FieldMask fie
 // never writes (a record sink takes the points) are never touched.
 constexpr size_t kChunkBuffers = 4;
 
+// The fewest points of a job per default worker, about 0.3 ms of sampling (bicubic, points only): a
+// batch of 1,000 models of 25,600 points each started a worker and a writer thread per model for
+// 0.25 ms of sampling (docs/performance.md, batches).
+constexpr size_t kMinWorkerPoints = 32768;
+
 // Runs compute(out, rowBegin, rowEnd, firstPointInChunk) over every chunk of `plan` (`out`: a
 // PlaneOut over a chunk buffer or, with a record sink, a RecordOut over one of its blocks), each chunk's
 // rows split into one slice per worker (threads share the rows of one patch just as they share
 // whole patches), and hands finished chunks to the consumer in order on the calling thread while
 // the workers fill the other buffers. The workers live for the whole job (no thread start per
-// chunk), so chunks can be small enough for their buffers to stay in cache.
+// chunk), so chunks can be small enough for their buffers to stay in cache. A job that one worker
+// does in one chunk runs on the calling thread.
 template <class Compute>
 void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& options, const ChunkConsumer& consumer,
                 Compute compute) {
@@ -219,10 +225,18 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
   // workers beside the sink's writer thread made the e2e .f32 job 10% slower than one (3 runs of
   // 16 interleaved pairs; the three threads preempted each other).
   const int cores = availableCores();
-  const int threads = options.threads > 0 ? options.threads : std::max(1, cores - (sink ? sink->ownThreads : 0));
+  // By default, too, a worker per kMinWorkerPoints of the job at most: a thread's start and wake-ups
+  // (tens of microseconds each on a VM) outweigh what it computes for a small job.
+  const size_t jobPoints = plan.itemCount * plan.rowsPerItem * plan.pointsPerRow;
+  const int threads = options.threads > 0
+                          ? options.threads
+                          : static_cast<int>(std::min<size_t>(
+                                static_cast<size_t>(std::max(1, cores - (sink ? sink->ownThreads : 0))),
+                                std::max<size_t>(1, jobPoints / kMinWorkerPoints)));
   const size_t chunkCount = plan.chunkCount();
   const size_t maxRows = plan.itemsPerChunk ? plan.itemsPerChunk * plan.rowsPerItem : plan.rowsPerChunk;
   const size_t workers = std::min<size_t>(static_cast<size_t>(threads), maxRows);
+  const bool onCaller = workers == 1 && chunkCount == 1;  // nothing to overlap: no thread
   // Without a record sink, the job's own planes when the caller gives them, else chunk buffers.
   const bool direct = !sink && usesJobPlanes(options, fields);
   ChunkBuffer buffers[kChunkBuffers];
@@ -307,7 +321,9 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
     for (auto& t : pool) t.join();
   };
   try {
-    for (size_t w = 0; w < workers; ++w) pool.emplace_back(work, w);
+    if (onCaller) work(0);
+    else
+      for (size_t w = 0; w < workers; ++w) pool.emplace_back(work, w);
   } catch (...) {
     shutdown();
     throw;
