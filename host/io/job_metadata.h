@@ -122,7 +122,8 @@ std::string sha256Of(std::string_view bytes);
 // it names (ModelArrays::files, in that order). A model without arrays gives sha256sum's digits.
 // Reading a big net's arrays a second time and hashing them takes a while (0.25 s for 400 MB), so
 // the hash runs on a thread of its own, beside the parse: the model file's bytes from the start,
-// each array's as soon as add() names it (ModelArrays::onFile), before the parser reads it.
+// each array's as soon as add() names it (ModelArrays::onFile), before the parser reads it. Files
+// of 256 KiB or less in all are hashed by get() instead, without a thread.
 class ModelDigest {
  public:
   explicit ModelDigest(std::filesystem::path modelFile);

@@ -125,6 +125,8 @@ TEST(JobMetadata, Sha256OfFileRefusesWhatItCannotRead) {
 // The model's digest is that of the model file's bytes followed by each array's, whichever order
 // the files arrive in relative to the hashing thread; it fails on a file it cannot read, and a
 // digest dropped unread (the job failed before its metadata) stops without waiting for the rest.
+// Files of 256 KiB or less in all are hashed by get() (the model alone here, the model and `alpha`
+// below); `points` takes them over that, so that a thread hashes from then on.
 TEST(JobMetadata, ModelDigestHashesTheModelThenItsArrays) {
   std::mt19937 rng(11);
   auto randomBytes = [&](size_t n) {
@@ -144,9 +146,17 @@ TEST(JobMetadata, ModelDigestHashesTheModelThenItsArrays) {
     late.add(a.path());
     EXPECT_EQ(late.get(), sha256Of(model + points + alpha));
   }
+  EXPECT_EQ(modelSha256(m.path(), {a.path()}), sha256Of(model + alpha));
   ModelDigest missing(m.path());
   missing.add("/nonexistent/shapespline/net.npy");
   EXPECT_THROW(missing.get(), std::runtime_error);
+  {
+    const TempFile gone("small");
+    ModelDigest small(m.path());
+    small.add(gone.path());  // small: hashed by get(), which no longer finds it
+    fs::remove(gone.path());
+    EXPECT_THROW(small.get(), std::runtime_error);
+  }
   EXPECT_THROW(modelSha256("/nonexistent/shapespline/model.json", {p.path()}), std::runtime_error);
   const TempFile b(randomBytes(size_t{32} << 20));
   const auto start = std::chrono::steady_clock::now();
