@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string_view>
 #include <system_error>
 #include <thread>
@@ -391,11 +392,13 @@ void commitFiles(AtomicFile* const* files, size_t count) {
   std::vector<fs::path> folders;
   for (size_t i = 0; i < count; ++i) folders.push_back(folderOf(files[i]->target_));
   FolderLocks locks(folders);
+  std::optional<mode_t> umask;  // read once a commit, when a new file needs it
   for (size_t i = 0; i < count; ++i) {
     AtomicFile& f = *files[i];
     struct stat st {};
-    const mode_t mode = (::stat(f.target_.c_str(), &st) == 0 && S_ISREG(st.st_mode)) ? (st.st_mode & 07777)
-                                                                                      : (0666 & ~processUmask());
+    const bool replaces = ::stat(f.target_.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+    if (!replaces && !umask) umask = processUmask();
+    const mode_t mode = replaces ? (st.st_mode & 07777) : (0666 & ~*umask);
     if (::fchmod(f.fd_, mode) != 0) f.fail("chmod", errno);
     const int closed = ::close(f.fd_);
     f.fd_ = -1;
