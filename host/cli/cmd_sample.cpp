@@ -22,14 +22,18 @@
 #include <malloc.h>
 #endif
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <future>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <string_view>
+#include <thread>
 
 namespace shapespline::cli {
 namespace {
@@ -527,11 +531,61 @@ std::string withStem(std::string pattern, const std::string& stem) {
   return pattern;
 }
 
-// A model's finished output set, committing on a thread of its own while the next model samples.
+// A model's finished output set, committing on the CommitThread while the next model samples.
 struct PendingCommit {
   std::string model, summary;
   std::unique_ptr<io::OutputSet> outputs;
   std::future<void> done;
+};
+
+// The thread a batch commits its output sets on, in order: one for the batch (a thread per model
+// cost its start and join for every model). Destroyed, it first commits what it was given, so that
+// no set is destroyed while it is being committed.
+class CommitThread {
+ public:
+  CommitThread() : thread_([this] { run(); }) {}
+  ~CommitThread() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    changed_.notify_one();
+    thread_.join();
+  }
+  CommitThread(const CommitThread&) = delete;
+  CommitThread& operator=(const CommitThread&) = delete;
+
+  // `set` committed on the thread; the future holds its error.
+  std::future<void> commit(io::OutputSet& set) {
+    std::packaged_task<void()> task([&set] { set.commit(); });
+    std::future<void> done = task.get_future();
+    {
+      std::lock_guard lock(mutex_);
+      queue_.push_back(std::move(task));
+    }
+    changed_.notify_one();
+    return done;
+  }
+
+ private:
+  void run() {
+    std::unique_lock lock(mutex_);
+    while (true) {
+      changed_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stop_, and nothing left to commit
+      std::packaged_task<void()> task = std::move(queue_.front());
+      queue_.pop_front();
+      lock.unlock();
+      task();  // a failure goes to the task's future
+      lock.lock();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::packaged_task<void()>> queue_;
+  bool stop_ = false;
+  std::thread thread_;
 };
 
 // Between models glibc hands the freed chunk buffers back to the kernel (it trims the heap's top
@@ -567,6 +621,7 @@ void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) 
     std::fprintf(stderr, "shapespline: error: %s: %s\n", model.c_str(), e.what());
   };
   std::optional<PendingCommit> pending;
+  CommitThread committer;  // after `pending`: destroyed first, it finishes the pending commit
   auto settle = [&] {  // waits for the previous model's commit and prints its line
     if (!pending) return;
     PendingCommit p = std::move(*pending);
@@ -597,9 +652,8 @@ void sampleMany(const SampleArgs& args, const std::vector<std::string>& models) 
     }
     settle();
     if (!wrote) continue;  // (the set is discarded with `outputs`)
-    io::OutputSet* set = outputs.get();
-    pending = PendingCommit{m, std::move(summary), std::move(outputs),
-                            std::async(std::launch::async, [set] { set->commit(); })};
+    std::future<void> done = committer.commit(*outputs);
+    pending = PendingCommit{m, std::move(summary), std::move(outputs), std::move(done)};
   }
   settle();
   if (failed)
