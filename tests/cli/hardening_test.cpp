@@ -203,6 +203,13 @@ TEST(CliHardeningFaults, FullDiskIsExit3WithNoPartialFile) {
     const CliResult r = sample(exampleModel("open_aeb.json"), out, file, "--device cpu --samples 20000 --derivatives", "", 64);
     expectCleanFailure(r, 3, {"-o: cannot write", "File too large", "temporary file was removed"}, out, file);
   }
+  // 720 KB of records, one block: written by the sampler's own thread (no writer thread); the
+  // failed write still ends the job the same way.
+  for (const char* file : {"one_block.f64", "one_block.npy"}) {
+    const fs::path out = dir / (std::string("o_") + file);
+    const CliResult r = sample(exampleModel("open_aeb.json"), out, file, "--device cpu --samples 2000 --derivatives", "", 64);
+    expectCleanFailure(r, 3, {"-o: cannot write", "File too large", "temporary file was removed"}, out, file);
+  }
   // A small job fits under the limit: the limit itself is not what fails.
   const CliResult ok = sample(exampleModel("open_aeb.json"), dir / "small", "c.csv", "--device cpu --samples 5", "", 64);
   EXPECT_EQ(ok.rc, 0) << ok.err;
