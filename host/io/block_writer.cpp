@@ -61,7 +61,7 @@ BlockWriter::BlockWriter(AtomicFile& out, size_t blockBytes, size_t blocks, Writ
 }
 
 BlockWriter::~BlockWriter() {
-  if (thread_.joinable()) {
+  if (ownThread()) {
     {
       std::lock_guard lock(mutex_);
       stop_ = true;
@@ -84,7 +84,7 @@ BlockWriter::Block BlockWriter::acquire() {
 }
 
 void BlockWriter::submit(Block block, uint64_t offset, size_t size) {
-  if (!thread_.joinable()) {  // Writes::OnCaller: positioned writes of disjoint ranges need no lock
+  if (!ownThread()) {  // Writes::OnCaller: positioned writes of disjoint ranges need no lock
     std::exception_ptr error;
     try {
       out_.writeAt(offset, block.data, size);

@@ -43,6 +43,7 @@ class BlockWriter {
   BlockWriter& operator=(const BlockWriter&) = delete;
 
   size_t blockBytes() const { return blockBytes_; }
+  bool ownThread() const { return thread_.joinable(); }  // Writes::OnOwnThread
   // A free block (waits while all are queued). Rethrows a failed write.
   Block acquire();
   // Queues the first `size` bytes of `block` for byte `offset` of the file.

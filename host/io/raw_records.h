@@ -47,7 +47,6 @@ class PlacedRecords {
   uint64_t base_ = 0;
   size_t recordBytes_ = 0;
   std::atomic<bool> written_{false};  // records came from slices or a sink: consume() adds none
-  bool writerThread_ = true;          // the BlockWriter writes on a thread of its own
   std::unique_ptr<BlockWriter> writer_;
 };
 

@@ -41,10 +41,9 @@ void PlacedRecords::begin(AtomicFile& out, const SampleLayout& layout, const std
   const size_t blocks = 4 * static_cast<size_t>(availableCores());
   const uint64_t jobBytes = layout.pointCount() * recordBytes_;
   const size_t blockBytes = static_cast<size_t>(std::min<uint64_t>(kBlockBytes, jobBytes));
-  writerThread_ = jobBytes > kBlockBytes;
   writer_ = std::make_unique<BlockWriter>(out, std::max(blockBytes, recordBytes_), blocks,
-                                          writerThread_ ? BlockWriter::Writes::OnOwnThread
-                                                        : BlockWriter::Writes::OnCaller);
+                                          jobBytes > kBlockBytes ? BlockWriter::Writes::OnOwnThread
+                                                                 : BlockWriter::Writes::OnCaller);
   written_ = false;
 }
 
@@ -81,7 +80,7 @@ RecordSink PlacedRecords::sink() {
   s.fields = fields_;
   s.float64 = float64_;
   s.maxPoints = writer_->blockBytes() / recordBytes_;
-  s.ownThreads = writerThread_ ? 1 : 0;  // the BlockWriter's
+  s.ownThreads = writer_->ownThread() ? 1 : 0;  // the BlockWriter's
   s.acquire = [this] {
     written_.store(true, std::memory_order_relaxed);
     const BlockWriter::Block block = writer_->acquire();
