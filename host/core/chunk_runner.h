@@ -228,14 +228,13 @@ void runChunked(const ChunkPlan& plan, FieldMask fields, const SamplerOptions& o
   // By default, too, a worker per kMinWorkerPoints of the job at most: a thread's start and wake-ups
   // (tens of microseconds each on a VM) outweigh what it computes for a small job.
   const size_t jobPoints = plan.itemCount * plan.rowsPerItem * plan.pointsPerRow;
-  const int threads = options.threads > 0
-                          ? options.threads
-                          : static_cast<int>(std::min<size_t>(
-                                static_cast<size_t>(std::max(1, cores - (sink ? sink->ownThreads : 0))),
-                                std::max<size_t>(1, jobPoints / kMinWorkerPoints)));
+  const size_t freeCores = static_cast<size_t>(std::max(1, cores - (sink ? sink->ownThreads : 0)));
+  const size_t worthThreads = std::max<size_t>(1, jobPoints / kMinWorkerPoints);
+  const size_t threads =
+      options.threads > 0 ? static_cast<size_t>(options.threads) : std::min(freeCores, worthThreads);
   const size_t chunkCount = plan.chunkCount();
   const size_t maxRows = plan.itemsPerChunk ? plan.itemsPerChunk * plan.rowsPerItem : plan.rowsPerChunk;
-  const size_t workers = std::min<size_t>(static_cast<size_t>(threads), maxRows);
+  const size_t workers = std::min(threads, maxRows);
   const bool onCaller = workers == 1 && chunkCount == 1;  // nothing to overlap: no thread
   // Without a record sink, the job's own planes when the caller gives them, else chunk buffers.
   const bool direct = !sink && usesJobPlanes(options, fields);
