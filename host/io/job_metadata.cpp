@@ -493,7 +493,7 @@ constexpr uintmax_t kInlineDigestBytes = 256 << 10;
 }  // namespace
 
 struct ModelDigest::State {
-  uintmax_t queuedBytes = 0;  // of every file added so far
+  uintmax_t queuedBytes = 0;  // of the files added before the worker started
   std::mutex mutex;
   std::condition_variable changed;
   std::deque<std::filesystem::path> files;  // added, not yet hashed
@@ -533,9 +533,11 @@ struct ModelDigest::State {
   // Queues `file`; starts the worker once the files are worth a thread (a size that cannot be read
   // counts as large: hashFile reports the error).
   void add(std::filesystem::path file) {
-    std::error_code ec;
-    const uintmax_t bytes = std::filesystem::file_size(file, ec);
-    queuedBytes += ec ? kInlineDigestBytes + 1 : bytes;
+    if (!worker.joinable()) {  // sizes matter only until the worker runs
+      std::error_code ec;
+      const uintmax_t bytes = std::filesystem::file_size(file, ec);
+      queuedBytes += ec ? kInlineDigestBytes + 1 : bytes;
+    }
     {
       std::lock_guard lock(mutex);
       files.push_back(std::move(file));
