@@ -239,18 +239,27 @@ std::vector<int> curveGridItems(const Curve& curve) {
   return items;
 }
 
-SurfaceGridItems surfaceGridItems(const Surface& surface) {
+namespace {
+
+// The patches of range `r` of a surface of shape `m`; knot vectors skip their empty intervals.
+SurfaceGridItems gridItemsIn(const PatchRange& r, const SurfaceShape& m) {
   SurfaceGridItems items;
-  const PatchRange r = surface.patches();
-  const auto& m = surface.model();
+  const bool knotVector = parameterizationOf(m) == Parameterization::KnotVector;
   for (int i = r.u.first; i <= r.u.last; ++i) {
-    if (!surface.usesKnotVector() || m.knotsU[i] < m.knotsU[i + 1]) items.u.push_back(i);
+    if (!knotVector || m.knotsU[i] < m.knotsU[i + 1]) items.u.push_back(i);
   }
   for (int j = r.v.first; j <= r.v.last; ++j) {
-    if (!surface.usesKnotVector() || m.knotsV[j] < m.knotsV[j + 1]) items.v.push_back(j);
+    if (!knotVector || m.knotsV[j] < m.knotsV[j + 1]) items.v.push_back(j);
   }
   return items;
 }
+
+}  // namespace
+
+SurfaceGridItems surfaceGridItems(const SurfaceShape& m) { return gridItemsIn(patchRangeOf(m), m); }
+
+// The surface's own range: a band of patch rows (Surface::patchRows) has fewer than its shape's.
+SurfaceGridItems surfaceGridItems(const Surface& surface) { return gridItemsIn(surface.patches(), surface.model()); }
 
 namespace {
 

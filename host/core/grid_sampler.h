@@ -65,6 +65,8 @@ struct SurfaceGridItems {
   Iterator end() const { return {this, size()}; }
 };
 SurfaceGridItems surfaceGridItems(const Surface& surface);
+// The same from the shape alone (a valid one: core/validate.h validateSurfaceShape).
+SurfaceGridItems surfaceGridItems(const SurfaceShape& shape);
 
 // Fields allowed: Point, D1, D2 (curves); Point, Du, Dv, Duu, Duv, Dvv, Normal (surfaces).
 // Throws std::invalid_argument for another field, fewer than 2 samples, or an item range outside

@@ -169,18 +169,65 @@ std::vector<glm::dvec3> netInPlace(std::vector<glm::dvec3> points, int rows, int
 // |V| <= M + f (M + Σ|w_r| Σ|w_s| M). (1-α)/α falls as α grows in (0,1] (validated), so f is that
 // of the smallest α. A factor 4 below the largest double leaves room for the rounding of each sum;
 // an infinite f or M gives false.
-bool verticesSurelyFinite(const std::vector<glm::dvec3>& net, const std::vector<double>& alpha, const double weightU[3],
-                          const double weightV[3]) {
-  const double m = largestMagnitude(reinterpret_cast<const double*>(net.data()), 3 * net.size());
-  const double smallest = valueRange(alpha.data(), alpha.size()).min;
-  const double f = (1.0 - smallest) / smallest;
+bool verticesSurelyFinite(double netMagnitude, double smallestAlpha, const double weightU[3], const double weightV[3]) {
+  const double m = netMagnitude;
+  const double f = (1.0 - smallestAlpha) / smallestAlpha;
   const double node = (std::abs(weightU[0]) + std::abs(weightU[1]) + std::abs(weightU[2])) *
                       (std::abs(weightV[0]) + std::abs(weightV[1]) + std::abs(weightV[2])) * m;
   const double bound = m + f * (m + node);
   return bound < std::numeric_limits<double>::max() / 4;
 }
 
+// The v direction's span basis: a bspline surface's own v order, else the u basis.
+SpanBasis basisVOf(const SurfaceShape& m, const SpanBasis& basisU) {
+  return familyOf(m.family.construction).twoOrders && m.orderV > 0 ? uniformBSplineSpanBasis(m.orderV) : basisU;
+}
+
+// The span bases at 0 (b_0..b_2 of u and v): the weights of α-EB node_ij.
+void nodeWeightsOf(const SpanBasis& u, const SpanBasis& v, double weightU[3], double weightV[3]) {
+  double d1[kMaxBasisCount], d2[kMaxBasisCount], u0[kMaxBasisCount], v0[kMaxBasisCount];
+  evalSpanBasis(u, 0.0, u0, d1, d2);
+  evalSpanBasis(v, 0.0, v0, d1, d2);
+  std::copy(u0, u0 + 3, weightU);
+  std::copy(v0, v0 + 3, weightV);
+}
+
 }  // namespace
+
+Parameterization parameterizationOf(const SurfaceShape& m) {
+  return parameterizationOf(m.family.construction, !m.knotsU.empty() || !m.knotsV.empty());
+}
+
+PatchRange patchRangeOf(const SurfaceShape& m) {
+  if (parameterizationOf(m) == Parameterization::KnotVector) {
+    const int orderV = m.orderV > 0 ? m.orderV : m.family.order;
+    return {knotIntervals(m.family.order, m.rows), knotIntervals(orderV, m.cols)};
+  }
+  const bool alphaEB = m.family.construction == Construction::AlphaEB;
+  const SpanBasis u = makeSpanBasis(m.family), v = basisVOf(m, u);
+  auto range = [&](int n, bool closed, const SpanBasis& b) {
+    if (alphaEB) return SpanRange{0, closed ? n - 1 : n - 2};
+    return closed ? SpanRange{0, n - 1} : SpanRange{b.centre, n - b.count + b.centre};
+  };
+  return {range(m.rows, m.closedU, u), range(m.cols, m.closedV, v)};
+}
+
+bool alphaEBVerticesSurelyFinite(const SurfaceShape& m, double pointMagnitude, double smallestAlpha) {
+  const SpanBasis u = makeSpanBasis(m.family), v = basisVOf(m, u);
+  // The net's entries are the points and phantoms w0 P + w1 P' (§5.1): at most Σ|w| times the
+  // points' magnitude per direction.
+  auto spread = [](int n, bool closed, const SpanBasis& b) {
+    int offset = 0;
+    double most = 1.0;
+    for (const ExtendedIndex& e : extendedIndices(n, closed, true, b.count, b.centre, offset))
+      most = std::max(most, std::abs(e.w0) + std::abs(e.w1));
+    return most;
+  };
+  double weightU[3], weightV[3];
+  nodeWeightsOf(u, v, weightU, weightV);
+  const double net = pointMagnitude * spread(m.rows, m.closedU, u) * spread(m.cols, m.closedV, v);
+  return verticesSurelyFinite(net, smallestAlpha, weightU, weightV);
+}
 
 size_t netCapacity(int rows, int cols) {
   // Every family's net has at most kMaxBasisCount - 1 more entries per direction than points
@@ -195,9 +242,8 @@ Surface Surface::create(SurfaceModel model) {
   std::vector<double> weights = std::move(model.weights);
   s.model_ = std::move(static_cast<SurfaceShape&>(model));
   const SurfaceShape& m = s.model_;
-  const Construction kind = m.family.construction;
 
-  s.parameterization_ = parameterizationOf(kind, !m.knotsU.empty() || !m.knotsV.empty());
+  s.parameterization_ = parameterizationOf(m);
   if (s.knotVector()) {
     s.bspline_.orderU = m.family.order;
     s.bspline_.orderV = m.orderV > 0 ? m.orderV : m.family.order;
@@ -207,21 +253,13 @@ Surface Surface::create(SurfaceModel model) {
     s.bspline_.cols = m.cols;
     s.bspline_.points = std::move(points);
     s.bspline_.weights = std::move(weights);
-    s.patches_ = {knotIntervals(s.bspline_.orderU, m.rows), knotIntervals(s.bspline_.orderV, m.cols)};
+    s.patches_ = patchRangeOf(m);
     return s;
   }
 
   s.basisU_ = makeSpanBasis(m.family);
-  if (familyOf(kind).twoOrders && m.orderV > 0) {
-    s.basisV_ = uniformBSplineSpanBasis(m.orderV);
-  } else {
-    s.basisV_ = s.basisU_;
-  }
-  auto range = [&](int n, bool closed, const SpanBasis& b) {
-    if (s.alphaEB()) return SpanRange{0, closed ? n - 1 : n - 2};
-    return closed ? SpanRange{0, n - 1} : SpanRange{b.centre, n - b.count + b.centre};
-  };
-  s.patches_ = {range(m.rows, m.closedU, s.basisU_), range(m.cols, m.closedV, s.basisV_)};
+  s.basisV_ = basisVOf(m, s.basisU_);
+  s.patches_ = patchRangeOf(m);
 
   const std::vector<ExtendedIndex> eu =
       extendedIndices(m.rows, m.closedU, s.alphaEB(), s.basisU_.count, s.basisU_.centre, s.offU_);
@@ -237,15 +275,12 @@ Surface Surface::create(SurfaceModel model) {
     // At (0,0) only b_0..b_2 are nonzero in each direction (b_3(0) = 0, §2.3), so node_ij reads the
     // 3 x 3 block around P_ij: a 4 x 4 block would read past the extended net for the last row of an
     // open direction (and into the next row for the last column).
-    double d1[kMaxBasisCount], d2[kMaxBasisCount], u0[kMaxBasisCount], v0[kMaxBasisCount];
-    evalSpanBasis(s.basisU_, 0.0, u0, d1, d2);
-    evalSpanBasis(s.basisV_, 0.0, v0, d1, d2);
-    std::copy(u0, u0 + 3, s.nodeWeightU_);
-    std::copy(v0, v0 + 3, s.nodeWeightV_);
+    nodeWeightsOf(s.basisU_, s.basisV_, s.nodeWeightU_, s.nodeWeightV_);
     // Every V within fp64 (a tiny α makes V overflow, §4.2): ModelError naming the first vertex
     // that breaks the rule. Computing every V was a fifth of building a 4096² net, so a bound over
     // the whole net comes first, and only a net it cannot clear is checked vertex by vertex.
-    if (!verticesSurelyFinite(s.net_, m.alpha, s.nodeWeightU_, s.nodeWeightV_))
+    if (!verticesSurelyFinite(largestMagnitude(reinterpret_cast<const double*>(s.net_.data()), 3 * s.net_.size()),
+                              valueRange(m.alpha.data(), m.alpha.size()).min, s.nodeWeightU_, s.nodeWeightV_))
       for (int i = 0; i < m.rows; ++i) {
         for (int j = 0; j < m.cols; ++j) {
           (void)alphaEBVertex(s.controlPoint(i, j), s.alphaNode(i, j), m.alpha[static_cast<size_t>(i) * m.cols + j],

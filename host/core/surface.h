@@ -86,6 +86,20 @@ inline constexpr double kNormalDegeneracy = 1e-12;          // |a x b| < 1e-12 |
 // reserves this much for the points lets Surface::create build the net in their block.
 size_t netCapacity(int rows, int cols);
 
+// The parameterization a surface of this shape has (Surface::parameterization()).
+Parameterization parameterizationOf(const SurfaceShape& shape);
+
+// The valid patches of a surface of this shape, as Surface::patches() of the surface it makes
+// (§5.1 for α-EB, §1 per direction for plain families, knot intervals k-1..n for knot vectors): a
+// job is laid out from the shape before, or without, reading its net.
+PatchRange patchRangeOf(const SurfaceShape& shape);
+
+// The bound Surface::create tries first for an α-EB surface (§4.2: no V can leave fp64), from the
+// largest |coordinate| of the points and the smallest α instead of the built net: a net whose
+// points are read as a stream is checked without being built. False means "not shown", not
+// "overflows": Surface::create then checks each vertex.
+bool alphaEBVerticesSurelyFinite(const SurfaceShape& shape, double pointMagnitude, double smallestAlpha);
+
 // ---- Typed surface ------------------------------------------------------------------------------
 
 class Surface {

@@ -146,9 +146,9 @@ void checkAlphaValue(double a, FieldName field) {
 
 // Every α finite and in (0,1]: two vectorised passes, so that only a net that breaks the rule is
 // checked value by value (to name the first one that does).
-bool alphaValuesInRange(const std::vector<double>& alpha) {
-  if (alpha.empty() || firstNonFinite(alpha.data(), alpha.size()) < alpha.size()) return false;
-  const ValueRange r = valueRange(alpha.data(), alpha.size());
+bool alphaValuesInRange(const double* alpha, size_t count) {
+  if (count == 0 || firstNonFinite(alpha, count) < count) return false;
+  const ValueRange r = valueRange(alpha, count);
   return r.min > 0.0 && r.max <= 1.0;
 }
 
@@ -218,14 +218,13 @@ void checkWeight(double w, const glm::dvec3& p, FieldName field) {
 }
 
 // Weights belong to knot-vector B-splines only, one per point.
-void checkWeightsAllowed(const std::vector<double>& weights, size_t points, Construction c, bool knotVector,
-                         const std::string& shape) {
-  if (weights.empty()) return;
+void checkWeightsAllowed(size_t weights, size_t points, Construction c, bool knotVector, const std::string& shape) {
+  if (weights == 0) return;
   if (c != Construction::BSpline || !knotVector)
-    fail("weights", std::to_string(weights.size()) + " values",
+    fail("weights", std::to_string(weights) + " values",
          "weights are only allowed for bspline models with a knot vector (a rational B-spline)");
-  if (weights.size() != points)
-    fail("weights", std::to_string(weights.size()) + " values", "weights must have one value per point (" + shape + ")");
+  if (weights != points)
+    fail("weights", std::to_string(weights) + " values", "weights must have one value per point (" + shape + ")");
 }
 
 }  // namespace
@@ -253,13 +252,13 @@ void validateCurve(const CurveModel& m) {
     if (m.alpha.size() != n)
       fail("alpha", std::to_string(m.alpha.size()) + " values",
            "alpha array length must equal the number of points (" + std::to_string(n) + ")");
-    if (!alphaValuesInRange(m.alpha))
+    if (!alphaValuesInRange(m.alpha.data(), m.alpha.size()))
       for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], [&] { return idx("alpha", i); });
   } else if (!m.alpha.empty()) {
     fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
 
-  checkWeightsAllowed(m.weights, n, c, !m.knots.empty(), std::to_string(n));
+  checkWeightsAllowed(m.weights.size(), n, c, !m.knots.empty(), std::to_string(n));
   for (size_t i = 0; i < m.weights.size(); ++i)
     checkWeight(m.weights[i], m.points[i], [&] { return idx("weights", i); });
 
@@ -309,48 +308,34 @@ void checkTrim(const SurfaceModel& m, int orderU, int orderV) {
   }
 }
 
-void validateSurface(const SurfaceModel& m) {
+void validateSurfaceShape(const SurfaceModel& m, const SurfaceCounts& counts) {
   const FamilySpec& f = m.family;
   const Construction c = f.construction;
   validateFamily(f, m.orderV, true);
   const int orderU = f.order;
   const int orderV = c == Construction::BSpline ? m.orderV : f.order;
 
-  if (m.rows < 0 || m.cols < 0 || m.points.size() != static_cast<size_t>(m.rows) * static_cast<size_t>(m.cols))
-    fail("points", std::to_string(m.points.size()) + " points",
+  if (m.rows < 0 || m.cols < 0 || counts.points != static_cast<size_t>(m.rows) * static_cast<size_t>(m.cols))
+    fail("points", std::to_string(counts.points) + " points",
          "rows x cols = " + std::to_string(m.rows) + " x " + std::to_string(m.cols) + " must match the point count");
   if (m.rows < minPoints(c, orderU, m.closedU))
     fail("points", std::to_string(m.rows) + " rows", minRule(c, orderU, m.closedU, "surface", "rows (u direction)"));
   if (m.cols < minPoints(c, orderV, m.closedV))
     fail("points[0]", std::to_string(m.cols) + " columns",
          minRule(c, orderV, m.closedV, "surface", "columns (v direction)"));
-  const size_t coords = 3 * m.points.size();
-  if (const size_t k = firstNonFinite(reinterpret_cast<const double*>(m.points.data()), coords); k < coords) {
-    const size_t point = k / 3, cols = static_cast<size_t>(m.cols);
-    fail(idx(idx(idx("points", point / cols), point % cols), k % 3), shortestText(m.points[point][int(k % 3)]),
-         "coordinates must be finite numbers");
-  }
 
   if (c == Construction::AlphaEB) {
-    if (m.alpha.empty()) fail("alpha", "missing", "alpha is required for alpha_eb");
-    if (m.alpha.size() != m.points.size())
-      fail("alpha", std::to_string(m.alpha.size()) + " values",
+    if (counts.alpha == 0) fail("alpha", "missing", "alpha is required for alpha_eb");
+    if (counts.alpha != counts.points)
+      fail("alpha", std::to_string(counts.alpha) + " values",
            "alpha must have one value per point (" + std::to_string(m.rows) + " x " + std::to_string(m.cols) + ")");
-    if (!alphaValuesInRange(m.alpha))
-      for (int i = 0; i < m.rows; ++i)
-        for (int j = 0; j < m.cols; ++j)
-          checkAlphaValue(m.alpha[static_cast<size_t>(i) * m.cols + j],
-                          [&] { return idx(idx("alpha", static_cast<size_t>(i)), static_cast<size_t>(j)); });
-  } else if (!m.alpha.empty()) {
-    fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
+  } else if (counts.alpha != 0) {
+    fail("alpha", std::to_string(counts.alpha) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
 
   const bool hasKnots = !m.knotsU.empty() || !m.knotsV.empty();
-  checkWeightsAllowed(m.weights, m.points.size(), c, hasKnots, std::to_string(m.rows) + " x " + std::to_string(m.cols));
-  for (int i = 0; i < m.rows && !m.weights.empty(); ++i)
-    for (int j = 0; j < m.cols; ++j)
-      checkWeight(m.weights[static_cast<size_t>(i) * m.cols + j], m.at(i, j),
-                  [&] { return idx(idx("weights", static_cast<size_t>(i)), static_cast<size_t>(j)); });
+  checkWeightsAllowed(counts.weights, counts.points, c, hasKnots,
+                      std::to_string(m.rows) + " x " + std::to_string(m.cols));
   if (!m.trim.empty() && (c != Construction::BSpline || !hasKnots))
     fail("trim", std::to_string(m.trim.loops.size()) + " loops", "trim is only allowed on a bspline surface with knot vectors");
   if (!hasKnots) return;
@@ -364,6 +349,36 @@ void validateSurface(const SurfaceModel& m) {
   checkKnotVector(m.knotsU, static_cast<size_t>(m.rows), orderU, "knots[0]");
   checkKnotVector(m.knotsV, static_cast<size_t>(m.cols), orderV, "knots[1]");
   checkTrim(m, orderU, orderV);
+}
+
+void checkSurfaceCoordinates(const glm::dvec3* points, size_t count, size_t first, int cols) {
+  const size_t coords = 3 * count;
+  if (const size_t k = firstNonFinite(reinterpret_cast<const double*>(points), coords); k < coords) {
+    const size_t point = first + k / 3, c = static_cast<size_t>(cols);
+    fail(idx(idx(idx("points", point / c), point % c), k % 3), shortestText(points[k / 3][int(k % 3)]),
+         "coordinates must be finite numbers");
+  }
+}
+
+void checkSurfaceAlphas(const double* alpha, size_t count, size_t first, int cols) {
+  if (alphaValuesInRange(alpha, count)) return;
+  const size_t c = static_cast<size_t>(cols);
+  for (size_t k = 0; k < count; ++k)
+    checkAlphaValue(alpha[k], [&] { return idx(idx("alpha", (first + k) / c), (first + k) % c); });
+}
+
+void checkSurfaceWeights(const double* weights, const glm::dvec3* points, size_t count, size_t first, int cols) {
+  const size_t c = static_cast<size_t>(cols);
+  for (size_t k = 0; k < count; ++k)
+    checkWeight(weights[k], points[k], [&] { return idx(idx("weights", (first + k) / c), (first + k) % c); });
+}
+
+void validateSurface(const SurfaceModel& m) {
+  // The shape first, then the values (which a streamed net checks a run at a time, in this order).
+  validateSurfaceShape(m, {m.points.size(), m.alpha.size(), m.weights.size()});
+  checkSurfaceCoordinates(m.points.data(), m.points.size(), 0, m.cols);
+  if (!m.alpha.empty()) checkSurfaceAlphas(m.alpha.data(), m.alpha.size(), 0, m.cols);
+  if (!m.weights.empty()) checkSurfaceWeights(m.weights.data(), m.points.data(), m.weights.size(), 0, m.cols);
 }
 
 }  // namespace shapespline

@@ -22,7 +22,24 @@ namespace shapespline {
 
 // Throws ModelError for the first rule `model` breaks.
 void validateCurve(const CurveModel& model);
+// A surface's shape rules (validateSurfaceShape), then its values' (checkSurfaceCoordinates,
+// checkSurfaceAlphas, the weights').
 void validateSurface(const SurfaceModel& model);
+
+// How many points, α and weights a surface's arrays hold.
+struct SurfaceCounts {
+  size_t points = 0, alpha = 0, weights = 0;
+};
+// Every rule of validateSurface but those on the values of the points, α and weights, for arrays
+// of `counts` values that need not be read (`model`'s own arrays are not looked at): a net
+// streamed from its file is checked by this, then by the value rules below a run at a time.
+void validateSurfaceShape(const SurfaceModel& model, const SurfaceCounts& counts);
+// The value rules on a run of `count` points or α starting at flat index `first` of a surface
+// with `cols` columns (row-major; the error names points[i][j][c] or alpha[i][j]).
+void checkSurfaceCoordinates(const glm::dvec3* points, size_t count, size_t first, int cols);
+void checkSurfaceAlphas(const double* alpha, size_t count, size_t first, int cols);
+// Likewise a run of weights and their points (docs/math.md §10.8: w > 0 finite, w P finite).
+void checkSurfaceWeights(const double* weights, const glm::dvec3* points, size_t count, size_t first, int cols);
 
 // The family-only part (degree/order, lambda, mu) shared by curves and surfaces. `orderV` is the
 // v order of a bspline surface (0 for curves); a bspline surface reports "order[0]"/"order[1]".

@@ -14,6 +14,8 @@
 #include <vector>
 
 #include <shapespline/core/curve.h>
+#include <shapespline/core/family.h>
+#include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/core/validate.h>
 #include "support/tolerances.h"
@@ -710,6 +712,61 @@ TEST(SurfaceCreate, ValidatesTheModel) {
   SurfaceModel m = makeSurface(family(Construction::AlphaEB, 4, 0, 0.0), 3, 3, false, false, randomNet(3, 3, 51));
   m.alpha.assign(9, 1.5);  // α > 1 is outside the model (§11)
   EXPECT_THROW(Surface::create(m), ModelError);
+}
+
+}  // namespace
+}  // namespace shapespline
+
+namespace shapespline {
+namespace {
+
+// The layout of a job comes from the shape alone when the net is not built (a streamed shard with
+// no items, issue 31): patchRangeOf and surfaceGridItems(shape) must be the built surface's.
+TEST(SurfaceShape, PatchRangeIsTheBuiltSurfaces) {
+  std::vector<SurfaceModel> models;
+  for (Construction c :
+       {Construction::AlphaEB, Construction::ExtendedBSpline, Construction::UBP, Construction::BSpline}) {
+    for (bool closedU : {false, true}) {
+      for (bool closedV : {false, true}) {
+        if (c == Construction::BSpline && (closedU || closedV)) continue;
+        SurfaceModel m;
+        m.family.construction = c;
+        m.family.degree = c == Construction::UBP || c == Construction::BSpline ? 0 : 5;
+        m.family.order = c == Construction::UBP ? 5 : c == Construction::BSpline ? 3 : 0;
+        m.orderV = c == Construction::BSpline ? 4 : 0;
+        m.closedU = closedU, m.closedV = closedV;
+        m.rows = 9, m.cols = 7;
+        for (int i = 0; i < m.rows; ++i)
+          for (int j = 0; j < m.cols; ++j) m.points.push_back({i, j, std::sin(0.5 * i + 0.3 * j)});
+        if (c == Construction::AlphaEB) m.alpha.assign(m.points.size(), 0.5);
+        models.push_back(m);
+      }
+    }
+  }
+  // Knot vectors, one with an empty interior interval (skipped by the grid items).
+  SurfaceModel k = models.back();
+  k.knotsU = {0, 0, 0, 0.1, 0.2, 0.2, 0.5, 0.7, 0.9, 1, 1, 1};
+  k.knotsV = {0, 0, 0, 0, 0.3, 0.6, 0.8, 1, 1, 1, 1};
+  models.push_back(k);
+  for (const SurfaceModel& m : models) {
+    SCOPED_TRACE(std::string(constructionName(m.family.construction)) + (m.closedU ? " closed u" : "") +
+                 (m.closedV ? " closed v" : "") + (m.knotsU.empty() ? "" : " knots"));
+    validateSurfaceShape(m, {m.points.size(), m.alpha.size(), m.weights.size()});
+    const Surface s = Surface::create(m);
+    const PatchRange shape = patchRangeOf(m), built = s.patches();
+    EXPECT_EQ(shape.u.first, built.u.first);
+    EXPECT_EQ(shape.u.last, built.u.last);
+    EXPECT_EQ(shape.v.first, built.v.first);
+    EXPECT_EQ(shape.v.last, built.v.last);
+    EXPECT_EQ(parameterizationOf(SurfaceShape(m)), s.parameterization());
+    const SurfaceGridItems a = surfaceGridItems(SurfaceShape(m)), b = surfaceGridItems(s);
+    EXPECT_EQ(a.u, b.u);
+    EXPECT_EQ(a.v, b.v);
+  }
+  // The shape rules need no values: a count that does not match the shape is refused by name.
+  SurfaceModel bad = models.front();
+  EXPECT_THROW(validateSurfaceShape(bad, {bad.points.size() - 1, bad.alpha.size(), 0}), ModelError);
+  EXPECT_THROW(validateSurfaceShape(bad, {bad.points.size(), 0, 0}), ModelError);  // α-EB without α
 }
 
 }  // namespace
