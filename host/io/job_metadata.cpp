@@ -205,19 +205,28 @@ std::string JobMetadata::grid() const {
   return surface ? std::to_string(samplesU) + "x" + std::to_string(samplesV) : std::to_string(samplesU);
 }
 
-void JobMetadata::setAlpha(const std::vector<double>& values, int netRows, int netCols) {
+void AlphaTally::add(const double* values, size_t count) {
+  if (count == 0) return;
+  const ValueRange r = valueRange(values, count);
+  summary_.min = summary_.count == 0 ? r.min : std::min(summary_.min, r.min);
+  summary_.max = summary_.count == 0 ? r.max : std::max(summary_.max, r.max);
+  summary_.count += count;
+  summary_.singular += static_cast<uint64_t>(std::count(values, values + count, 1.0));
+  if (summary_.count <= kMetadataAlphaListMax) listed_.insert(listed_.end(), values, values + count);
+  else listed_.clear();
+}
+
+void JobMetadata::setAlpha(const AlphaTally& values, int netRows, int netCols) {
   rows = netRows;
   cols = netCols;
-  alphaSummary = {};
-  alphaSummary.count = values.size();
-  if (!values.empty()) {
-    const ValueRange r = valueRange(values.data(), values.size());
-    alphaSummary.min = r.min;
-    alphaSummary.max = r.max;
-  }
-  alphaSummary.singular = static_cast<uint64_t>(std::count(values.begin(), values.end(), 1.0));
-  if (alphaListed()) alpha = values;
-  else alpha.clear();
+  alphaSummary = values.summary();
+  alpha = values.listed();
+}
+
+void JobMetadata::setAlpha(const std::vector<double>& values, int netRows, int netCols) {
+  AlphaTally tally;
+  tally.add(values.data(), values.size());
+  setAlpha(tally, netRows, netCols);
 }
 
 std::vector<std::pair<int, int>> JobMetadata::singularVertices() const {
@@ -606,19 +615,28 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
   return m;
 }
 
+JobMetadata jobMetadataOf(const SurfaceShape& model, const AlphaTally& alpha, bool rational,
+                          const std::string& modelPath, std::string modelSha256, std::string_view device,
+                          Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV) {
+  JobMetadata m =
+      common(model.family, modelPath, std::move(modelSha256), device, computedPrecision, outputPrecision);
+  m.surface = true;
+  m.rational = rational;
+  if (twoOrders(m)) m.orderV = model.orderV;
+  if (m.usesAlpha()) m.setAlpha(alpha, model.rows, model.cols);
+  m.samplesU = samplesU;
+  m.samplesV = samplesV;
+  return m;
+}
+
 JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath, std::string modelSha256,
                           std::string_view device, Precision computedPrecision, Precision outputPrecision,
                           int samplesU, int samplesV) {
   const SurfaceShape& model = surface.model();
-  JobMetadata m =
-      common(model.family, modelPath, std::move(modelSha256), device, computedPrecision, outputPrecision);
-  m.surface = true;
-  m.rational = !surface.weights().empty();
-  if (twoOrders(m)) m.orderV = model.orderV;
-  if (m.usesAlpha()) m.setAlpha(model.alpha, model.rows, model.cols);
-  m.samplesU = samplesU;
-  m.samplesV = samplesV;
-  return m;
+  AlphaTally alpha;
+  alpha.add(model.alpha.data(), model.alpha.size());
+  return jobMetadataOf(model, alpha, !surface.weights().empty(), modelPath, std::move(modelSha256), device,
+                       computedPrecision, outputPrecision, samplesU, samplesV);
 }
 
 }  // namespace shapespline::io

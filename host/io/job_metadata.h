@@ -31,6 +31,8 @@ namespace shapespline::io {
 // The JSON lists α (and the singular vertices) up to this many values; beyond it, a summary.
 inline constexpr uint64_t kMetadataAlphaListMax = 4096;
 
+class AlphaTally;
+
 struct JobMetadata {
   std::string toolVersion;            // SHAPESPLINE_VERSION_STRING of the writer
   std::string toolCommit;             // SHAPESPLINE_GIT_COMMIT of the writer
@@ -64,6 +66,8 @@ struct JobMetadata {
   // Sets alphaSummary from `values` and lists them in `alpha` when there are at most
   // kMetadataAlphaListMax (surfaces: rows x cols, row-major; curves: rows = cols = 0).
   void setAlpha(const std::vector<double>& values, int rows, int cols);
+  // The same from α given a run at a time (AlphaTally).
+  void setAlpha(const AlphaTally& values, int rows, int cols);
   bool alphaListed() const { return alphaSummary.count <= kMetadataAlphaListMax; }
   // "UxV" (surfaces) or "S" (curves).
   std::string grid() const;
@@ -142,6 +146,21 @@ class ModelDigest {
 };
 
 // ModelDigest's digits for a model whose arrays are known.
+// What JobMetadata::setAlpha keeps of α given a run at a time, in order (a net read from its
+// files a window at a time): the summary, and the values while there are at most
+// kMetadataAlphaListMax.
+class AlphaTally {
+ public:
+  void add(const double* values, size_t count);
+  const JobMetadata::AlphaSummary& summary() const { return summary_; }
+  // Every value given, when there were at most kMetadataAlphaListMax; else empty.
+  const std::vector<double>& listed() const { return listed_; }
+
+ private:
+  JobMetadata::AlphaSummary summary_;
+  std::vector<double> listed_;
+};
+
 std::string modelSha256(const std::filesystem::path& modelPath, const std::vector<std::filesystem::path>& arrayFiles);
 
 // The metadata of sampling `model`, read from `modelPath` whose modelSha256 is `modelSha256`, on
@@ -153,5 +172,10 @@ JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath,
 JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath, std::string modelSha256,
                           std::string_view device, Precision computedPrecision, Precision outputPrecision,
                           int samplesU, int samplesV);
+// The same for a surface of `shape` whose α (AlphaTally) and weights (`rational`) were read as a
+// stream: a shard with no items, which does not build its surface.
+JobMetadata jobMetadataOf(const SurfaceShape& shape, const AlphaTally& alpha, bool rational,
+                          const std::string& modelPath, std::string modelSha256, std::string_view device,
+                          Precision computedPrecision, Precision outputPrecision, int samplesU, int samplesV);
 
 }  // namespace shapespline::io

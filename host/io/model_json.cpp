@@ -170,34 +170,59 @@ NpyArray takeArray(const json& ref, const std::string& key, ModelArrays* arrays,
   }
 }
 
+// An array's shape is one of `shapes` (0 = any extent) and no extent is over kMaxArrayExtent.
+void checkArrayShape(const std::vector<std::uint64_t>& shape, const std::string& key, const std::string& name,
+                     const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule) {
+  auto fits = [&](const std::vector<std::uint64_t>& want) {
+    if (want.size() != shape.size()) return false;
+    for (size_t d = 0; d < want.size(); ++d)
+      if (want[d] != 0 && want[d] != shape[d]) return false;
+    return true;
+  };
+  if (std::none_of(shapes.begin(), shapes.end(), fits)) {
+    std::string got = "(";
+    for (size_t d = 0; d < shape.size(); ++d) got += (d ? ", " : "") + std::to_string(shape[d]);
+    throw ModelError(key, name + " of shape " + got + (shape.size() == 1 ? ",)" : ")"), shapeRule);
+  }
+  for (std::uint64_t d : shape)
+    if (d > kMaxArrayExtent) throw ModelError(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
+}
+
 // The array a reference names, its shape one of `shapes` (0 = any extent) and every value finite.
 NpyArray referencedArray(const json& ref, const std::string& key, ModelArrays* arrays,
                          const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule,
                          NpyLayout layout = NpyLayout::Values) {
   std::string name;
   NpyArray a = takeArray(ref, key, arrays, name, layout);
-  auto fits = [&](const std::vector<std::uint64_t>& want) {
-    if (want.size() != a.shape.size()) return false;
-    for (size_t d = 0; d < want.size(); ++d)
-      if (want[d] != 0 && want[d] != a.shape[d]) return false;
-    return true;
-  };
-  if (std::none_of(shapes.begin(), shapes.end(), fits)) {
-    std::string got = "(";
-    for (size_t d = 0; d < a.shape.size(); ++d) got += (d ? ", " : "") + std::to_string(a.shape[d]);
-    throw ModelError(key, name + " of shape " + got + (a.shape.size() == 1 ? ",)" : ")"), shapeRule);
-  }
-  for (std::uint64_t d : a.shape)
-    if (d > kMaxArrayExtent) throw ModelError(key, name, "an extent of " + std::to_string(d) + " is over " + std::to_string(kMaxArrayExtent));
-  const double* values = a.data();
-  if (const size_t k = firstNonFinite(values, a.size()); k < a.size()) {
-    std::vector<std::uint64_t> index(a.shape.size());
-    for (size_t d = a.shape.size(), rest = k; d-- > 0; rest /= a.shape[d]) index[d] = rest % a.shape[d];
-    std::string at;
-    for (std::uint64_t i : index) at.append(1, '[').append(std::to_string(i)).append(1, ']');
-    throw ModelError(key + at, name, "must be a finite number (the array holds " + std::to_string(values[k]) + ")");
-  }
+  checkArrayShape(a.shape, key, name, shapes, shapeRule);
+  requireFiniteArrayValues(key, name, a.shape, a.data(), a.size(), 0);
   return a;
+}
+
+// Outline (ModelArrays::outline): the file a reference names, its header read and checked like
+// referencedArray's, its values left unread.
+void deferArray(const json& ref, const std::string& key, ModelArrays* arrays,
+                const std::vector<std::vector<std::uint64_t>>& shapes, const std::string& shapeRule) {
+  DeferredArray d;
+  d.key = key;
+  d.file = referencedFile(ref, key, arrays);
+  d.name = shortText(ref.at("npy").get<std::string>());
+  try {
+    if (arrays->onFile) arrays->onFile(d.file);
+    d.header = NpyReader(d.file, arrays->maxValueBytes).header();
+  } catch (const std::invalid_argument& e) {
+    throw ModelError(key, d.name, e.what());
+  } catch (const std::runtime_error& e) {
+    throw ModelError(key, d.name, e.what());
+  }
+  arrays->files.push_back(d.file);
+  checkArrayShape(d.header.shape, key, d.name, shapes, shapeRule);
+  arrays->deferred.push_back(std::move(d));
+}
+
+// Outline: a reference to a file (not an array given in memory) in a parse that defers them.
+bool deferred(const json& ref, const ModelArrays* arrays) {
+  return arrays && arrays->outline && isArrayReference(ref) && !ref.contains("array");
 }
 
 void readCommon(const json& doc, FamilySpec& f, bool surface) {
@@ -292,6 +317,12 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
   return m;
 }
 
+// The shape rule of a surface's per-vertex array file (alpha, weights).
+std::string perVertexRule(const std::string& key, int rows, int cols) {
+  return key + " must be an array of one number per point, shape (" + std::to_string(rows) + ", " +
+         std::to_string(cols) + ")";
+}
+
 // One number per vertex of a surface, as rows shaped like `points` (alpha, weights), row-major.
 // `what`: the rule's start ("weights must be an array").
 std::vector<double> readVertexRows(const json& a, const std::string& key, const std::string& what, int rows, int cols) {
@@ -335,9 +366,7 @@ void readSurfacePoints(const json& pts, SurfaceModel& m) {
 std::vector<double> readPerVertex(const json& a, const std::string& key, const std::string& what, int rows, int cols,
                                   ModelArrays* files) {
   if (!isArrayReference(a)) return readVertexRows(a, key, what, rows, cols);
-  return referencedArray(a, key, files, {{std::uint64_t(rows), std::uint64_t(cols)}},
-                         key + " must be an array of one number per point, shape (" + std::to_string(rows) + ", " +
-                             std::to_string(cols) + ")")
+  return referencedArray(a, key, files, {{std::uint64_t(rows), std::uint64_t(cols)}}, perVertexRule(key, rows, cols))
       .values;
 }
 
@@ -401,7 +430,13 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
   }
 
   const json& pts = doc.at("points");
-  if (isArrayReference(pts)) {
+  // Outline: only a net whose points are a file is left unread (written out, it is in memory anyway).
+  const bool outline = deferred(pts, files);
+  if (outline) {
+    deferArray(pts, "points", files, {{0, 0, 3}}, "surface points must be a (rows, cols, 3) array");
+    m.rows = int(files->deferred.back().header.shape[0]);
+    m.cols = int(files->deferred.back().header.shape[1]);
+  } else if (isArrayReference(pts)) {
     NpyArray a = referencedArray(pts, "points", files, {{0, 0, 3}}, "surface points must be a (rows, cols, 3) array",
                                  NpyLayout::Points);
     m.rows = int(a.shape[0]);
@@ -419,7 +454,11 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
   if (doc.contains("alpha")) {
     const json& a = doc.at("alpha");
     if (auto v = scalarAlpha(a)) {
-      reserveHuge(m.alpha, m.points.size()), m.alpha.assign(m.points.size(), *v);
+      if (outline) files->uniformAlpha = *v;
+      else reserveHuge(m.alpha, m.points.size()), m.alpha.assign(m.points.size(), *v);
+    } else if (outline && deferred(a, files)) {
+      deferArray(a, "alpha", files, {{std::uint64_t(m.rows), std::uint64_t(m.cols)}},
+                 perVertexRule("alpha", m.rows, m.cols));
     } else {
       m.alpha = readPerVertex(a, "alpha", "alpha must be a number or an array", m.rows, m.cols, files);
     }
@@ -431,14 +470,43 @@ SurfaceModel readSurface(const json& doc, Construction c, ModelArrays* files) {
     m.knotsU = getNumberArray(k[0], "knots[0]", "numbers");
     m.knotsV = getNumberArray(k[1], "knots[1]", "numbers");
   }
-  if (doc.contains("weights"))
-    m.weights = readPerVertex(doc.at("weights"), "weights", "weights must be an array", m.rows, m.cols, files);
+  if (doc.contains("weights")) {
+    const json& w = doc.at("weights");
+    if (outline && deferred(w, files))
+      deferArray(w, "weights", files, {{std::uint64_t(m.rows), std::uint64_t(m.cols)}},
+                 perVertexRule("weights", m.rows, m.cols));
+    else
+      m.weights = readPerVertex(w, "weights", "weights must be an array", m.rows, m.cols, files);
+  }
   if (doc.contains("trim")) m.trim = readTrim(doc.at("trim"));
   return m;
 }
 
 
 }  // namespace
+
+void requireFiniteArrayValues(const std::string& key, const std::string& name, const std::vector<std::uint64_t>& shape,
+                              const double* values, size_t count, std::uint64_t first) {
+  const size_t k = firstNonFinite(values, count);
+  if (k == count) return;
+  std::vector<std::uint64_t> index(shape.size());
+  for (size_t d = shape.size(), rest = first + k; d-- > 0; rest /= shape[d]) index[d] = rest % shape[d];
+  std::string at;
+  for (std::uint64_t i : index) at.append(1, '[').append(std::to_string(i)).append(1, ']');
+  throw ModelError(key + at, name, "must be a finite number (the array holds " + std::to_string(values[k]) + ")");
+}
+
+SurfaceCounts outlineCounts(const SurfaceModel& m, const ModelArrays& arrays) {
+  SurfaceCounts counts{m.points.size(), m.alpha.size(), m.weights.size()};
+  for (const DeferredArray& a : arrays.deferred) {
+    const size_t values = size_t(a.header.count);
+    if (a.key == "points") counts.points = values / 3;
+    if (a.key == "alpha") counts.alpha = values;
+    if (a.key == "weights") counts.weights = values;
+  }
+  if (arrays.uniformAlpha) counts.alpha = counts.points;
+  return counts;
+}
 
 Model parseModel(const json& doc, ModelArrays* arrays) {
   if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
@@ -485,7 +553,11 @@ Model parseModel(const json& doc, ModelArrays* arrays) {
 
   if (surface) {
     SurfaceModel m = readSurface(doc, c, arrays);
-    validateSurface(m);
+    if (arrays && !arrays->deferred.empty()) {
+      validateSurfaceShape(m, outlineCounts(m, *arrays));
+    } else {
+      validateSurface(m);
+    }
     return m;
   }
   CurveModel m = readCurve(doc, c, arrays);

@@ -23,12 +23,14 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
 
 #include <shapespline/core/model.h>
+#include <shapespline/core/validate.h>
 #include <shapespline/io/npy_array.h>
 
 namespace shapespline::io {
@@ -38,6 +40,14 @@ using Model = std::variant<CurveModel, SurfaceModel>;
 // The default budget for the float64 values of one referenced array: 4 GiB (a 13,000² surface
 // net), far beyond what a JSON model can hold and within what a sampling machine has.
 inline constexpr std::uint64_t kDefaultArrayBudget = std::uint64_t{4} << 30;
+
+// An array reference the parser left unread (ModelArrays::outline).
+struct DeferredArray {
+  std::string key;               // "points", "alpha" or "weights"
+  std::string name;              // the file name as the model writes it, for messages
+  std::filesystem::path file;
+  NpyHeader header;              // checked: dtype, order, the shape the key needs, the budget
+};
 
 // Where array references are read from: .npy files in a folder, or arrays given in memory.
 struct ModelArrays {
@@ -50,7 +60,25 @@ struct ModelArrays {
   std::vector<std::filesystem::path> files;
   // Called with each file of `files` as it is found, before it is read (io::ModelDigest::add).
   std::function<void(const std::filesystem::path&)> onFile;
+  // Outline: a surface whose points are a file comes back with its shape and without the values
+  // of its array files: their headers are checked (the shape each key needs) and listed in
+  // `deferred`, the files still go to onFile and `files`, and an α given as one number is kept in
+  // `uniformAlpha` rather than once per vertex. Only the shape rules are checked (core
+  // validateSurfaceShape with outlineCounts); io/streamed_net.h reads and checks the values. Curves
+  // and surfaces with their points written out are read in full (`deferred` stays empty).
+  bool outline = false;
+  std::vector<DeferredArray> deferred;
+  std::optional<double> uniformAlpha;
 };
+
+// How many points, α and weights an outline's surface has, its deferred arrays counted.
+SurfaceCounts outlineCounts(const SurfaceModel& model, const ModelArrays& arrays);
+
+// The rule every value of an array file follows: finite. Throws the parser's ModelError (the field
+// names the element, key[i][j]..., the value the file's `name`) for the first value that is not
+// among `count` values starting at flat index `first` of an array of `shape`.
+void requireFiniteArrayValues(const std::string& key, const std::string& name, const std::vector<std::uint64_t>& shape,
+                              const double* values, size_t count, std::uint64_t first);
 
 // JSON value -> validated model. Throws ModelError. Without `arrays`, an array reference is refused
 // (a model that is not a file has no folder to resolve it in).

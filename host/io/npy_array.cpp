@@ -11,6 +11,7 @@
 #include <bit>
 #include <cerrno>
 #include <cstring>
+#include <memory>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -188,23 +189,54 @@ size_t pointCapacity(const std::vector<std::uint64_t>& shape) {
   return std::clamp(netCapacity(int(shape[0]), int(shape[1])), points, points + points / 4);
 }
 
-NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes, NpyLayout layout) {
-  std::optional<InputFd> file;
+NpyReader::NpyReader(const std::filesystem::path& path, std::uint64_t maxValueBytes) : path_(path) {
   try {
-    file.emplace(path, "");
+    file_ = std::make_unique<InputFd>(path, "");
   } catch (const ModelError& e) {
     refuse(e.rule());  // not a regular file: the caller names the key and the file
   }
-  const int fd = file->get();
-  const std::uint64_t fileBytes = file->size();
+  const int fd = file_->get();
+  const std::uint64_t fileBytes = file_->size();
   std::string head(size_t(std::min<std::uint64_t>(fileBytes, kMaxNpyHeaderBytes)), '\0');
   readExactly(fd, head.data(), head.size(), path);
-  const NpyHeader h = parseNpyHeader(head, fileBytes);
-  if (h.count > maxValueBytes / 8)
-    refuse("its " + std::to_string(h.count) + " values need " + std::to_string(h.count * 8) +
+  header_ = parseNpyHeader(head, fileBytes);
+  if (header_.count > maxValueBytes / 8)
+    refuse("its " + std::to_string(header_.count) + " values need " + std::to_string(header_.count * 8) +
            " bytes as float64, over the array budget of " + std::to_string(maxValueBytes) + " bytes");
-  if (::lseek(fd, off_t(h.dataOffset), SEEK_SET) < 0)
+  if (::lseek(fd, off_t(header_.dataOffset), SEEK_SET) < 0)
     throw std::runtime_error("cannot seek in '" + path.string() + "': " + std::strerror(errno));
+}
+
+NpyReader::~NpyReader() = default;
+
+void NpyReader::read(double* out, size_t count) {
+  if (count > header_.count - done_) throw std::logic_error("NpyReader::read past the array's end");
+  const int fd = file_->get();
+  if (header_.float64) {
+    readExactly(fd, reinterpret_cast<char*>(out), std::uint64_t(count) * 8, path_);
+  } else {
+    constexpr size_t kChunk = size_t{1} << 18;  // floats per read: 1 MiB
+    if (floats_.empty()) floats_.resize(std::min<size_t>(kChunk, size_t(header_.count)));
+    for (size_t done = 0; done < count;) {
+      const size_t n = std::min(floats_.size(), count - done);
+      readExactly(fd, reinterpret_cast<char*>(floats_.data()), n * 4, path_);
+      std::copy(floats_.begin(), floats_.begin() + std::ptrdiff_t(n), out + done);
+      done += n;
+    }
+  }
+  done_ += count;
+  if (done_ < header_.count) return;
+  char extra = 0;
+  ssize_t more = 0;
+  do {
+    more = ::read(fd, &extra, 1);
+  } while (more < 0 && errno == EINTR);
+  if (more != 0) refuse("the file grew while being read");
+}
+
+NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes, NpyLayout layout) {
+  NpyReader reader(path, maxValueBytes);
+  const NpyHeader& h = reader.header();
   NpyArray out;
   out.shape = h.shape;
   double* values = nullptr;
@@ -216,24 +248,7 @@ NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueB
     resizeHuge(out.values, size_t(h.count));
     values = out.values.data();
   }
-  if (h.float64) {
-    readExactly(fd, reinterpret_cast<char*>(values), h.count * 8, path);
-  } else {
-    constexpr size_t kChunk = size_t{1} << 18;  // floats per read: 1 MiB
-    std::vector<float> buf(std::min<size_t>(kChunk, size_t(h.count)));
-    for (size_t done = 0; done < size_t(h.count);) {
-      const size_t n = std::min(buf.size(), size_t(h.count) - done);
-      readExactly(fd, reinterpret_cast<char*>(buf.data()), n * 4, path);
-      std::copy(buf.begin(), buf.begin() + std::ptrdiff_t(n), values + done);
-      done += n;
-    }
-  }
-  char extra = 0;
-  ssize_t more = 0;
-  do {
-    more = ::read(fd, &extra, 1);
-  } while (more < 0 && errno == EINTR);
-  if (more != 0) refuse("the file grew while being read");
+  reader.read(values, size_t(h.count));
   return out;
 }
 

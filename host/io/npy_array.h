@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string_view>
 #include <vector>
 
@@ -51,6 +52,31 @@ enum class NpyLayout { Values, Points };
 // changed while read) and std::runtime_error when the file cannot be opened or read.
 NpyArray readNpyArray(const std::filesystem::path& path, std::uint64_t maxValueBytes,
                       NpyLayout layout = NpyLayout::Values);
+
+class InputFd;
+
+// The values of a .npy file in order, a run at a time, as doubles: an array of any size is read in
+// bounded memory (a shard that streams a net through its checks), and readNpyArray reads through
+// it. The constructor checks the header as readNpyArray describes (budget included); read() fails
+// like readNpyArray, and the read that takes the last value also checks that the file ends there.
+class NpyReader {
+ public:
+  NpyReader(const std::filesystem::path& path, std::uint64_t maxValueBytes);
+  ~NpyReader();
+  NpyReader(const NpyReader&) = delete;
+  NpyReader& operator=(const NpyReader&) = delete;
+
+  const NpyHeader& header() const { return header_; }
+  // The next `count` values (at most those left) into `out`.
+  void read(double* out, size_t count);
+
+ private:
+  std::filesystem::path path_;
+  std::unique_ptr<InputFd> file_;
+  NpyHeader header_;
+  std::uint64_t done_ = 0;
+  std::vector<float> floats_;  // fp32 files: the values as read, 1 MiB at a time
+};
 
 // Room for the values of an array of `shape` read as points: the surface net's capacity for
 // (rows, cols, 3) but at most a quarter more than the points, the points themselves otherwise.

@@ -9,9 +9,54 @@
 namespace shapespline::io {
 namespace {
 
+uint64_t loadWord(const unsigned char* p) {
+  uint64_t w;
+  std::memcpy(&w, p, 8);
+  return w;
+}
+
+}  // namespace
+
+// Arrays (a net can hold 10^8 values) go a word at a time, 8 times faster than byte-wise FNV:
+// each word is xored in, multiplied, and its high half folded down so that the next multiply
+// carries every bit of it (a multiply alone moves bits only upwards). Four words are mixed into
+// four independent lanes (the multiply's latency, not its throughput, bounded a single chain),
+// which then enter the hash in order; the words past a multiple of four follow one by one. Given
+// in pieces, the words hash as one sequence: a group of four may span two pieces.
+void FingerprintWords::begin(uint64_t h) {
+  lane_[0] = h, lane_[1] = h ^ 1, lane_[2] = h ^ 2, lane_[3] = h ^ 3;
+  carried_ = 0;
+}
+
+void FingerprintWords::add(const unsigned char* data, size_t count) {
+  size_t i = 0;
+  while (carried_ > 0 && i < count) {
+    carry_[carried_++] = loadWord(data + 8 * i++);
+    if (carried_ == 4) {
+      for (int k = 0; k < 4; ++k) lane_[k] = mix(lane_[k], carry_[k]);
+      carried_ = 0;
+    }
+  }
+  for (; i + 4 <= count; i += 4) {
+    for (int k = 0; k < 4; ++k) lane_[k] = mix(lane_[k], loadWord(data + 8 * (i + size_t(k))));
+  }
+  for (; i < count; ++i) carry_[carried_++] = loadWord(data + 8 * i);
+}
+
+uint64_t FingerprintWords::end(uint64_t h) const {
+  for (int k = 0; k < 4; ++k) h = mix(h, lane_[k]);
+  for (int k = 0; k < carried_; ++k) h = mix(h, carry_[k]);
+  return h;
+}
+
+namespace {
+
 // 64-bit FNV-1a (Fowler, Noll, Vo): offset basis 14695981039346656037, prime 1099511628211.
 class Fnv1a {
  public:
+  Fnv1a() = default;
+  explicit Fnv1a(uint64_t h) : h_(h) {}
+  uint64_t value() const { return h_; }
   void bytes(const void* data, size_t size) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (size_t i = 0; i < size; ++i) {
@@ -31,11 +76,6 @@ class Fnv1a {
     u64(s.size());
     bytes(s.data(), s.size());
   }
-  // Arrays (a net can hold 10^8 values) go a word at a time, 8 times faster than byte-wise FNV:
-  // each word is xored in, multiplied, and its high half folded down so that the next multiply
-  // carries every bit of it (a multiply alone moves bits only upwards). Four words are mixed into
-  // four independent lanes (the multiply's latency, not its throughput, bounded a single chain),
-  // which then enter the hash in order; the words past a multiple of four follow one by one.
   void f64s(const std::vector<double>& v) {
     u64(v.size());
     words(reinterpret_cast<const unsigned char*>(v.data()), v.size());
@@ -45,14 +85,12 @@ class Fnv1a {
     u64(v.size());
     words(reinterpret_cast<const unsigned char*>(v.data()), 3 * v.size());
   }
+  // `count` 8-byte words as one sequence (FingerprintWords).
   void words(const unsigned char* data, size_t count) {
-    uint64_t lane[4] = {h_, h_ ^ 1, h_ ^ 2, h_ ^ 3};
-    size_t i = 0;
-    for (; i + 4 <= count; i += 4) {
-      for (int k = 0; k < 4; ++k) lane[k] = mix(lane[k], load(data + 8 * (i + size_t(k))));
-    }
-    for (int k = 0; k < 4; ++k) h_ = mix(h_, lane[k]);
-    for (; i < count; ++i) h_ = mix(h_, load(data + 8 * i));
+    FingerprintWords w;
+    w.begin(h_);
+    w.add(data, count);
+    h_ = w.end(h_);
   }
   std::string hex() const {
     static const char* digits = "0123456789abcdef";
@@ -62,17 +100,6 @@ class Fnv1a {
   }
 
  private:
-  static uint64_t load(const unsigned char* p) {
-    uint64_t w;
-    std::memcpy(&w, p, 8);
-    return w;
-  }
-  static uint64_t mix(uint64_t h, uint64_t w) {
-    h ^= w;
-    h *= 1099511628211ull;
-    return h ^ (h >> 32);
-  }
-
   uint64_t h_ = 14695981039346656037ull;
 };
 
@@ -154,8 +181,9 @@ std::string jobFingerprint(const CurveModel& m, const SampleLayout& layout, Outp
   return h.hex();
 }
 
-std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format) {
-  const SurfaceShape& m = surface.model();
+SurfaceFingerprint::SurfaceFingerprint(const SurfaceShape& m, size_t alphaCount, size_t weightCount,
+                                       const SampleLayout& layout, OutputFormat format)
+    : shape_(m), alphaCount_(alphaCount), weightCount_(weightCount) {
   Fnv1a h;
   job(h, layout, format);
   h.text("surface");
@@ -165,16 +193,63 @@ std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, O
   h.u64(m.closedV ? 1 : 0);
   h.u64(static_cast<uint64_t>(m.rows));
   h.u64(static_cast<uint64_t>(m.cols));
-  // The points' words in model order, a row at a time, read from the net in place.
+  // The points' words in model order, each row one sequence (the surface reads them from its net
+  // a row at a time).
   h.u64(static_cast<uint64_t>(m.rows) * static_cast<uint64_t>(m.cols));
-  surface.forEachControlRow([&h](const glm::dvec3* row, int cols) {
-    h.words(reinterpret_cast<const unsigned char*>(row), 3 * static_cast<size_t>(cols));
-  });
-  h.f64s(m.alpha);
-  h.f64s(m.knotsU);
-  h.f64s(m.knotsV);
-  if (!surface.weights().empty()) h.f64s(surface.weights());  // rational only: other jobs keep their fingerprints
+  hash_ = h.value();
+}
+
+void SurfaceFingerprint::points(const glm::dvec3* p, size_t count) {
+  const size_t cols = static_cast<size_t>(shape_.cols);
+  while (count > 0) {
+    if (rowDone_ == 0) words_.begin(hash_);
+    const size_t n = std::min(count, cols - rowDone_);
+    words_.add(reinterpret_cast<const unsigned char*>(p), 3 * n);
+    p += n, count -= n, rowDone_ += n;
+    if (rowDone_ == cols) hash_ = words_.end(hash_), rowDone_ = 0;
+  }
+}
+
+void SurfaceFingerprint::alphas(const double* values, size_t count) {
+  if (phase_ == Phase::Points) {
+    Fnv1a h(hash_);
+    h.u64(alphaCount_);
+    hash_ = h.value();
+    words_.begin(hash_);
+    phase_ = Phase::Alpha;
+  }
+  words_.add(reinterpret_cast<const unsigned char*>(values), count);
+}
+
+void SurfaceFingerprint::weights(const double* values, size_t count) {
+  if (phase_ != Phase::Weights) {
+    alphas(nullptr, 0);
+    Fnv1a h(words_.end(hash_));
+    h.f64s(shape_.knotsU);
+    h.f64s(shape_.knotsV);
+    // Rational only (weightCount > 0): other jobs keep their fingerprints.
+    if (weightCount_ > 0) h.u64(weightCount_);
+    hash_ = h.value();
+    words_.begin(hash_);
+    phase_ = Phase::Weights;
+  }
+  words_.add(reinterpret_cast<const unsigned char*>(values), count);
+}
+
+std::string SurfaceFingerprint::finish() {
+  weights(nullptr, 0);
+  Fnv1a h(weightCount_ > 0 ? words_.end(hash_) : hash_);
   return h.hex();
+}
+
+std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format) {
+  const SurfaceShape& m = surface.model();
+  const std::vector<double>& w = surface.weights();
+  SurfaceFingerprint f(m, m.alpha.size(), w.size(), layout, format);
+  surface.forEachControlRow([&f](const glm::dvec3* row, int cols) { f.points(row, static_cast<size_t>(cols)); });
+  f.alphas(m.alpha.data(), m.alpha.size());
+  f.weights(w.data(), w.size());
+  return f.finish();
 }
 
 ShardInfo shardInfoOf(const SampleLayout& l) {

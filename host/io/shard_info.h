@@ -31,6 +31,47 @@ inline constexpr uint64_t kMaxItemCount = (uint64_t{1} << 62) - 1;
 std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);
 std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format);
 
+// The fingerprint's word hash of an array given in pieces: the same value as the whole array at
+// once (jobFingerprint hashes 10^8 values without holding them twice, or at all when streamed).
+class FingerprintWords {
+ public:
+  void begin(uint64_t hash);
+  void add(const unsigned char* words, size_t count);  // `count` 8-byte words
+  uint64_t end(uint64_t hash) const;
+
+ private:
+  static uint64_t mix(uint64_t h, uint64_t w) {
+    h ^= w;
+    h *= 1099511628211ull;
+    return h ^ (h >> 32);
+  }
+  uint64_t lane_[4] = {}, carry_[4] = {};
+  int carried_ = 0;
+};
+
+// jobFingerprint(surface, ...) of a surface of shape `shape` (its own α not read) with
+// `alphaCount` α values and `weightCount` weights, from its points in model order given in runs of
+// any length, then its α likewise, then its weights, then finish(): a net read a run at a time from
+// its files has the fingerprint of the built surface.
+class SurfaceFingerprint {
+ public:
+  SurfaceFingerprint(const SurfaceShape& shape, size_t alphaCount, size_t weightCount, const SampleLayout& layout,
+                     OutputFormat format);
+  void points(const glm::dvec3* points, size_t count);
+  void alphas(const double* values, size_t count);
+  void weights(const double* values, size_t count);
+  std::string finish();
+
+ private:
+  enum class Phase { Points, Alpha, Weights };
+  const SurfaceShape& shape_;
+  size_t alphaCount_ = 0, weightCount_ = 0;
+  uint64_t hash_ = 0;
+  FingerprintWords words_;
+  size_t rowDone_ = 0;  // points of the current row hashed
+  Phase phase_ = Phase::Points;
+};
+
 struct ShardInfo {
   std::string job;                    // jobFingerprint
   bool surface = false;

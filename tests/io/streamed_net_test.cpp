@@ -1,0 +1,350 @@
+// io/streamed_net.h and the pieces it is made of (issue 31: a shard with no items of a net in files
+// runs in bounded memory). What a stream gives must be what the built surface gives: the same job
+// fingerprint (FingerprintWords / SurfaceFingerprint fed in runs of any length), the same α in the
+// metadata (AlphaTally), and, for a broken net, the same first error as the full parse names.
+#include <shapespline/io/streamed_net.h>
+
+#include <shapespline/core/surface.h>
+#include <shapespline/io/job_metadata.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/io/npy_array.h>
+#include <shapespline/io/shard_info.h>
+
+#include "support/test_models.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace shapespline::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- Pieces: the same hash, the same α summary, the same values -----------------------------------
+
+TEST(FingerprintWords, PiecesHashAsTheWholeSequence) {
+  std::mt19937_64 rng(7);
+  std::vector<uint64_t> words(23);
+  for (uint64_t& w : words) w = rng();
+  const auto* bytes = reinterpret_cast<const unsigned char*>(words.data());
+  for (size_t n = 0; n <= words.size(); ++n) {
+    FingerprintWords whole;
+    whole.begin(12345);
+    whole.add(bytes, n);
+    const uint64_t expected = whole.end(12345);
+    // Every split into three pieces (the middle one possibly empty) gives the whole's hash.
+    for (size_t a = 0; a <= n; ++a)
+      for (size_t b = a; b <= n; ++b) {
+        FingerprintWords parts;
+        parts.begin(12345);
+        parts.add(bytes, a);
+        parts.add(bytes + 8 * a, b - a);
+        parts.add(bytes + 8 * b, n - b);
+        ASSERT_EQ(parts.end(12345), expected) << n << " words split at " << a << ", " << b;
+      }
+  }
+  // And the hash depends on every word: changing one of 23 changes it.
+  FingerprintWords a, b;
+  a.begin(1), b.begin(1);
+  a.add(bytes, words.size());
+  words[22] ^= 1;
+  b.add(bytes, words.size());
+  EXPECT_NE(a.end(1), b.end(1));
+}
+
+SampleLayout gridLayout(const Surface& s) {
+  SampleLayout l;
+  l.surface = true;
+  l.samplesU = l.samplesV = 4;
+  l.fields = fieldBit(Field::Point);
+  l.totalItems = static_cast<size_t>(s.patches().u.last - s.patches().u.first + 1) *
+                 static_cast<size_t>(s.patches().v.last - s.patches().v.first + 1);
+  return l;
+}
+
+// The fingerprint of `model` streamed `run` values at a time.
+std::string streamedFingerprint(const SurfaceModel& model, const SampleLayout& layout, size_t run) {
+  SurfaceFingerprint f(model, model.alpha.size(), model.weights.size(), layout, OutputFormat::RawF32);
+  for (size_t k = 0; k < model.points.size(); k += run)
+    f.points(model.points.data() + k, std::min(run, model.points.size() - k));
+  for (size_t k = 0; k < model.alpha.size(); k += run)
+    f.alphas(model.alpha.data() + k, std::min(run, model.alpha.size() - k));
+  for (size_t k = 0; k < model.weights.size(); k += run)
+    f.weights(model.weights.data() + k, std::min(run, model.weights.size() - k));
+  return f.finish();
+}
+
+TEST(SurfaceFingerprint, StreamedInRunsEqualsTheBuiltSurfaces) {
+  FamilySpec aeb;
+  aeb.construction = Construction::AlphaEB;
+  aeb.degree = 5;
+  FamilySpec ubp;
+  ubp.construction = Construction::UBP;
+  ubp.order = 4;
+  for (const SurfaceModel& model : {test::wavyNet(aeb, 9, true), test::wavyNet(ubp, 7, false),
+                                    test::nurbsTorus(3.0, 1.0), test::alphaEBTube(6, 5)}) {
+    const Surface s = Surface::create(model);
+    const SampleLayout layout = gridLayout(s);
+    const std::string built = jobFingerprint(s, layout, OutputFormat::RawF32);
+    // Runs that end inside rows, at row ends, a whole row and more, everything at once.
+    const size_t cols = static_cast<size_t>(model.cols);
+    for (size_t run : {size_t{1}, size_t{2}, size_t{3}, size_t{5}, cols, cols + 1, size_t{1000}})
+      EXPECT_EQ(streamedFingerprint(model, layout, run), built) << "runs of " << run;
+    SurfaceModel other = model;
+    other.points.back().z = std::nextafter(other.points.back().z, 10.0);
+    EXPECT_NE(streamedFingerprint(other, layout, 3), built) << "the last coordinate does not enter the fingerprint";
+  }
+}
+
+TEST(AlphaTally, RunsKeepWhatSetAlphaKeeps) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> alpha(0.05, 1.0);
+  for (size_t n :
+       {size_t{0}, size_t{1}, size_t{100}, size_t{kMetadataAlphaListMax}, size_t{kMetadataAlphaListMax + 1}}) {
+    std::vector<double> values(n);
+    for (size_t k = 0; k < n; ++k) values[k] = k % 7 == 0 ? 1.0 : alpha(rng);
+    JobMetadata whole;
+    whole.setAlpha(values, 1, static_cast<int>(n));
+    AlphaTally tally;
+    for (size_t k = 0; k < n; k += 33) tally.add(values.data() + k, std::min<size_t>(33, n - k));
+    JobMetadata runs;
+    runs.setAlpha(tally, 1, static_cast<int>(n));
+    EXPECT_EQ(runs.alphaSummary, whole.alphaSummary) << n;
+    EXPECT_EQ(runs.alpha, whole.alpha) << n;
+    EXPECT_EQ(runs.alpha.empty(), n == 0 || n > kMetadataAlphaListMax) << n;
+  }
+}
+
+// ---- Files: a net in .npy files -------------------------------------------------------------------
+
+// A C-order little-endian .npy file (format 1) of `values` in `shape`, float64 or float32.
+std::string npyBytes(const std::string& shape, const std::vector<double>& values, bool float64 = true) {
+  std::string dict = std::string("{'descr': '") + (float64 ? "<f8" : "<f4") + "', 'fortran_order': False, 'shape': " +
+                     shape + ", }";
+  while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
+  dict += '\n';
+  std::string out = "\x93NUMPY";
+  out += char(1);
+  out += char(0);
+  out += char(dict.size() & 0xff);
+  out += char(dict.size() >> 8);
+  out += dict;
+  for (double v : values) {
+    if (float64) {
+      out.append(reinterpret_cast<const char*>(&v), 8);
+    } else {
+      const float f = static_cast<float>(v);
+      out.append(reinterpret_cast<const char*>(&f), 4);
+    }
+  }
+  return out;
+}
+
+// The model of `torus` (a rational bspline surface) with its points and weights in these files.
+std::string torusDoc(const SurfaceModel& torus, const std::string& points, const std::string& weights) {
+  nlohmann::json doc = {{"kind", "surface"}, {"construction", "bspline"}, {"order", {3, 3}},
+                        {"knots", {torus.knotsU, torus.knotsV}}};
+  doc["points"] = {{"npy", points}};
+  doc["weights"] = {{"npy", weights}};
+  return doc.dump();
+}
+
+std::vector<double> flat(const std::vector<glm::dvec3>& points) {
+  return std::vector<double>(&points.data()->x, &points.data()->x + 3 * points.size());
+}
+
+class StreamedNet : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("shapespline_streamed_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  void write(const std::string& name, const std::string& bytes) {
+    std::ofstream(dir_ / name, std::ios::binary) << bytes;
+  }
+
+  // `doc` (a model naming files in dir_) as the full parse sees it: its error, or "" and `built`.
+  std::string fullParse(const std::string& doc, std::optional<Surface>& built) {
+    write("m.json", doc);
+    try {
+      built.emplace(Surface::create(std::get<SurfaceModel>(loadModelFile(dir_ / "m.json"))));
+      return "";
+    } catch (const ModelError& e) {
+      return e.what();
+    }
+  }
+  // The same as an outline whose values are streamed `window` points at a time: its error, or ""
+  // with `net` and the fingerprint for `layout`.
+  std::string streamed(const std::string& doc, size_t window, const SampleLayout& layout, io::StreamedNet& net,
+                       std::string& fingerprint) {
+    write("m.json", doc);
+    ModelArrays arrays;
+    arrays.folder = dir_;
+    arrays.outline = true;
+    try {
+      const SurfaceModel outline = std::get<SurfaceModel>(parseModelText(doc, &arrays));
+      EXPECT_FALSE(arrays.deferred.empty());
+      EXPECT_TRUE(outline.points.empty()) << "an outline read its points";
+      const SurfaceCounts counts = outlineCounts(outline, arrays);
+      SurfaceFingerprint f(outline, counts.alpha, counts.weights, layout, OutputFormat::RawF32);
+      net = streamSurfaceNet(outline, arrays, f, window);
+      fingerprint = f.finish();
+      return "";
+    } catch (const ModelError& e) {
+      return e.what();
+    }
+  }
+
+  fs::path dir_;
+};
+
+// Valid nets: the stream's fingerprint, α, magnitude and rational flag are the built surface's, for
+// windows that cut rows anywhere; the outline holds no values.
+TEST_F(StreamedNet, GivesTheBuiltSurfacesFingerprintAndMetadata) {
+  FamilySpec aeb;
+  aeb.construction = Construction::AlphaEB;
+  aeb.degree = 5;
+  const SurfaceModel wavy = test::wavyNet(aeb, 9, true, 3.0);
+  write("net.npy", npyBytes("(9, 9, 3)", flat(wavy.points)));
+  write("alpha.npy", npyBytes("(9, 9)", wavy.alpha));
+  const SurfaceModel torus = test::nurbsTorus(3.0, 1.0);
+  write("torus.npy", npyBytes("(9, 9, 3)", flat(torus.points)));
+  write("w.npy", npyBytes("(9, 9)", torus.weights, false));  // float32 weights
+  const std::vector<std::string> docs = {
+      R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": {"npy": "alpha.npy"}, )"
+      R"("points": {"npy": "net.npy"}})",
+      R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": 0.25, "points": {"npy": "net.npy"}})",
+      R"({"kind": "surface", "construction": "extended_bspline", "degree": 4, "closed": [true, false], )"
+      R"("points": {"npy": "net.npy"}})",
+      torusDoc(torus, "torus.npy", "w.npy"),
+  };
+  for (const std::string& doc : docs) {
+    SCOPED_TRACE(doc);
+    std::optional<Surface> built;
+    ASSERT_EQ(fullParse(doc, built), "");
+    const SampleLayout layout = gridLayout(*built);
+    const JobMetadata full = jobMetadataOf(*built, "m.json", "", "cpu", Precision::Double, Precision::Double, 4, 4);
+    for (size_t window : {size_t{1}, size_t{7}, size_t{9}, size_t{kStreamWindowPoints}}) {
+      io::StreamedNet net;
+      std::string fingerprint;
+      ASSERT_EQ(streamed(doc, window, layout, net, fingerprint), "") << window;
+      EXPECT_EQ(fingerprint, jobFingerprint(*built, layout, OutputFormat::RawF32)) << window;
+      const JobMetadata m = jobMetadataOf(built->model(), net.alpha, net.rational, "m.json", "", "cpu",
+                                          Precision::Double, Precision::Double, 4, 4);
+      EXPECT_EQ(metadataJson(m), metadataJson(full)) << window;
+      double largest = 0.0;
+      built->forEachControlPoint([&](const glm::dvec3& p) {
+        largest = std::max({largest, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+      });
+      EXPECT_EQ(net.largestCoordinate, largest);
+      EXPECT_TRUE(net.verticesShown);
+    }
+  }
+}
+
+// Broken nets: the stream stops at the error the full parse reports, whatever the window: every
+// file's non-finite values before α's range, the first bad value in each.
+TEST_F(StreamedNet, StopsAtTheErrorTheFullParseReports) {
+  FamilySpec aeb;
+  aeb.construction = Construction::AlphaEB;
+  aeb.degree = 5;
+  const SurfaceModel wavy = test::wavyNet(aeb, 8, true);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> points = flat(wavy.points);
+  const std::string aebDoc = R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, )"
+                             R"("alpha": {"npy": "a.npy"}, "points": {"npy": "p.npy"}})";
+  struct Case {
+    std::string what;
+    std::vector<double> points, alpha;
+  };
+  std::vector<Case> cases;
+  auto withValue = [](std::vector<double> v, size_t k, double x) {
+    v[k] = x;
+    return v;
+  };
+  cases.push_back({"the last coordinate NaN", withValue(points, points.size() - 1, nan), wavy.alpha});
+  cases.push_back({"a coordinate infinite in row 3", withValue(points, 3 * 8 * 3 + 4, -INFINITY), wavy.alpha});
+  cases.push_back({"alpha NaN", points, withValue(wavy.alpha, 40, nan)});
+  cases.push_back({"alpha 0", points, withValue(wavy.alpha, 17, 0.0)});
+  cases.push_back({"alpha above 1 early, NaN late", points, withValue(withValue(wavy.alpha, 2, 1.5), 60, nan)});
+  cases.push_back({"points NaN late, alpha 0 early", withValue(points, 150, nan), withValue(wavy.alpha, 0, 0.0)});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    write("p.npy", npyBytes("(8, 8, 3)", c.points));
+    write("a.npy", npyBytes("(8, 8)", c.alpha));
+    std::optional<Surface> built;
+    const std::string expected = fullParse(aebDoc, built);
+    ASSERT_NE(expected, "") << "the full parse accepts the broken net";
+    const SampleLayout layout;
+    for (size_t window : {size_t{1}, size_t{5}, size_t{64}}) {
+      io::StreamedNet net;
+      std::string fingerprint;
+      EXPECT_EQ(streamed(aebDoc, window, layout, net, fingerprint), expected) << window;
+    }
+  }
+
+  // Weights: a zero, a NaN after a zero, and w P overflowing.
+  const SurfaceModel torus = test::nurbsTorus(3.0, 1.0);
+  const std::string nurbsDoc = torusDoc(torus, "p.npy", "w.npy");
+  std::vector<double> huge = flat(torus.points);
+  huge[30] = 1e308;
+  for (const auto& [what, pts, weights] :
+       {std::tuple{"a weight 0", flat(torus.points), withValue(torus.weights, 20, 0.0)},
+        std::tuple{"a weight NaN after a weight 0", flat(torus.points),
+                   withValue(withValue(torus.weights, 5, 0.0), 70, nan)},
+        std::tuple{"w P overflows", huge, withValue(torus.weights, 10, 4.0)}}) {
+    SCOPED_TRACE(what);
+    write("p.npy", npyBytes("(9, 9, 3)", pts));
+    write("w.npy", npyBytes("(9, 9)", weights));
+    std::optional<Surface> built;
+    const std::string expected = fullParse(nurbsDoc, built);
+    ASSERT_NE(expected, "");
+    for (size_t window : {size_t{1}, size_t{4}, size_t{100}}) {
+      io::StreamedNet net;
+      std::string fingerprint;
+      EXPECT_EQ(streamed(nurbsDoc, window, SampleLayout{}, net, fingerprint), expected) << window;
+    }
+  }
+}
+
+// A net whose points or α make the vertex bound fail is not cleared by the stream: the caller then
+// builds the surface, which checks every vertex (core/surface.h alphaEBVerticesSurelyFinite) and
+// may find them all finite (α = 1e-306 on a net of size 1) or one that is not (α = 1e-308, size 100).
+TEST_F(StreamedNet, LeavesTheVertexCheckToTheSurfaceWhenTheBoundFails) {
+  FamilySpec aeb;
+  aeb.construction = Construction::AlphaEB;
+  aeb.degree = 5;
+  struct Case {
+    const char* alpha;
+    double scale;
+    bool shown, overflows;
+  };
+  for (const Case& c :
+       {Case{"0.5", 1.0, true, false}, Case{"1e-306", 1.0, false, false}, Case{"1e-308", 100.0, false, true}}) {
+    SCOPED_TRACE(c.alpha);
+    write("p.npy", npyBytes("(6, 6, 3)", flat(test::wavyNet(aeb, 6, false, c.scale).points)));
+    const std::string doc = std::string(R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": )") +
+                            c.alpha + R"(, "points": {"npy": "p.npy"}})";
+    io::StreamedNet net;
+    std::string fingerprint;
+    ASSERT_EQ(streamed(doc, 5, SampleLayout{}, net, fingerprint), "");
+    EXPECT_EQ(net.verticesShown, c.shown);
+    std::optional<Surface> built;
+    const std::string error = fullParse(doc, built);
+    EXPECT_EQ(error.empty(), !c.overflows) << error;
+  }
+}
+
+}  // namespace
+}  // namespace shapespline::io
