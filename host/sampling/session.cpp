@@ -248,6 +248,17 @@ uint64_t Session::bufferLimit(const vk::Context& ctx) const {
   return maxBufferBytes_ ? std::min(limit, maxBufferBytes_) : limit;
 }
 
+namespace {
+
+// `r` (a CPU report) with the reason the GPU was not used, or DeviceError when the request requires it.
+Report cpuFallback(Report& r, const DeviceRequest& request, const std::string& why) {
+  if (request.require) throw DeviceError(why + "; the CPU fallback is disabled", true);
+  r.fallbacks.push_back(why);
+  return r;
+}
+
+}  // namespace
+
 template <class Model>
 Report Session::planFor(const Model& model, const DeviceRequest& request) {
   Report r;
@@ -258,16 +269,9 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   const double magnitude = largestCoordinate(model);  // one pass over the net for both exponents
   r.netScaleExponent = std::min(0, netScaleFor(magnitude, Precision::Double));
   if (request.device == DeviceKind::Cpu) return r;
-  auto fallBack = [&](const std::string& why) {
-    if (request.require) throw DeviceError(why + "; the CPU fallback is disabled", true);
-    r.fallbacks.push_back(why);
-    return r;
-  };
+  auto fallBack = [&](const std::string& why) { return cpuFallback(r, request, why); };
+  if (auto why = deviceUnusable(request)) return fallBack(*why);
   const std::shared_ptr<vk::Context>& ctx = context(request.precision);
-  if (!ctx) return fallBack("no Vulkan device (" + *noDevice_ + ")");
-  if (request.precision == Precision::Double && !ctx->supportsFloat64()) {
-    return fallBack("Vulkan device '" + ctx->deviceName() + "' has no shaderFloat64 (use --precision float for the GPU)");
-  }
   if (auto why = gpuLimitation(model, request.precision)) return fallBack(*why);
   // A net that does not fit one device buffer: a grid job samples it in bands of patch rows that
   // do; anything else goes to the CPU with the sizes, rather than failing at the bind.
@@ -292,6 +296,25 @@ Report Session::planFor(const Model& model, const DeviceRequest& request) {
   r.device = ctx->deviceName();
   r.computedPrecision = request.precision;
   r.netScaleExponent = netScaleFor(magnitude, request.precision);
+  return r;
+}
+
+std::optional<std::string> Session::deviceUnusable(const DeviceRequest& request) {
+  const std::shared_ptr<vk::Context>& ctx = context(request.precision);
+  if (!ctx) return "no Vulkan device (" + *noDevice_ + ")";
+  if (request.precision == Precision::Double && !ctx->supportsFloat64())
+    return "Vulkan device '" + ctx->deviceName() + "' has no shaderFloat64 (use --precision float for the GPU)";
+  return std::nullopt;
+}
+
+Report Session::planDevice(const DeviceRequest& request) {
+  Report r;
+  r.outputPrecision = request.precision;
+  if (request.device == DeviceKind::Cpu) return r;
+  if (auto why = deviceUnusable(request)) return cpuFallback(r, request, *why);
+  r.gpu = true;
+  r.device = context(request.precision)->deviceName();
+  r.computedPrecision = request.precision;
   return r;
 }
 

@@ -111,6 +111,10 @@ class Session {
   // written before the first chunk). Throws DeviceError as the jobs do.
   Report plan(const Curve& curve, const DeviceRequest& request);
   Report plan(const Surface& surface, const DeviceRequest& request);
+  // The device part of plan() alone, for a job that samples nothing (a shard with no items, whose
+  // net is never built): the CPU, or the Vulkan device the request can use at all; the limits a
+  // net would add (buffer sizes, ranges) are not looked at.
+  Report planDevice(const DeviceRequest& request);
 
   // Streams the grid (itemCount 0: every item from firstItem on) to `consumer` in item order.
   // Chunks hold the computed precision (GridChunk::precision); the sink rounds to the output
@@ -154,6 +158,8 @@ class Session {
   // One body for curves and surfaces each (session.cpp).
   template <class Model>
   Report planFor(const Model& model, const DeviceRequest& request);
+  // Why the request cannot use a Vulkan device at all (none; fp64 asked of a device without it).
+  std::optional<std::string> deviceUnusable(const DeviceRequest& request);
   // maxStorageBufferRange, maxMemoryAllocationSize and maxBufferBytes_, the least of them.
   uint64_t bufferLimit(const vk::Context& ctx) const;
   template <class Model>
