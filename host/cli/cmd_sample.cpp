@@ -8,6 +8,7 @@
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/streamed_net.h>
 #include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_mesh.h>
@@ -194,20 +195,39 @@ void requireTrimmable(const SampleArgs& args, const io::Model& model, io::Output
   if (args.meshLayoutGiven) throw InputError("--mesh-layout", args.meshLayout, "does not apply to --trim (a point cloud)");
 }
 
+// The first item of shard k of n of a job of `total` items (k = 0..n): floor(k T / N), computed as
+// (T / N) k + floor((T % N) k / N), since T (<= 5e11) times k (<= 1e9) would overflow.
+size_t shardBound(size_t total, int k, int shards) {
+  const size_t kk = static_cast<size_t>(k), n = static_cast<size_t>(shards);
+  return total / n * kk + total % n * kk / n;
+}
+
+// Whether this job could stream its net: a shard (only a shard can have no items) that neither
+// saves the model nor trims (both need the built surface).
+bool mayStreamNet(const SampleArgs& args, int shards) { return shards > 1 && args.saveModel.empty() && !args.trim; }
+
+// Whether shard k of n of a surface of this (valid) shape has no items, and nothing else about it
+// needs the net: a welded mesh of a closed surface takes its orientation from the net's volume.
+bool shardHasNoItems(const SurfaceShape& shape, int k, int n, io::OutputFormat format, const SampleArgs& args) {
+  if (io::isMesh(format) && args.meshLayout == "welded" && shape.closedU && shape.closedV) return false;
+  const size_t total = surfaceGridItems(shape).size();
+  return shardBound(total, k - 1, n) == shardBound(total, k, n);
+}
+
 }  // namespace
 
-void setSurfaceItems(const Surface& surface, io::SampleLayout& layout) {
-  SurfaceGridItems items = surfaceGridItems(surface);
+void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
+  SurfaceGridItems items = surfaceGridItems(sm);
   layout.totalItems = items.size();
   layout.spanU = std::move(items.u);
   layout.spanV = std::move(items.v);
   layout.itemsV = layout.spanV.size();
-  const auto& sm = surface.model();
   layout.closedU = sm.closedU;
   layout.closedV = sm.closedV;
+  const bool knotVector = parameterizationOf(sm) == Parameterization::KnotVector;
   auto interval = [&](int i, const std::vector<double>& knots) {
-    return surface.usesKnotVector() ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
-                                    : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
+    return knotVector ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
+                      : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
   };
   for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
   for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
@@ -248,9 +268,25 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   std::optional<sampling::Session> own;
   sampling::Session& session = shared ? *shared : own.emplace();
   if (!part) session.prepare(request);  // the device, also beside the parse
-  io::Model model = part ? io::Model{} : loadModel(args.model, args.allowOutsideArrays, &arrayFiles, &*modelDigest);
+  // A shard may have no items: then a net in files is streamed through its rules and the job's
+  // fingerprint, never held (io/streamed_net.h). The model is first read as an outline (its array
+  // files' headers), and in full only when the shard samples something.
+  io::ModelArrays outline;
+  io::Model model;
+  if (!part && mayStreamNet(args, shardN)) {
+    model = loadModelOutline(args.model, args.allowOutsideArrays, outline, &*modelDigest);
+    arrayFiles = outline.files;
+    const auto* shape = std::get_if<SurfaceModel>(&model);
+    if (!outline.deferred.empty() && !(shape && shardHasNoItems(*shape, shardK, shardN, format, args))) {
+      outline = {};
+      model = loadModel(args.model, args.allowOutsideArrays, &arrayFiles, nullptr);  // the digest has its files
+    }
+  } else if (!part) {
+    model = loadModel(args.model, args.allowOutsideArrays, &arrayFiles, &*modelDigest);
+  }
+  const bool streamed = !outline.deferred.empty();
   const bool isSurface = part || std::holds_alternative<SurfaceModel>(model);
-  if (!part) std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
+  if (!part && !streamed) std::visit([&](const auto& m) { requireFloatRange(m.points, precision); }, model);
   if (args.trim && !part) requireTrimmable(args, model, format);
 
   int su = 0, sv = 1;
@@ -320,9 +356,11 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
     throw InputError("--mesh-layout", args.meshLayout, "per-item layouts are for .obj and .ply outputs");
   }
   layout.welded = meshFormat && args.meshLayout == "welded" && !args.trim;
-  if (isSurface) {
+  if (streamed) {
+    setSurfaceItems(std::get<SurfaceModel>(model), layout);
+  } else if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
-    setSurfaceItems(*surface, layout);
+    setSurfaceItems(surface->model(), layout);
   } else {
     curve.emplace(Curve::create(std::get<CurveModel>(std::move(model))));
     layout.spanU = curveGridItems(*curve);
@@ -343,19 +381,28 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                      "the job would produce " + std::to_string(static_cast<long long>(totalPoints)) +
                          " points; at most 1e12 are allowed");
   }
-  // floor(k T / N) as (T / N) k + floor((T % N) k / N): T (<= 5e11) times k (<= 1e9) would overflow.
-  // (n by init-capture: clang 15 cannot capture a structured binding.)
-  auto shardBound = [&, n = static_cast<size_t>(shardN)](int k) {
-    const size_t kk = static_cast<size_t>(k);
-    return layout.totalItems / n * kk + layout.totalItems % n * kk / n;
-  };
-  layout.firstItem = shardBound(shardK - 1);
-  layout.itemCount = shardBound(shardK) - layout.firstItem;
+  layout.firstItem = shardBound(layout.totalItems, shardK - 1, shardN);
+  layout.itemCount = shardBound(layout.totalItems, shardK, shardN) - layout.firstItem;
   // Every shard of this job (and the unsharded job) carries the same fingerprint; `merge` checks it.
   // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
   if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
-  layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
-                     : io::jobFingerprint(*surface, layout, format);
+  std::optional<io::StreamedNet> net;  // a streamed net's values, as the metadata needs them
+  if (streamed) {
+    // The value rules in the full parse's order (a command that is also wrong in its options
+    // reports those first here: the values are read only now, with the layout the hash needs).
+    const SurfaceModel& shape = std::get<SurfaceModel>(model);
+    const SurfaceCounts counts = io::outlineCounts(shape, outline);
+    io::SurfaceFingerprint fingerprint(shape, counts.alpha, counts.weights, layout, format);
+    net = io::streamSurfaceNet(shape, outline, fingerprint);
+    requireFloatRange(net->largestCoordinate, precision);
+    layout.job = fingerprint.finish();
+    // A net the α-EB vertex bound does not clear: the built surface checks every vertex (§4.2).
+    if (!net->verticesShown)
+      (void)Surface::create(std::get<SurfaceModel>(loadModel(args.model, args.allowOutsideArrays, nullptr, nullptr)));
+  } else {
+    layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
+                       : io::jobFingerprint(*surface, layout, format);
+  }
   // A welded shard also holds the foreign vertices of its items; at most its points either way.
   if (format == io::OutputFormat::Ply && layout.pointCount() > std::numeric_limits<uint32_t>::max() &&
       (!layout.welded || io::WeldedNumbering(layout.weldGrid(), layout.firstItem,
@@ -392,7 +439,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   // A shard (--shard given) also writes its record OUT.shard.json, last in the set (jobs/shard_files.h).
   io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(jobs::shardRecordPath(args.out), "-o");
   const std::string extraRole = format == io::OutputFormat::Gltf ? "buffer" : "sidecar";
-  const sampling::Report report = curve ? session.plan(*curve, request) : session.plan(*surface, request);
+  const sampling::Report report = streamed ? session.planDevice(request)
+                                 : curve    ? session.plan(*curve, request)
+                                            : session.plan(*surface, request);
   printNotices(report, args.quiet);
   layout.device = report.device;
   layout.computedPrecision = report.computedPrecision;
@@ -403,6 +452,9 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
                                                                   : precision;
     layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, modelDigest->get(), report.device,
                                                 report.computedPrecision, stored, su)
+                      : net ? io::jobMetadataOf(std::get<SurfaceModel>(model), net->alpha, net->rational, args.model,
+                                                modelDigest->get(), report.device, report.computedPrecision, stored, su,
+                                                sv)
                             : io::jobMetadataOf(*surface, args.model, modelDigest->get(), report.device,
                                                 report.computedPrecision, stored, su, sv);
   } catch (const std::runtime_error& e) {

@@ -55,7 +55,7 @@ bool sampleInto(const SampleArgs& args, io::OutputSet& outputs, std::string& sum
                 sampling::Session* session = nullptr);
 
 // The grid items of a surface job (patch indices and parameter intervals per row and column).
-void setSurfaceItems(const Surface& surface, io::SampleLayout& layout);
+void setSurfaceItems(const SurfaceShape& shape, io::SampleLayout& layout);
 
 // What `sample` parsed for a job, handed to the part sampler.
 struct PartJob {

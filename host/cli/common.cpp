@@ -24,8 +24,10 @@ namespace {
 constexpr size_t kMaxPathChars = 256;
 }  // namespace
 
-io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vector<std::filesystem::path>* arrayFiles,
-                    io::ModelDigest* digest) {
+namespace {
+
+io::Model parseModelFile(const std::string& path, bool allowOutsideArrays, io::ModelArrays& arrays,
+                         io::ModelDigest* digest) {
   std::string text;
   try {
     text = io::readInputFile(path, "MODEL");
@@ -35,13 +37,26 @@ io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vecto
     throw InputError("MODEL", io::shortText(path, kMaxPathChars), std::string("cannot read the model file: ") + e.what());
   }
   // Array references ("points": {"npy": ...}) are resolved in the model file's folder.
-  io::ModelArrays arrays;
   arrays.folder = std::filesystem::path(path).parent_path();
   arrays.allowOutside = allowOutsideArrays;
   if (digest) arrays.onFile = [digest](const std::filesystem::path& file) { digest->add(file); };
-  io::Model model = io::parseModelText(text, &arrays);
+  return io::parseModelText(text, &arrays);
+}
+
+}  // namespace
+
+io::Model loadModel(const std::string& path, bool allowOutsideArrays, std::vector<std::filesystem::path>* arrayFiles,
+                    io::ModelDigest* digest) {
+  io::ModelArrays arrays;
+  io::Model model = parseModelFile(path, allowOutsideArrays, arrays, digest);
   if (arrayFiles) *arrayFiles = std::move(arrays.files);
   return model;
+}
+
+io::Model loadModelOutline(const std::string& path, bool allowOutsideArrays, io::ModelArrays& arrays,
+                           io::ModelDigest* digest) {
+  arrays.outline = true;
+  return parseModelFile(path, allowOutsideArrays, arrays, digest);
 }
 
 nlohmann::json readJsonFile(const std::string& path, const std::string& field) {
@@ -233,7 +248,11 @@ void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet) {
 
 void requireFloatRange(const std::vector<glm::dvec3>& points, Precision precision) {
   if (precision != Precision::Float) return;
-  const double largest = sampling::largestCoordinate(points);
+  requireFloatRange(sampling::largestCoordinate(points), precision);
+}
+
+void requireFloatRange(double largest, Precision precision) {
+  if (precision != Precision::Float) return;
   if (largest > kMaxFloatNet) {
     throw InputError("--precision", "float",
                      "the control net reaches " + num3(largest) + " but fp32 output holds at most 3.4e38 "

@@ -47,6 +47,10 @@ void refuseOption(const GivenOptions& given, const std::string& option, const st
 // `digest` (the model's SHA-256, hashed beside the parse) before it is read.
 io::Model loadModel(const std::string& path, bool allowOutsideArrays = false,
                     std::vector<std::filesystem::path>* arrayFiles = nullptr, io::ModelDigest* digest = nullptr);
+// loadModel as an outline (io::ModelArrays::outline): a surface whose points are a file comes back
+// without the values of its array files, which `arrays` lists (deferred) for io/streamed_net.h.
+io::Model loadModelOutline(const std::string& path, bool allowOutsideArrays, io::ModelArrays& arrays,
+                           io::ModelDigest* digest);
 // Reads a JSON file; malformed JSON or an unreadable file is an InputError naming `field`.
 nlohmann::json readJsonFile(const std::string& path, const std::string& field);
 
@@ -85,6 +89,8 @@ void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet);
 // leaves no headroom for derivatives, so it is refused (InputError on --precision, exit 2).
 inline constexpr double kMaxFloatNet = 1e36;
 void requireFloatRange(const std::vector<glm::dvec3>& points, Precision precision);
+// The same for a net whose largest |coordinate| is `largest` (a net streamed, not held).
+void requireFloatRange(double largest, Precision precision);
 
 // Test-only CLI fault (issue 7): SHAPESPLINE_FAULT=nan makes `sample` and `eval` see a NaN in the
 // first evaluated value, to prove it never reaches a file. main calls takeCliFault() first; it

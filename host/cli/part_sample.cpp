@@ -83,7 +83,7 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
     layout.fields = job.fields;
     layout.precision = job.precision;
     layout.source = face.model.string();
-    setSurfaceItems(*face.surface, layout);
+    setSurfaceItems(face.surface->model(), layout);
     layout.itemCount = layout.totalItems;
     total += io::samplesInside(layout, face.surface->model().trim);
   }

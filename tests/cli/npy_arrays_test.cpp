@@ -69,6 +69,22 @@ model("bad_alpha_shape.json", points={"npy": "net.npy"}, alpha={"npy": "alpha_sh
 model("bad_dotdot.json", points={"npy": "../" + os.path.basename(outside) + "/net.npy"}, alpha={"npy": "alpha.npy"})
 model("bad_absolute.json", points={"npy": os.path.join(outside, "net.npy")}, alpha={"npy": "alpha.npy"})
 model("bad_reference.json", points={"npy": "net.npy", "mmap": True}, alpha={"npy": "alpha.npy"})
+# Value rules an empty shard streams (tests ...EmptyShards...): alpha out of range; out of range
+# early and NaN late (the NaN is the error); vertices that overflow fp64 (alpha tiny, net large).
+late = al.copy(); late[2, 3] = 1.5
+save("alpha_range.npy", late)
+late[7, 1] = np.nan
+save("alpha_nan_late.npy", late)
+save("net_big.npy", P * 100)
+model("bad_alpha_range.json", points={"npy": "net.npy"}, alpha={"npy": "alpha_range.npy"})
+model("bad_alpha_nan_late.json", points={"npy": "net.npy"}, alpha={"npy": "alpha_nan_late.npy"})
+model("bad_overflow.json", points={"npy": "net_big.npy"}, alpha=1e-308)
+model("ref_uniform.json", points={"npy": "net.npy"}, alpha=0.5)
+# A rational B-spline surface from files.
+save("wsurf.npy", np.random.default_rng(5).uniform(0.5, 2.0, (n, n)))
+ku = [0, 0, 0] + list(np.linspace(0.1, 0.9, n - 3)) + [1, 1, 1]
+json.dump({"kind": "surface", "construction": "bspline", "order": [3, 3], "knots": [ku, ku],
+           "points": {"npy": "net.npy"}, "weights": {"npy": "wsurf.npy"}}, open(os.path.join(d, "nurbs_ref.json"), "w"))
 )PY";
 
 // Checks a model saved by --save-model against the JSON model it came from (argv: folder, source
@@ -265,6 +281,74 @@ TEST_F(NpyArrays, ShardsOfChangedArraysDoNotMerge) {
   const CliResult changed = runCli(mergeArgs, dir_.path());
   EXPECT_EQ(changed.rc, 2) << changed.err;
   EXPECT_NE(changed.err.find("belongs to another job"), std::string::npos) << changed.err;  // its id hashes model_sha256
+}
+
+// A shard with no items streams its net's files through the rules and the fingerprint without
+// holding them (io/streamed_net.h): it carries the job fingerprint and metadata of the shards that
+// sample, so that merge takes it, and the shards merge into the unsharded job's bytes.
+TEST_F(NpyArrays, EmptyShardsCarryTheJobOfTheShardsThatSample) {
+  auto shard = [&](const std::string& model, int k, int n, const std::string& out) {
+    return runCli("sample " + quote((models() / model).string()) + " -o " + quote((dir_ / out).string()) +
+                      " --grid 4 --device cpu -q --shard " + std::to_string(k) + "/" + std::to_string(n),
+                  dir_.path());
+  };
+  auto line = [&](const std::string& sidecar, const std::string& key) {
+    const std::string text = readText(dir_ / sidecar);
+    const size_t at = text.find("\"" + key + "\":");
+    return at == std::string::npos ? std::string() : text.substr(at, text.find('\n', at) - at);
+  };
+  // 81 patches (α-EB) or 64 (the rational B-spline) in 100 shards: shard 1 has none, shard 100 one.
+  for (const char* model : {"ref.json", "ref32.json", "ref_uniform.json", "nurbs_ref.json"}) {
+    SCOPED_TRACE(model);
+    const CliResult empty = shard(model, 1, 100, "empty.f64"), one = shard(model, 100, 100, "one.f64");
+    ASSERT_EQ(empty.rc, 0) << empty.err;
+    ASSERT_EQ(one.rc, 0) << one.err;
+    EXPECT_EQ(fs::file_size(dir_ / "empty.f64"), 0u);
+    EXPECT_GT(fs::file_size(dir_ / "one.f64"), 0u);
+    for (const char* key : {"job", "metadata"}) {
+      EXPECT_NE(line("empty.f64.json", key), "") << key;
+      EXPECT_EQ(line("empty.f64.json", key), line("one.f64.json", key)) << key;
+    }
+  }
+  // 82 shards of 81 patches: shard 1 is empty; all of them merge into the whole job's file.
+  std::string files;
+  for (int k = 1; k <= 82; ++k) {
+    const std::string out = "s" + std::to_string(k) + ".f64";
+    const CliResult r = shard("ref.json", k, 82, out);
+    ASSERT_EQ(r.rc, 0) << k << ": " << r.err;
+    files += " " + quote((dir_ / out).string());
+  }
+  EXPECT_EQ(fs::file_size(dir_ / "s1.f64"), 0u);
+  const CliResult merged = runCli("merge -o " + quote((dir_ / "merged.f64").string()) + files, dir_.path());
+  ASSERT_EQ(merged.rc, 0) << merged.err;
+  const CliResult whole = runCli("sample " + quote((models() / "ref.json").string()) + " -o " +
+                                     quote((dir_ / "whole.f64").string()) + " --grid 4 --device cpu -q",
+                                 dir_.path());
+  ASSERT_EQ(whole.rc, 0) << whole.err;
+  EXPECT_TRUE(readText(dir_ / "merged.f64") == readText(dir_ / "whole.f64"));
+}
+
+// A shard with no items refuses a bad net with the error (and exit 2, and no output) of a shard
+// that samples: the rules it streams, and those it leaves to the built surface (overflowing
+// vertices), in the same order.
+TEST_F(NpyArrays, EmptyShardsRefuseBadArraysAsShardsThatSample) {
+  for (const char* model : {"bad_nan.json", "bad_alpha_range.json", "bad_alpha_nan_late.json", "bad_overflow.json",
+                            "bad_shape.json", "bad_alpha_shape.json", "bad_truncated.json", "bad_huge.json",
+                            "bad_link.json", "bad_int.json"}) {
+    SCOPED_TRACE(model);
+    std::string errors[2];
+    for (int k : {1, 200}) {
+      const CliResult r = runCli("sample " + quote((models() / model).string()) + " -o " +
+                                     quote((dir_ / "out.f64").string()) + " --grid 4 --device cpu -q --shard " +
+                                     std::to_string(k) + "/200",
+                                 dir_.path());
+      EXPECT_EQ(r.rc, 2) << k << ": " << r.err;
+      EXPECT_FALSE(fs::exists(dir_ / "out.f64")) << k << ": partial output";
+      errors[k == 1 ? 0 : 1] = r.err;
+    }
+    EXPECT_NE(errors[0], "");
+    EXPECT_EQ(errors[0], errors[1]);
+  }
 }
 
 }  // namespace

@@ -14,7 +14,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -133,6 +135,54 @@ TEST(MemoryBoundRss, CpuOneSpanAtMaxSamples) {
   ASSERT_EQ(m.rc, 0) << m.err;
   EXPECT_EQ(fs::file_size(dir / "c.f32"), size_t{65536} * 9 * 4);
   EXPECT_LE(m.maxRssKiB, kCpuBoundKiB);
+}
+
+// Issue 31: a shard with no items of a big net in a .npy file streams the file through its rules
+// and the job fingerprint and holds none of it: its peak RSS stays under a third of the net's bytes,
+// where a shard of one item, which builds the surface, holds more than the whole net.
+TEST(MemoryBoundRss, EmptyShardOfABigNetDoesNotHoldIt) {
+  ScratchDir dir("mem_empty_shard");
+  constexpr int kN = 2000;  // 96 MB of fp64 points
+  {
+    std::string dict = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(kN) + ", " +
+                       std::to_string(kN) + ", 3), }";
+    while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
+    dict += '\n';
+    std::string head = std::string("\x93NUMPY\x01\x00", 8) + char(dict.size() & 0xff) + char(dict.size() >> 8) + dict;
+    std::FILE* f = std::fopen((dir / "net.npy").c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fwrite(head.data(), 1, head.size(), f);
+    std::vector<double> row(3 * kN);
+    for (int i = 0; i < kN; ++i) {
+      for (int j = 0; j < kN; ++j) {
+        double* p = &row[3 * size_t(j)];
+        p[0] = i, p[1] = j, p[2] = std::sin(0.01 * i) * std::cos(0.02 * j);
+      }
+      std::fwrite(row.data(), sizeof(double), row.size(), f);
+    }
+    ASSERT_EQ(std::fclose(f), 0);
+  }
+  writeText(dir / "m.json",
+            R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, "alpha": 0.5, "points": {"npy": "net.npy"}})");
+  const long netKiB = long(fs::file_size(dir / "net.npy") / 1024);
+  const std::vector<std::string> job = {"sample", "m.json", "--grid", "2", "--device", "cpu", "-q", "-o"};
+  auto shard = [&](const std::string& out, const std::string& which) {
+    std::vector<std::string> args = job;
+    args.push_back(out);
+    args.push_back("--shard");
+    args.push_back(which);
+    return runMeasured(args, dir.path());
+  };
+  // 1999² patches in 4,000,000 shards: shard 1 has none, the last one has one.
+  const Measured empty = shard("empty.f32", "1/4000000"), one = shard("one.f32", "4000000/4000000");
+  ASSERT_EQ(empty.rc, 0) << empty.err;
+  ASSERT_EQ(one.rc, 0) << one.err;
+  EXPECT_EQ(fs::file_size(dir / "empty.f32"), 0u);
+  EXPECT_LE(empty.maxRssKiB, netKiB / 3) << "an empty shard held " << empty.maxRssKiB / 1024 << " MiB of a "
+                                         << netKiB / 1024 << " MiB net";
+  EXPECT_GT(one.maxRssKiB, netKiB) << "the shard that builds the surface should hold the net";
+  std::printf("[ measured ] a %ld MiB net: an empty shard peaks at %ld MiB, a one-item shard at %ld MiB\n",
+              netKiB / 1024, empty.maxRssKiB / 1024, one.maxRssKiB / 1024);
 }
 
 }  // namespace
