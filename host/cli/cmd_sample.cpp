@@ -274,10 +274,16 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   io::ModelArrays outline;
   io::Model model;
   if (!part && mayStreamNet(args, shardN)) {
-    model = loadModelOutline(args.model, args.allowOutsideArrays, outline, &*modelDigest);
-    arrayFiles = outline.files;
-    const auto* shape = std::get_if<SurfaceModel>(&model);
-    if (!outline.deferred.empty() && !(shape && shardHasNoItems(*shape, shardK, shardN, format, args))) {
+    bool whole = false;
+    try {
+      model = loadModelOutline(args.model, args.allowOutsideArrays, outline, &*modelDigest);
+      arrayFiles = outline.files;
+      const auto* shape = std::get_if<SurfaceModel>(&model);
+      whole = !outline.deferred.empty() && !(shape && shardHasNoItems(*shape, shardK, shardN, format, args));
+    } catch (const ModelError&) {
+      whole = true;  // the full parse names the error (its rules on the values come before the shape's)
+    }
+    if (whole) {
       outline = {};
       model = loadModel(args.model, args.allowOutsideArrays, &arrayFiles, nullptr);  // the digest has its files
     }

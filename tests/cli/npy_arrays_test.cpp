@@ -80,6 +80,11 @@ model("bad_alpha_range.json", points={"npy": "net.npy"}, alpha={"npy": "alpha_ra
 model("bad_alpha_nan_late.json", points={"npy": "net.npy"}, alpha={"npy": "alpha_nan_late.npy"})
 model("bad_overflow.json", points={"npy": "net_big.npy"}, alpha=1e-308)
 model("ref_uniform.json", points={"npy": "net.npy"}, alpha=0.5)
+# Two faults at once: a NaN in the points and a bad alpha shape, or too few rows (the NaN is named).
+model("bad_nan_alpha_shape.json", points={"npy": "nan.npy"}, alpha={"npy": "alpha_shape.npy"})
+few = P[:1].copy(); few[0, 1, 1] = np.nan
+save("nan_few.npy", few)
+model("bad_nan_few_rows.json", points={"npy": "nan_few.npy"}, alpha=0.5)
 # A rational B-spline surface from files.
 save("wsurf.npy", np.random.default_rng(5).uniform(0.5, 2.0, (n, n)))
 ku = [0, 0, 0] + list(np.linspace(0.1, 0.9, n - 3)) + [1, 1, 1]
@@ -328,23 +333,23 @@ TEST_F(NpyArrays, EmptyShardsCarryTheJobOfTheShardsThatSample) {
   EXPECT_TRUE(readText(dir_ / "merged.f64") == readText(dir_ / "whole.f64"));
 }
 
-// A shard with no items refuses a bad net with the error (and exit 2, and no output) of a shard
-// that samples: the rules it streams, and those it leaves to the built surface (overflowing
-// vertices), in the same order.
-TEST_F(NpyArrays, EmptyShardsRefuseBadArraysAsShardsThatSample) {
-  for (const char* model : {"bad_nan.json", "bad_alpha_range.json", "bad_alpha_nan_late.json", "bad_overflow.json",
-                            "bad_shape.json", "bad_alpha_shape.json", "bad_truncated.json", "bad_huge.json",
-                            "bad_link.json", "bad_int.json"}) {
+// A shard with no items refuses a bad net with the error (and exit 2, and no output) of the
+// unsharded job, which reads the model whole: the rules it streams, and those it leaves to the
+// built surface (overflowing vertices), in the same order, also when a net breaks two rules.
+TEST_F(NpyArrays, EmptyShardsRefuseBadArraysAsTheWholeJob) {
+  for (const char* model :
+       {"bad_nan.json", "bad_alpha_range.json", "bad_alpha_nan_late.json", "bad_overflow.json", "bad_shape.json",
+        "bad_alpha_shape.json", "bad_truncated.json", "bad_huge.json", "bad_link.json", "bad_int.json",
+        "bad_nan_alpha_shape.json", "bad_nan_few_rows.json"}) {
     SCOPED_TRACE(model);
     std::string errors[2];
-    for (int k : {1, 200}) {
+    for (const std::string shard : {" --shard 1/200", ""}) {
       const CliResult r = runCli("sample " + quote((models() / model).string()) + " -o " +
-                                     quote((dir_ / "out.f64").string()) + " --grid 4 --device cpu -q --shard " +
-                                     std::to_string(k) + "/200",
+                                     quote((dir_ / "out.f64").string()) + " --grid 4 --device cpu -q" + shard,
                                  dir_.path());
-      EXPECT_EQ(r.rc, 2) << k << ": " << r.err;
-      EXPECT_FALSE(fs::exists(dir_ / "out.f64")) << k << ": partial output";
-      errors[k == 1 ? 0 : 1] = r.err;
+      EXPECT_EQ(r.rc, 2) << shard << ": " << r.err;
+      EXPECT_FALSE(fs::exists(dir_ / "out.f64")) << shard << ": partial output";
+      errors[shard.empty() ? 1 : 0] = r.err;
     }
     EXPECT_NE(errors[0], "");
     EXPECT_EQ(errors[0], errors[1]);
