@@ -138,6 +138,25 @@ TEST(SamplingPath, NoDeviceFallsBackWithTheReasonOrRefusesWhenRequired) {
   EXPECT_EQ(viaLayer, direct);
 }
 
+// planDevice (a job that samples nothing, issue 31): the device part of plan() alone, with its
+// fallback and refusal.
+TEST(SamplingPath, PlanDeviceFallsBackAndRefusesAsPlanDoes) {
+  sampling::Session session(noSuchDevice());
+  const sampling::Report cpu = session.planDevice({DeviceKind::Cpu, Precision::Float, true});
+  EXPECT_FALSE(cpu.gpu);
+  EXPECT_EQ(cpu.device, "cpu");
+  EXPECT_TRUE(cpu.fallbacks.empty());
+  EXPECT_EQ(cpu.outputPrecision, Precision::Float);
+  const Curve c = Curve::create(exampleModel<CurveModel>("open_aeb.json"));
+  const sampling::Report planned = session.plan(c, {DeviceKind::Auto, Precision::Float, false});
+  const sampling::Report device = session.planDevice({DeviceKind::Auto, Precision::Float, false});
+  EXPECT_FALSE(device.gpu);
+  EXPECT_EQ(device.device, "cpu");
+  EXPECT_EQ(device.fallbacks, planned.fallbacks);
+  EXPECT_EQ(device.computedPrecision, Precision::Double);
+  EXPECT_THROW(session.planDevice({DeviceKind::Vulkan, Precision::Float, true}), sampling::DeviceError);
+}
+
 // ---- on the GPU (validation on) --------------------------------------------------------------
 
 // prepare() only moves the context's creation earlier: the plans that follow report what they would
@@ -193,6 +212,11 @@ TEST_F(SamplingGpu, AutoAndVulkanUseTheDeviceInTheRequestedPrecision) {
     EXPECT_EQ(r.netScaleExponent, 0);
   }
   EXPECT_FALSE(session.plan(c, {DeviceKind::Cpu, Precision::Float, true}).gpu);
+  // planDevice names the same device in the same precision.
+  const sampling::Report d = session.planDevice({DeviceKind::Vulkan, Precision::Float, true});
+  EXPECT_TRUE(d.gpu);
+  EXPECT_EQ(d.device, ctx().deviceName());
+  EXPECT_EQ(d.computedPrecision, Precision::Float);
 }
 
 TEST_F(SamplingGpu, ModelBeyondTheKernelsFallsBackWithItsReason) {
