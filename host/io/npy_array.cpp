@@ -11,8 +11,8 @@
 #include <bit>
 #include <cerrno>
 #include <cstring>
-#include <memory>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>

@@ -37,9 +37,12 @@ void FingerprintWords::add(const unsigned char* data, size_t count) {
       carried_ = 0;
     }
   }
+  // The lanes in locals: as members they could alias `data` (bytes), and would go to memory each step.
+  uint64_t lane[4] = {lane_[0], lane_[1], lane_[2], lane_[3]};
   for (; i + 4 <= count; i += 4) {
-    for (int k = 0; k < 4; ++k) lane_[k] = mix(lane_[k], loadWord(data + 8 * (i + size_t(k))));
+    for (int k = 0; k < 4; ++k) lane[k] = mix(lane[k], loadWord(data + 8 * (i + size_t(k))));
   }
+  std::copy(lane, lane + 4, lane_);
   for (; i < count; ++i) carry_[carried_++] = loadWord(data + 8 * i);
 }
 
