@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 
 namespace shapespline::io {
 namespace {
@@ -204,6 +205,7 @@ SurfaceFingerprint::SurfaceFingerprint(const SurfaceShape& m, size_t alphaCount,
 
 void SurfaceFingerprint::points(const glm::dvec3* p, size_t count) {
   const size_t cols = static_cast<size_t>(shape_.cols);
+  if (count > 0 && shape_.cols <= 0) throw std::logic_error("SurfaceFingerprint::points: a shape without columns");
   while (count > 0) {
     if (rowDone_ == 0) words_.begin(hash_);
     const size_t n = std::min(count, cols - rowDone_);
