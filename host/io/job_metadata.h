@@ -145,7 +145,6 @@ class ModelDigest {
   std::unique_ptr<State> state_;
 };
 
-// ModelDigest's digits for a model whose arrays are known.
 // What JobMetadata::setAlpha keeps of α given a run at a time, in order (a net read from its
 // files a window at a time): the summary, and the values while there are at most
 // kMetadataAlphaListMax.
@@ -161,6 +160,7 @@ class AlphaTally {
   std::vector<double> listed_;
 };
 
+// ModelDigest's digits for a model whose arrays are known.
 std::string modelSha256(const std::filesystem::path& modelPath, const std::vector<std::filesystem::path>& arrayFiles);
 
 // The metadata of sampling `model`, read from `modelPath` whose modelSha256 is `modelSha256`, on

@@ -52,7 +52,7 @@ class FingerprintWords {
 // jobFingerprint(surface, ...) of a surface of shape `shape` (its own α not read) with
 // `alphaCount` α values and `weightCount` weights, from its points in model order given in runs of
 // any length, then its α likewise, then its weights, then finish(): a net read a run at a time from
-// its files has the fingerprint of the built surface.
+// its files has the fingerprint of the built surface. `shape` is kept by reference.
 class SurfaceFingerprint {
  public:
   SurfaceFingerprint(const SurfaceShape& shape, size_t alphaCount, size_t weightCount, const SampleLayout& layout,
