@@ -116,31 +116,23 @@ StreamedNet streamSurfaceNet(const SurfaceModel& m, const ModelArrays& arrays, S
   }
   alphaRule.rethrow();
 
-  // Weights: their files' finite check over the whole file first, then w > 0 and w P finite, each
-  // weight beside its point (the points read again in step).
+  // Weights (from their file, or written out in the model): the file's finite check over the whole
+  // file first, then w > 0 and w P finite, each weight beside its point (the points read again in
+  // step; the fingerprint takes the weights after α).
   LaterError weightRule;
-  auto weightRun = [&](const double* w, const glm::dvec3* p, size_t n, size_t first) {
-    weightRule.check([&] { checkSurfaceWeights(w, p, n, first, m.cols); });
-    fingerprint.weights(w, n);
-  };
-  if (const DeferredArray* weights = deferredOf(arrays, "weights")) {
+  const DeferredArray* weightFile = deferredOf(arrays, "weights");
+  if (weightFile || !m.weights.empty()) {
     out.rational = true;
-    values.resize(window);
-    ArrayStream file(*weights, arrays.maxValueBytes), again(*points, arrays.maxValueBytes);
-    for (size_t first = 0; first < total; first += window) {
-      const size_t n = std::min(window, total - first);
-      file.read(values.data(), n, first);
-      again.read(&net.data()->x, 3 * n, 3 * std::uint64_t(first));
-      weightRun(values.data(), net.data(), n, first);
-    }
-  } else if (!m.weights.empty()) {
-    // Written out in the model with its points in a file: the points read again in step.
-    out.rational = true;
+    std::optional<ArrayStream> file;
+    if (weightFile) values.resize(window), file.emplace(*weightFile, arrays.maxValueBytes);
     ArrayStream again(*points, arrays.maxValueBytes);
     for (size_t first = 0; first < total; first += window) {
       const size_t n = std::min(window, total - first);
+      if (file) file->read(values.data(), n, first);
+      const double* w = file ? values.data() : m.weights.data() + first;
       again.read(&net.data()->x, 3 * n, 3 * std::uint64_t(first));
-      weightRun(m.weights.data() + first, net.data(), n, first);
+      weightRule.check([&] { checkSurfaceWeights(w, net.data(), n, first, m.cols); });
+      fingerprint.weights(w, n);
     }
   }
   weightRule.rethrow();

@@ -150,12 +150,20 @@ std::string npyBytes(const std::string& shape, const std::vector<double>& values
   return out;
 }
 
-// The model of `torus` (a rational bspline surface) with its points and weights in these files.
+// The model of `torus` (a rational bspline surface) with its points and weights in these files;
+// without a weights file, its weights written out as rows.
 std::string torusDoc(const SurfaceModel& torus, const std::string& points, const std::string& weights) {
   nlohmann::json doc = {{"kind", "surface"}, {"construction", "bspline"}, {"order", {3, 3}},
                         {"knots", {torus.knotsU, torus.knotsV}}};
   doc["points"] = {{"npy", points}};
-  doc["weights"] = {{"npy", weights}};
+  if (!weights.empty()) {
+    doc["weights"] = {{"npy", weights}};
+  } else {
+    doc["weights"] = nlohmann::json::array();
+    for (int i = 0; i < torus.rows; ++i)
+      doc["weights"].push_back(std::vector<double>(torus.weights.begin() + i * torus.cols,
+                                                   torus.weights.begin() + (i + 1) * torus.cols));
+  }
   return doc.dump();
 }
 
@@ -228,6 +236,7 @@ TEST_F(StreamedNet, GivesTheBuiltSurfacesFingerprintAndMetadata) {
       R"({"kind": "surface", "construction": "extended_bspline", "degree": 4, "closed": [true, false], )"
       R"("points": {"npy": "net.npy"}})",
       torusDoc(torus, "torus.npy", "w.npy"),
+      torusDoc(torus, "torus.npy", ""),
   };
   for (const std::string& doc : docs) {
     SCOPED_TRACE(doc);
@@ -315,6 +324,19 @@ TEST_F(StreamedNet, StopsAtTheErrorTheFullParseReports) {
       std::string fingerprint;
       EXPECT_EQ(streamed(nurbsDoc, window, SampleLayout{}, net, fingerprint), expected) << window;
     }
+  }
+  // The same overflow with the weights written out in the model (the points still a file).
+  SurfaceModel heavy = torus;
+  heavy.weights[10] = 4.0;
+  write("p.npy", npyBytes("(9, 9, 3)", huge));
+  const std::string inlineDoc = torusDoc(heavy, "p.npy", "");
+  std::optional<Surface> built;
+  const std::string expected = fullParse(inlineDoc, built);
+  ASSERT_NE(expected, "");
+  for (size_t window : {size_t{1}, size_t{4}, size_t{100}}) {
+    io::StreamedNet net;
+    std::string fingerprint;
+    EXPECT_EQ(streamed(inlineDoc, window, SampleLayout{}, net, fingerprint), expected) << window;
   }
 }
 
