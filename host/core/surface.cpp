@@ -115,6 +115,15 @@ namespace {
 // Net index of P_0 along one direction: extendedIndices puts point k at entry k + this, a plain copy.
 int firstPointEntry(bool phantom, bool closed, int centre) { return phantom ? 1 : closed ? centre : 0; }
 
+// Net entry (a, b) from the points (`at(i, j)` = P_ij) and the extended indices x = eu[a], y = ev[b]:
+// a plain copy gives the point's own bits. The one formula of an entry, whether the net is built whole
+// (netInPlace) or a band of rows at a time (Surface::bandOf).
+template <class At>
+glm::dvec3 netEntry(const ExtendedIndex& x, const ExtendedIndex& y, At&& at) {
+  auto rowPoint = [&](int i) { return y.w1 == 0.0 ? at(i, y.i0) : y.w0 * at(i, y.i0) + y.w1 * at(i, y.i1); };
+  return x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1);
+}
+
 // The patch net built inside the points' own block (grown to the net's size), so that a big net
 // never exists twice: entries outside the block of plain copies (phantoms, wrapped rows and
 // columns) are computed first, while every point is in place, then the points move to their net
@@ -135,11 +144,7 @@ std::vector<glm::dvec3> netInPlace(std::vector<glm::dvec3> points, int rows, int
   if (!copies(eu, row0, rows) || !copies(ev, col0, cols))
     throw std::logic_error("netInPlace: the extended indices do not copy the points where expected");
   auto entry = [&](size_t a, size_t b) {
-    const ExtendedIndex& x = eu[a];
-    const ExtendedIndex& y = ev[b];
-    auto at = [&](int i, int j) { return points[static_cast<size_t>(i) * pointCols + j]; };
-    auto rowPoint = [&](int i) { return y.w1 == 0.0 ? at(i, y.i0) : y.w0 * at(i, y.i0) + y.w1 * at(i, y.i1); };
-    return x.w1 == 0.0 ? rowPoint(x.i0) : x.w0 * rowPoint(x.i0) + x.w1 * rowPoint(x.i1);
+    return netEntry(eu[a], ev[b], [&](int i, int j) { return points[static_cast<size_t>(i) * pointCols + j]; });
   };
   auto isCopy = [&](size_t a, size_t b) {
     return a >= static_cast<size_t>(row0) && a < static_cast<size_t>(row0 + rows) && b >= static_cast<size_t>(col0) &&
@@ -257,43 +262,51 @@ Surface Surface::create(SurfaceModel model) {
     return s;
   }
 
-  s.basisU_ = makeSpanBasis(m.family);
-  s.basisV_ = basisVOf(m, s.basisU_);
-  s.patches_ = patchRangeOf(m);
-
-  const std::vector<ExtendedIndex> eu =
-      extendedIndices(m.rows, m.closedU, s.alphaEB(), s.basisU_.count, s.basisU_.centre, s.offU_);
-  const std::vector<ExtendedIndex> ev =
-      extendedIndices(m.cols, m.closedV, s.alphaEB(), s.basisV_.count, s.basisV_.centre, s.offV_);
-  s.netRows_ = static_cast<int>(eu.size());
-  s.netCols_ = static_cast<int>(ev.size());
-  s.pointRow_ = firstPointEntry(s.alphaEB(), m.closedU, s.basisU_.centre);
-  s.pointCol_ = firstPointEntry(s.alphaEB(), m.closedV, s.basisV_.centre);
+  std::vector<ExtendedIndex> eu, ev;
+  s.layOut(m, eu, ev);
   s.net_ = netInPlace(std::move(points), m.rows, m.cols, eu, ev, s.pointRow_, s.pointCol_);
-
-  if (s.alphaEB()) {
-    // At (0,0) only b_0..b_2 are nonzero in each direction (b_3(0) = 0, §2.3), so node_ij reads the
-    // 3 x 3 block around P_ij: a 4 x 4 block would read past the extended net for the last row of an
-    // open direction (and into the next row for the last column).
-    nodeWeightsOf(s.basisU_, s.basisV_, s.nodeWeightU_, s.nodeWeightV_);
-    // Every V within fp64 (a tiny α makes V overflow, §4.2): ModelError naming the first vertex
-    // that breaks the rule. Computing every V was a fifth of building a 4096² net, so a bound over
-    // the whole net comes first, and only a net it cannot clear is checked vertex by vertex.
-    if (!verticesSurelyFinite(largestMagnitude(reinterpret_cast<const double*>(s.net_.data()), 3 * s.net_.size()),
-                              valueRange(m.alpha.data(), m.alpha.size()).min, s.nodeWeightU_, s.nodeWeightV_))
-      for (int i = 0; i < m.rows; ++i) {
-        for (int j = 0; j < m.cols; ++j) {
-          (void)alphaEBVertex(s.controlPoint(i, j), s.alphaNode(i, j), m.alpha[static_cast<size_t>(i) * m.cols + j],
-                              [i, j] { return "alpha[" + std::to_string(i) + "][" + std::to_string(j) + "]"; });
-        }
-      }
-  }
+  s.requireFiniteVertices(0, m.rows);
   return s;
 }
 
-Surface Surface::patchRows(int first, int last) const {
+void Surface::layOut(const SurfaceShape& m, std::vector<ExtendedIndex>& eu, std::vector<ExtendedIndex>& ev) {
+  parameterization_ = parameterizationOf(m);
+  basisU_ = makeSpanBasis(m.family);
+  basisV_ = basisVOf(m, basisU_);
+  patches_ = patchRangeOf(m);
+  eu = extendedIndices(m.rows, m.closedU, alphaEB(), basisU_.count, basisU_.centre, offU_);
+  ev = extendedIndices(m.cols, m.closedV, alphaEB(), basisV_.count, basisV_.centre, offV_);
+  netRows_ = static_cast<int>(eu.size());
+  netCols_ = static_cast<int>(ev.size());
+  pointRow_ = firstPointEntry(alphaEB(), m.closedU, basisU_.centre);
+  pointCol_ = firstPointEntry(alphaEB(), m.closedV, basisV_.centre);
+  // At (0,0) only b_0..b_2 are nonzero in each direction (b_3(0) = 0, §2.3), so node_ij reads the
+  // 3 x 3 block around P_ij: a 4 x 4 block would read past the extended net for the last row of an
+  // open direction (and into the next row for the last column).
+  if (alphaEB()) nodeWeightsOf(basisU_, basisV_, nodeWeightU_, nodeWeightV_);
+}
+
+void Surface::requireFiniteVertices(int firstRow, int wholeRows) const {
+  if (!alphaEB()) return;
+  const SurfaceShape& m = model_;
+  // Every V within fp64 (a tiny α makes V overflow, §4.2): ModelError naming the first vertex
+  // that breaks the rule. Computing every V was a fifth of building a 4096² net, so a bound over
+  // the whole net comes first, and only a net it cannot clear is checked vertex by vertex.
+  if (verticesSurelyFinite(largestMagnitude(reinterpret_cast<const double*>(net_.data()), 3 * net_.size()),
+                           valueRange(m.alpha.data(), m.alpha.size()).min, nodeWeightU_, nodeWeightV_))
+    return;
+  for (int i = 0; i < m.rows; ++i) {
+    for (int j = 0; j < m.cols; ++j) {
+      (void)alphaEBVertex(controlPoint(i, j), alphaNode(i, j), m.alpha[static_cast<size_t>(i) * m.cols + j], [&, i, j] {
+        return "alpha[" + std::to_string((firstRow + i) % wholeRows) + "][" + std::to_string(j) + "]";
+      });
+    }
+  }
+}
+
+Surface Surface::bandShell(const SurfaceShape& whole, int first, int last) const {
   if (knotVector() || first < patches_.u.first || last > patches_.u.last || first > last) {
-    throw std::invalid_argument("Surface::patchRows: rows " + std::to_string(first) + ".." + std::to_string(last) +
+    throw std::invalid_argument("Surface band: rows " + std::to_string(first) + ".." + std::to_string(last) +
                                 " are not patch rows of a uniform-span surface");
   }
   const int count = last - first + 1;
@@ -303,39 +316,85 @@ Surface Surface::patchRows(int first, int last) const {
   b.basisV_ = basisV_;
   b.patches_ = {{0, count - 1}, patches_.v};
   // Patch i reads net rows i + offU_ .. i + offU_ + m - 1 (m = basisU_.count).
-  const size_t netFirst = static_cast<size_t>(first + offU_), netRows = static_cast<size_t>(count + basisU_.count - 1);
-  b.netRows_ = static_cast<int>(netRows);
+  b.netRows_ = count + basisU_.count - 1;
   b.netCols_ = netCols_;
   b.offU_ = 0;
   b.offV_ = offV_;
-  b.net_.assign(net_.begin() + static_cast<std::ptrdiff_t>(netFirst * netCols_),
-                net_.begin() + static_cast<std::ptrdiff_t>((netFirst + netRows) * netCols_));
   SurfaceShape& m = b.model_;
-  m.family = model_.family;
-  m.orderV = model_.orderV;
+  m.family = whole.family;
+  m.orderV = whole.orderV;
   m.closedU = false;
-  m.closedV = model_.closedV;
-  m.cols = model_.cols;
+  m.closedV = whole.closedV;
+  m.cols = whole.cols;
   b.pointCol_ = pointCol_;
   if (!alphaEB()) {
     // Only the net is evaluated; its rows stand for the point rows (what a GPU mirror uploads).
-    m.rows = static_cast<int>(netRows);
+    m.rows = b.netRows_;
     b.pointRow_ = 0;
     return b;
   }
-  // α-EB: vertex rows first..last+1 (the last one wrapped in a closed u direction) with their α;
-  // the net rows are those the nodes and V read (alphaNode: rows i..i+2), and P_kj is net entry
-  // (k + 1, j + pointCol_) as in this surface's net.
+  // α-EB: vertex rows first..last+1 (the last one wrapped in a closed u direction), whose α the
+  // caller adds; the net rows are those the nodes and V read (alphaNode: rows i..i+2), and P_kj is
+  // net entry (k + 1, j + pointCol_) as in the whole surface's net.
   std::copy(nodeWeightU_, nodeWeightU_ + 3, b.nodeWeightU_);
   std::copy(nodeWeightV_, nodeWeightV_ + 3, b.nodeWeightV_);
   m.rows = count + 1;
   b.pointRow_ = pointRow_;
+  return b;
+}
+
+Surface Surface::patchRows(int first, int last) const {
+  Surface b = bandShell(model_, first, last);
+  const size_t netFirst = static_cast<size_t>(first + offU_), netRows = static_cast<size_t>(b.netRows_);
+  b.net_.assign(net_.begin() + static_cast<std::ptrdiff_t>(netFirst * netCols_),
+                net_.begin() + static_cast<std::ptrdiff_t>((netFirst + netRows) * netCols_));
+  if (!alphaEB()) return b;
   const size_t cols = static_cast<size_t>(model_.cols);
-  for (int k = 0; k <= count; ++k) {
+  for (int k = 0; k < b.model_.rows; ++k) {
     const size_t row = static_cast<size_t>((first + k) % model_.rows) * cols;
-    m.alpha.insert(m.alpha.end(), model_.alpha.begin() + static_cast<std::ptrdiff_t>(row),
-                   model_.alpha.begin() + static_cast<std::ptrdiff_t>(row + cols));
+    b.model_.alpha.insert(b.model_.alpha.end(), model_.alpha.begin() + static_cast<std::ptrdiff_t>(row),
+                          model_.alpha.begin() + static_cast<std::ptrdiff_t>(row + cols));
   }
+  return b;
+}
+
+std::vector<int> Surface::bandPointRows(const SurfaceShape& shape, int first, int last) {
+  Surface layout;
+  std::vector<ExtendedIndex> eu, ev;
+  layout.layOut(shape, eu, ev);
+  (void)layout.bandShell(shape, first, last);  // refuses rows outside the patches, and knot vectors
+  std::vector<int> rows;
+  for (int a = first + layout.offU_; a < first + layout.offU_ + layout.basisU_.count + last - first; ++a) {
+    rows.push_back(eu[static_cast<size_t>(a)].i0);
+    if (eu[static_cast<size_t>(a)].w1 != 0.0) rows.push_back(eu[static_cast<size_t>(a)].i1);
+  }
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  return rows;
+}
+
+Surface Surface::bandOf(const SurfaceShape& shape, int first, int last, const PointRowOf& pointRow,
+                        const AlphaRowOf& alphaRow) {
+  Surface layout;
+  std::vector<ExtendedIndex> eu, ev;
+  layout.layOut(shape, eu, ev);
+  Surface b = layout.bandShell(shape, first, last);
+  const size_t netFirst = static_cast<size_t>(first + layout.offU_), netCols = static_cast<size_t>(b.netCols_);
+  b.net_.resize(static_cast<size_t>(b.netRows_) * netCols);
+  for (size_t a = 0; a < static_cast<size_t>(b.netRows_); ++a) {
+    const ExtendedIndex& x = eu[netFirst + a];
+    const glm::dvec3* rows[2] = {pointRow(x.i0), x.w1 != 0.0 ? pointRow(x.i1) : nullptr};
+    auto at = [&](int i, int j) { return rows[i == x.i0 ? 0 : 1][j]; };
+    for (size_t c = 0; c < netCols; ++c) b.net_[a * netCols + c] = netEntry(x, ev[c], at);
+  }
+  if (!layout.alphaEB()) return b;
+  const size_t cols = static_cast<size_t>(shape.cols);
+  b.model_.alpha.reserve(static_cast<size_t>(b.model_.rows) * cols);
+  for (int k = 0; k < b.model_.rows; ++k) {
+    const double* a = alphaRow((first + k) % shape.rows);
+    b.model_.alpha.insert(b.model_.alpha.end(), a, a + cols);
+  }
+  b.requireFiniteVertices(first, shape.rows);
   return b;
 }
 

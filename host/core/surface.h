@@ -22,6 +22,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -166,6 +167,21 @@ class Surface {
   // patches().u.
   Surface patchRows(int first, int last) const;
 
+  // The same band of a surface of `shape` built from only the point rows it reads, without the
+  // whole surface: a net read from its file a window at a time is sampled band by band as its rows
+  // arrive (io/streamed_bands.h). pointRow(k) is point row k (shape.cols points), alphaRow(k) its
+  // α (α-EB only; not called otherwise). The shape must pass validateSurfaceShape and the values
+  // read must be finite with α in (0,1] (the reader's checks); every V the band holds is checked as
+  // create() checks it (ModelError naming the whole net's vertex). Throws std::invalid_argument
+  // like patchRows.
+  using PointRowOf = std::function<const glm::dvec3*(int row)>;
+  using AlphaRowOf = std::function<const double*(int row)>;
+  static Surface bandOf(const SurfaceShape& shape, int first, int last, const PointRowOf& pointRow,
+                        const AlphaRowOf& alphaRow);
+  // The point rows bandOf(shape, first, last, ...) reads, ascending (closed u wraps: the first
+  // band of a closed net reads its last rows).
+  static std::vector<int> bandPointRows(const SurfaceShape& shape, int first, int last);
+
   // Unit diagonal-limit normal of the α = 1 vertex at corner (cornerU, cornerV) ∈ {0,1}^2 of patch
   // (i,j), as used by evaluate() at that corner (§5.3). Throws std::logic_error when the surface is
   // not α-EB or that vertex has α != 1. Falls back like evaluate() if the limit itself degenerates.
@@ -196,6 +212,15 @@ class Surface {
 
  private:
   Surface() = default;
+  // A uniform-span surface's bases, patches, net size and offsets and node weights from its shape
+  // (not model_, not the net), and its net's extended indices per direction.
+  void layOut(const SurfaceShape& m, std::vector<ExtendedIndex>& eu, std::vector<ExtendedIndex>& ev);
+  // α-EB: every V of the net within fp64 (§4.2), else ModelError naming vertex row
+  // (firstRow + i) % wholeRows (a band names the whole net's vertex).
+  void requireFiniteVertices(int firstRow, int wholeRows) const;
+  // The band of patch rows first..last of this layout (of a surface shaped `whole`) without its net
+  // and α, which patchRows and bandOf fill.
+  Surface bandShell(const SurfaceShape& whole, int first, int last) const;
   // Point and partials without normal; `base` gets C for α-EB (= the result for plain surfaces).
   void evalPatch(int i, int j, double u, double v, PatchDerivs& out, PatchDerivs& base) const;
   SurfacePoint evalWithNormal(int i, int j, double u, double v) const;
