@@ -209,6 +209,13 @@ NpyReader::NpyReader(const std::filesystem::path& path, std::uint64_t maxValueBy
 
 NpyReader::~NpyReader() = default;
 
+void NpyReader::skip(std::uint64_t count) {
+  if (count > header_.count - done_) throw std::logic_error("NpyReader::skip past the array's end");
+  if (::lseek(file_->get(), off_t(count * (header_.float64 ? 8 : 4)), SEEK_CUR) < 0)
+    throw std::runtime_error("cannot seek in '" + path_.string() + "': " + std::strerror(errno));
+  done_ += count;
+}
+
 void NpyReader::read(double* out, size_t count) {
   if (count > header_.count - done_) throw std::logic_error("NpyReader::read past the array's end");
   const int fd = file_->get();

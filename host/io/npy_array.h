@@ -69,6 +69,8 @@ class NpyReader {
   const NpyHeader& header() const { return header_; }
   // The next `count` values (at most those left) into `out`.
   void read(double* out, size_t count);
+  // Moves on past the next `count` values (at most those left) without reading them.
+  void skip(std::uint64_t count);
 
  private:
   std::filesystem::path path_;

@@ -3,7 +3,7 @@
 #include <shapespline/core/surface.h>
 #include <shapespline/core/validate.h>
 #include <shapespline/core/value_scan.h>
-#include <shapespline/io/npy_array.h>
+#include <shapespline/io/array_stream.h>
 
 #include <glm/vec3.hpp>
 
@@ -15,42 +15,6 @@
 namespace shapespline::io {
 
 namespace {
-
-const DeferredArray* deferredOf(const ModelArrays& arrays, const std::string& key) {
-  for (const DeferredArray& a : arrays.deferred)
-    if (a.key == key) return &a;
-  return nullptr;
-}
-
-// An array file read again, a run at a time; its failures named as the parser names them.
-class ArrayStream {
- public:
-  ArrayStream(const DeferredArray& array, std::uint64_t maxValueBytes) : array_(array) {
-    guarded([&] { reader_.emplace(array.file, maxValueBytes); });
-    // The file was replaced since the parse read its header: another array, refused rather than mixed.
-    if (reader_->header().shape != array.header.shape || reader_->header().float64 != array.header.float64)
-      throw ModelError(array.key, array.name, "the file changed while the model was read");
-  }
-  // The next `count` values into `out`, checked finite (flat index `first` on).
-  void read(double* out, size_t count, std::uint64_t first) {
-    guarded([&] { reader_->read(out, count); });
-    requireFiniteArrayValues(array_.key, array_.name, array_.header.shape, out, count, first);
-  }
-
- private:
-  template <class F>
-  void guarded(F&& f) {
-    try {
-      f();
-    } catch (const std::invalid_argument& e) {
-      throw ModelError(array_.key, array_.name, e.what());
-    } catch (const std::runtime_error& e) {
-      throw ModelError(array_.key, array_.name, e.what());
-    }
-  }
-  const DeferredArray& array_;
-  std::optional<NpyReader> reader_;
-};
 
 // A value rule's first error, kept while the files' finite checks (which the full parse runs
 // first, over every file) read on; thrown once they have.
@@ -77,7 +41,7 @@ class LaterError {
 
 StreamedNet streamSurfaceNet(const SurfaceModel& m, const ModelArrays& arrays, SurfaceFingerprint& fingerprint,
                              size_t windowPoints) {
-  const DeferredArray* points = deferredOf(arrays, "points");
+  const DeferredArray* points = deferredArray(arrays, "points");
   if (!points) throw std::logic_error("streamSurfaceNet: the outline's points were read");
   const size_t total = size_t(points->header.count / 3);
   const size_t window = std::max<size_t>(1, std::min(windowPoints, total));
@@ -99,7 +63,7 @@ StreamedNet streamSurfaceNet(const SurfaceModel& m, const ModelArrays& arrays, S
     fingerprint.alphas(a, n);
   };
   std::vector<double> values;
-  if (const DeferredArray* alpha = deferredOf(arrays, "alpha")) {
+  if (const DeferredArray* alpha = deferredArray(arrays, "alpha")) {
     values.resize(window);
     ArrayStream file(*alpha, arrays.maxValueBytes);
     for (size_t first = 0; first < total; first += window) {
@@ -120,7 +84,7 @@ StreamedNet streamSurfaceNet(const SurfaceModel& m, const ModelArrays& arrays, S
   // file first, then w > 0 and w P finite, each weight beside its point (the points read again in
   // step; the fingerprint takes the weights after α).
   LaterError weightRule;
-  const DeferredArray* weightFile = deferredOf(arrays, "weights");
+  const DeferredArray* weightFile = deferredArray(arrays, "weights");
   if (weightFile || !m.weights.empty()) {
     out.rational = true;
     std::optional<ArrayStream> file;

@@ -2,7 +2,10 @@
 // runs in bounded memory). What a stream gives must be what the built surface gives: the same job
 // fingerprint (FingerprintWords / SurfaceFingerprint fed in runs of any length), the same α in the
 // metadata (AlphaTally), and, for a broken net, the same first error as the full parse names.
+// io/streamed_bands.h streams the same values and hands out bands of patch rows on the way: each
+// must be the whole surface's patchRows, and the stream's identity the built surface's.
 #include <shapespline/io/streamed_net.h>
+#include <shapespline/io/streamed_bands.h>
 
 #include <shapespline/core/surface.h>
 #include <shapespline/io/job_metadata.h>
@@ -365,6 +368,141 @@ TEST_F(StreamedNet, LeavesTheVertexCheckToTheSurfaceWhenTheBoundFails) {
     std::optional<Surface> built;
     const std::string error = fullParse(doc, built);
     EXPECT_EQ(error.empty(), !c.overflows) << error;
+  }
+}
+
+// ---- Bands: io/streamed_bands.h --------------------------------------------------------------------
+
+// Bands handed out while the net streams: contiguous over the rows asked for, each the whole
+// surface's patchRows bit for bit; the fingerprint, α and magnitude are the built surface's, for
+// windows that cut rows anywhere, bands of one row or of many, closed and open nets.
+TEST_F(StreamedNet, BandsAreTheWholeSurfacesPatchRowsAndTheIdentityIsItsOwn) {
+  FamilySpec aeb;
+  aeb.construction = Construction::AlphaEB;
+  aeb.degree = 5;
+  SurfaceModel wavy = test::wavyNet(aeb, 9, true, 3.0);
+  wavy.alpha[3] = wavy.alpha[40] = 1.0;
+  write("net.npy", npyBytes("(9, 9, 3)", flat(wavy.points)));
+  write("net32.npy", npyBytes("(9, 9, 3)", flat(wavy.points), false));
+  write("alpha.npy", npyBytes("(9, 9)", wavy.alpha));
+  nlohmann::json inlineAlpha = nlohmann::json::array();
+  for (int i = 0; i < 9; ++i) inlineAlpha.push_back(std::vector<double>(wavy.alpha.begin() + 9 * i, wavy.alpha.begin() + 9 * i + 9));
+  const std::string aebHead = R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, )";
+  const std::vector<std::string> docs = {
+      aebHead + R"("alpha": {"npy": "alpha.npy"}, "points": {"npy": "net.npy"}})",
+      aebHead + R"("alpha": {"npy": "alpha.npy"}, "closed": [true, false], "points": {"npy": "net.npy"}})",
+      aebHead + R"("alpha": {"npy": "alpha.npy"}, "closed": [true, true], "points": {"npy": "net32.npy"}})",
+      aebHead + R"("alpha": 0.25, "closed": [true, false], "points": {"npy": "net.npy"}})",
+      aebHead + R"("alpha": )" + inlineAlpha.dump() + R"(, "points": {"npy": "net.npy"}})",
+      R"({"kind": "surface", "construction": "extended_bspline", "degree": 4, "closed": [true, false], )"
+      R"("points": {"npy": "net.npy"}})",
+      R"({"kind": "surface", "construction": "ubp", "order": 5, "lambda": 0.25, "points": {"npy": "net.npy"}})",
+  };
+  for (const std::string& doc : docs) {
+    SCOPED_TRACE(doc);
+    std::optional<Surface> built;
+    ASSERT_EQ(fullParse(doc, built), "");
+    const SampleLayout layout = gridLayout(*built);
+    const std::string builtFingerprint = jobFingerprint(*built, layout, OutputFormat::RawF32);
+    const JobMetadata full = jobMetadataOf(*built, "m.json", "", "cpu", Precision::Double, Precision::Double, 4, 4);
+    const SpanRange all = built->patches().u;
+    for (const SpanRange rows : {all, SpanRange{all.first + 1, all.last - 1}, SpanRange{all.last, all.last},
+                                 SpanRange{0, -1}}) {
+      for (const BandSizes sizes : {BandSizes{1, 1}, BandSizes{2, 1 << 20}}) {
+        for (size_t window : {size_t{1}, size_t{7}, size_t{9}, size_t{kStreamWindowPoints}}) {
+          const std::string what = "rows " + std::to_string(rows.first) + ".." + std::to_string(rows.last) +
+                                   ", first band " + std::to_string(sizes.firstRows) + ", window " +
+                                   std::to_string(window);
+          ModelArrays arrays;
+          arrays.folder = dir_;
+          arrays.outline = true;
+          const SurfaceModel outline = std::get<SurfaceModel>(parseModelText(doc, &arrays));
+          ASSERT_TRUE(bandsCanStream(outline, arrays)) << what;
+          const SurfaceCounts counts = outlineCounts(outline, arrays);
+          SurfaceFingerprint f(outline, counts.alpha, counts.weights, layout, OutputFormat::RawF32);
+          int next = rows.first;
+          const io::StreamedNet net = streamSurfaceBands(
+              outline, arrays, f, rows,
+              [&](const Surface& band, int first, int last) {
+                EXPECT_EQ(first, next) << what;
+                next = last + 1;
+                const Surface expected = built->patchRows(first, last);
+                ASSERT_EQ(band.patchNet().size(), expected.patchNet().size()) << what;
+                EXPECT_EQ(std::memcmp(band.patchNet().data(), expected.patchNet().data(),
+                                      band.patchNet().size() * sizeof(glm::dvec3)),
+                          0)
+                    << what << ": band " << first << ".." << last;
+                EXPECT_EQ(band.alphas(), expected.alphas()) << what;
+              },
+              sizes, window);
+          EXPECT_EQ(next, std::max(rows.first, rows.last + 1)) << what << ": the bands cover the rows";
+          EXPECT_EQ(f.finish(), builtFingerprint) << what;
+          const JobMetadata m = jobMetadataOf(built->model(), net.alpha, net.rational, "m.json", "", "cpu",
+                                              Precision::Double, Precision::Double, 4, 4);
+          EXPECT_EQ(metadataJson(m), metadataJson(full)) << what;
+          EXPECT_TRUE(net.verticesShown) << what;
+        }
+      }
+    }
+  }
+}
+
+// A broken net stops the bands: every bad value the full parse refuses is refused (ModelError)
+// before the bands after it, whatever the window; a V beyond fp64 is named by the band that holds
+// it as the full parse names it. Which error comes first may differ from the full parse's (the
+// caller runs that parse to name it).
+TEST_F(StreamedNet, BandsStopAtABrokenNet) {
+  FamilySpec aeb;
+  aeb.construction = Construction::AlphaEB;
+  aeb.degree = 5;
+  const SurfaceModel wavy = test::wavyNet(aeb, 8, true);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> points = flat(wavy.points);
+  const std::string doc = R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, )"
+                          R"("alpha": {"npy": "a.npy"}, "points": {"npy": "p.npy"}})";
+  auto withValue = [](std::vector<double> v, size_t k, double x) {
+    v[k] = x;
+    return v;
+  };
+  struct Case {
+    std::string what;
+    std::vector<double> points, alpha;
+    int badRow;  // the first point row that holds a bad value
+    int reach = 2;  // a band of patch rows ..last that sees it: its reads (last + 2), its vertices (last + 1)
+  };
+  const std::vector<Case> cases = {
+      {"the last coordinate NaN", withValue(points, points.size() - 1, nan), wavy.alpha, 7},
+      {"a coordinate infinite in row 3", withValue(points, 3 * 8 * 3 + 4, -INFINITY), wavy.alpha, 3},
+      {"alpha NaN in row 5", points, withValue(wavy.alpha, 40, nan), 5},
+      {"alpha 0 in row 2", points, withValue(wavy.alpha, 17, 0.0), 2},
+      {"alpha 1e-310 in row 4 (V overflows)", points, withValue(wavy.alpha, 4 * 8 + 3, 1e-310), 4, 1},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    write("p.npy", npyBytes("(8, 8, 3)", c.points));
+    write("a.npy", npyBytes("(8, 8)", c.alpha));
+    std::optional<Surface> built;
+    const std::string expected = fullParse(doc, built);
+    ASSERT_NE(expected, "") << "the full parse accepts the broken net";
+    for (size_t window : {size_t{1}, size_t{5}, size_t{64}}) {
+      ModelArrays arrays;
+      arrays.folder = dir_;
+      arrays.outline = true;
+      const SurfaceModel outline = std::get<SurfaceModel>(parseModelText(doc, &arrays));
+      const SurfaceCounts counts = outlineCounts(outline, arrays);
+      SurfaceFingerprint f(outline, counts.alpha, counts.weights, SampleLayout{}, OutputFormat::RawF32);
+      int lastSampled = -1;
+      try {
+        (void)streamSurfaceBands(
+            outline, arrays, f, patchRangeOf(outline).u, [&](const Surface&, int, int last) { lastSampled = last; },
+            BandSizes{1, 1}, window);
+        ADD_FAILURE() << "the bands accepted a broken net (window " << window << ")";
+      } catch (const ModelError& e) {
+        if (c.what.find("V overflows") != std::string::npos) EXPECT_EQ(e.what(), expected) << window;
+      }
+      // No band that sees the bad value was handed out.
+      EXPECT_LT(lastSampled + c.reach, c.badRow) << window;
+    }
   }
 }
 
