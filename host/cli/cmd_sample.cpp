@@ -8,10 +8,12 @@
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/streamed_bands.h>
 #include <shapespline/io/streamed_net.h>
 #include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_mesh.h>
+#include <shapespline/sampling/net_scale.h>
 #include <shapespline/sampling/session.h>
 
 #include <algorithm>
@@ -204,7 +206,9 @@ size_t shardBound(size_t total, int k, int shards) {
 
 // Whether this job could stream its net: a shard (only a shard can have no items) that neither
 // saves the model nor trims (both need the built surface).
-bool mayStreamNet(const SampleArgs& args, int shards) { return shards > 1 && args.saveModel.empty() && !args.trim; }
+bool mayStreamNet(const SampleArgs& args, int shards, bool bands) {
+  return (shards > 1 || bands) && args.saveModel.empty() && !args.trim;
+}
 
 // Whether shard k of n of a surface of this (valid) shape has no items, and nothing else about it
 // needs the net: a welded mesh of a closed surface takes its orientation from the net's volume.
@@ -213,6 +217,51 @@ bool shardHasNoItems(const SurfaceShape& shape, int k, int n, io::OutputFormat f
   const size_t total = surfaceGridItems(shape).size();
   return shardBound(total, k - 1, n) == shardBound(total, k, n);
 }
+
+// A job sampled while its net streams in bands (io/streamed_bands.h), never holding it whole: a
+// uniform-span surface in files, a format that takes the job's identity last, the CPU (the GPU
+// plans for the whole net: its scale, its buffer limits, its fp32 warnings), and no shard record
+// of an earlier run (resuming compares the fingerprint, which needs the whole net first). The
+// device is asked last: with --device auto that waits for the device's set-up.
+bool streamsInBands(const SurfaceModel& shape, const io::ModelArrays& arrays, io::OutputFormat format,
+                    const SampleArgs& args, sampling::Session& session, const sampling::DeviceRequest& request) {
+  return io::bandsCanStream(shape, arrays) && io::identityWrittenAtFinish(format) &&
+         (args.shard.empty() || !std::filesystem::exists(jobs::shardRecordPath(args.out))) &&
+         request.device != sampling::DeviceKind::Vulkan && !session.planDevice(request).gpu;
+}
+
+// The patch rows the items [first, first + count) of a surface's grid lie in (none for no items).
+SpanRange patchRowsOf(const io::SampleLayout& layout, size_t first, size_t count) {
+  if (count == 0) return {0, -1};
+  return {layout.spanU[first / layout.itemsV], layout.spanU[(first + count - 1) / layout.itemsV]};
+}
+
+// `options` for a band whose item 0 is item `offset` of the job: its slices and records see the
+// job's item numbers, as the writer places them.
+sampling::GridOptions bandOptions(const sampling::GridOptions& options, size_t offset) {
+  sampling::GridOptions o = options;
+  auto shifted = [offset](const GridChunk& c) {
+    GridChunk whole = c;
+    whole.firstItem += offset;
+    return whole;
+  };
+  if (options.slice)
+    o.slice = [slice = options.slice, shifted](const GridChunk& c, size_t first, size_t count) {
+      slice(shifted(c), first, count);
+    };
+  if (options.records.submit)
+    o.records.submit = [submit = options.records.submit, shifted](RecordBlock block, const GridChunk& c, size_t first,
+                                                                   size_t count) {
+      submit(std::move(block), shifted(c), first, count);
+    };
+  return o;
+}
+
+// Thrown by a job whose net streamed in bands when it must start again whole: the stream stopped
+// at an error (the whole job names its own, which may be another value's; its rules run before
+// any sample), or the net is one the CPU path scales (its bands were sampled unscaled). Not a
+// std::exception: sampleInto catches it before anything reports it.
+struct StartAgainWhole {};
 
 }  // namespace
 
@@ -233,15 +282,12 @@ void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
   for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
 }
 
-bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary, sampling::Session* shared) {
-  // --shard auto and a shard pattern in -o first (jobs/shard_files.h): the rest sees K/N and a path.
-  SampleArgs resolved = given;
-  {
-    const jobs::ShardOutput shardOut = jobs::resolveShardOutput(given.out, given.shard, given.shardCount);
-    resolved.out = shardOut.out;
-    resolved.shard = shardOut.shard;
-  }
-  const SampleArgs& args = resolved;
+namespace {
+
+// sampleInto's job (its arguments resolved) on `session`. `bands`: the net may stream in bands;
+// `noticesShown`: an earlier try of the job printed the plan's notices.
+bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summary, sampling::Session& session,
+               bool bands, bool noticesShown) {
   const io::OutputFormat format = io::outputFormatFromPath(args.out, "-o");
   sampling::DeviceRequest request = parseDeviceRequest(args.device, args.precision, args.requireDevice);
   request.grid = true;  // the report before output is that of the grid job (bands of a large net)
@@ -265,21 +311,24 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
   std::optional<io::ModelDigest> modelDigest;  // the metadata's SHA-256, hashed beside the parse and build
   if (!part) modelDigest.emplace(args.model);
-  std::optional<sampling::Session> own;
-  sampling::Session& session = shared ? *shared : own.emplace();
   if (!part) session.prepare(request);  // the device, also beside the parse
-  // A shard may have no items: then a net in files is streamed through its rules and the job's
-  // fingerprint, never held (io/streamed_net.h). The model is first read as an outline (its array
-  // files' headers), and in full only when the shard samples something.
+  // A net in files need not be held: a shard with no items streams it through its rules and the
+  // job's fingerprint (io/streamed_net.h), and a job on the CPU samples it in bands as it streams
+  // (io/streamed_bands.h). The model is first read as an outline (its array files' headers), and
+  // in full only when neither applies.
   io::ModelArrays outline;
   io::Model model;
-  if (!part && mayStreamNet(args, shardN)) {
+  bool banded = false;
+  if (!part && mayStreamNet(args, shardN, bands)) {
     bool whole = false;
     try {
       model = loadModelOutline(args.model, args.allowOutsideArrays, outline, &*modelDigest);
       arrayFiles = outline.files;
       const auto* shape = std::get_if<SurfaceModel>(&model);
-      whole = !outline.deferred.empty() && !(shape && shardHasNoItems(*shape, shardK, shardN, format, args));
+      const bool none = shape && shardHasNoItems(*shape, shardK, shardN, format, args);
+      banded = !outline.deferred.empty() && shape && !none && bands &&
+               streamsInBands(*shape, outline, format, args, session, request);
+      whole = !outline.deferred.empty() && !none && !banded;
     } catch (const ModelError&) {
       whole = true;  // the full parse names the error (its rules on the values come before the shape's)
     }
@@ -362,6 +411,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
     throw InputError("--mesh-layout", args.meshLayout, "per-item layouts are for .obj and .ply outputs");
   }
   layout.welded = meshFormat && args.meshLayout == "welded" && !args.trim;
+  size_t bandCount = 0;  // bands sampled as the net streamed
   if (streamed) {
     setSurfaceItems(std::get<SurfaceModel>(model), layout);
   } else if (isSurface) {
@@ -393,7 +443,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
   if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
   std::optional<io::StreamedNet> net;  // a streamed net's values, as the metadata needs them
-  if (streamed) {
+  if (streamed && !banded) {
     // The value rules in the full parse's order (a command that is also wrong in its options
     // reports those first here: the values are read only now, with the layout the hash needs).
     const SurfaceModel& shape = std::get<SurfaceModel>(model);
@@ -405,7 +455,7 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
     // A net the α-EB vertex bound does not clear: the built surface checks every vertex (§4.2).
     if (!net->verticesShown)
       (void)Surface::create(std::get<SurfaceModel>(loadModel(args.model, args.allowOutsideArrays, nullptr, nullptr)));
-  } else {
+  } else if (!streamed) {
     layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
                        : io::jobFingerprint(*surface, layout, format);
   }
@@ -448,31 +498,35 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   const sampling::Report report = streamed ? session.planDevice(request)
                                  : curve    ? session.plan(*curve, request)
                                             : session.plan(*surface, request);
-  printNotices(report, args.quiet);
+  printNotices(report, args.quiet || noticesShown);
   layout.device = report.device;
   layout.computedPrecision = report.computedPrecision;
-  // The job metadata (io/job_metadata.h), the same for every shard; every .npy gets OUT.npy.json for it.
-  try {
-    const Precision stored = format == io::OutputFormat::RawF32 || io::isGltf(format) ? Precision::Float
-                             : format == io::OutputFormat::RawF64 ? Precision::Double
-                                                                  : precision;
-    layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, modelDigest->get(), report.device,
-                                                report.computedPrecision, stored, su)
-                      : net ? io::jobMetadataOf(std::get<SurfaceModel>(model), net->alpha, net->rational, args.model,
-                                                modelDigest->get(), report.device, report.computedPrecision, stored, su,
-                                                sv)
-                            : io::jobMetadataOf(*surface, args.model, modelDigest->get(), report.device,
-                                                report.computedPrecision, stored, su, sv);
-  } catch (const std::runtime_error& e) {
-    throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());
-  }
-  layout.metadata.modelFile = modelName;
+  // The job metadata (io/job_metadata.h), the same for every shard; every .npy gets OUT.npy.json for
+  // it. A job whose net streams in bands knows it (and its fingerprint) only once it has sampled.
+  auto identify = [&] {
+    try {
+      const Precision stored = format == io::OutputFormat::RawF32 || io::isGltf(format) ? Precision::Float
+                               : format == io::OutputFormat::RawF64 ? Precision::Double
+                                                                    : precision;
+      layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, modelDigest->get(), report.device,
+                                                  report.computedPrecision, stored, su)
+                        : net ? io::jobMetadataOf(std::get<SurfaceModel>(model), net->alpha, net->rational,
+                                                  args.model, modelDigest->get(), report.device,
+                                                  report.computedPrecision, stored, su, sv)
+                              : io::jobMetadataOf(*surface, args.model, modelDigest->get(), report.device,
+                                                  report.computedPrecision, stored, su, sv);
+    } catch (const std::runtime_error& e) {
+      throw InputError("MODEL", args.model, std::string("cannot read the model file for its SHA-256: ") + e.what());
+    }
+    layout.metadata.modelFile = modelName;
+  };
+  if (!banded) identify();
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(*surface, gpuFloat, args.quiet);
 
   // Resume: a shard whose record and files verify is left as it is.
-  if (record && jobs::shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
+  if (record && !banded && jobs::shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
                                  args.quiet)) {
     return false;
   }
@@ -519,9 +573,54 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
       const bool context = c.firstItem < layout.firstItem || c.firstItem >= layout.firstItem + layout.itemCount;
       if (!context) progress.add(c.pointCount());
     };
+    if (banded) {
+      // Each band as its rows arrive: its items are the job's from (first - spanU[0]) x itemsV on.
+      const SurfaceModel& shape = std::get<SurfaceModel>(model);
+      const SurfaceCounts counts = io::outlineCounts(shape, outline);
+      io::SurfaceFingerprint fingerprint(shape, counts.alpha, counts.weights, layout, format);
+      SurfaceWarningScan warnings(shape);
+      const size_t jobEnd = layout.firstItem + layout.itemCount;
+      try {
+        net = io::streamSurfaceBands(
+            shape, outline, fingerprint, patchRowsOf(layout, layout.firstItem, layout.itemCount),
+            [&](const Surface& band, int first, int last) {
+              ++bandCount;
+              if (sampling::cpuNetScaleFor(sampling::largestCoordinate(band)) != 0) throw StartAgainWhole{};
+              const size_t bandFirst = static_cast<size_t>(first - layout.spanU.front()) * layout.itemsV;
+              const size_t bandEnd = static_cast<size_t>(last + 1 - layout.spanU.front()) * layout.itemsV;
+              const size_t a = std::max(bandFirst, layout.firstItem), b = std::min(bandEnd, jobEnd);
+              GridSpec g = grid;
+              g.firstItem = a - bandFirst;
+              g.itemCount = b - a;
+              session.sampleGrid(band, request, g, fields,
+                                 [&](const GridChunk& c) {
+                                   GridChunk whole = c;
+                                   whole.firstItem += bandFirst;
+                                   sink(whole);
+                                 },
+                                 bandOptions(options, bandFirst));
+            },
+            {}, io::kStreamWindowPoints, args.quiet ? nullptr : &warnings);
+        requireFloatRange(net->largestCoordinate, precision);
+        // A net beyond 2^200 is scaled on the CPU (sampling/net_scale.h): as a whole, not per band.
+        if (sampling::cpuNetScaleFor(net->largestCoordinate) != 0) throw StartAgainWhole{};
+        layout.job = fingerprint.finish();
+        // Vertices outside this shard's bands that the bound does not clear (§4.2): the built surface
+        // checks each.
+        if (!net->verticesShown)
+          (void)Surface::create(std::get<SurfaceModel>(loadModel(args.model, args.allowOutsideArrays, nullptr, nullptr)));
+        identify();
+        printPrecisionWarnings(warnings, args.quiet);  // they need the whole net: after its samples
+      } catch (const StartAgainWhole&) {
+        throw;
+      } catch (...) {
+        throw StartAgainWhole{};
+      }
+      writer->setIdentity(layout.job, layout.metadata);
+    }
     // A welded shard also samples its context (the outside items that share its points), in item
     // order around its own items, so that its vertices equal the unsharded file's (io/welded_mesh.h).
-    for (const auto& [a, b] : io::streamedItemRanges(format, layout)) {
+    for (const auto& [a, b] : banded ? std::vector<std::pair<size_t, size_t>>{} : io::streamedItemRanges(format, layout)) {
       GridSpec g = grid;
       g.firstItem = a;
       g.itemCount = b - a;
@@ -541,10 +640,30 @@ bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& su
   summary = "wrote " + args.out + " (" + std::to_string(layout.itemCount) + (isSurface ? " patches, " : " spans, ") +
             std::to_string(layout.pointCount()) + " points" +
             (trimmed ? ", " + std::to_string(trimmed->kept()) + " inside the trim loops" : std::string()) +
+            (banded ? ", the net read in " + std::to_string(bandCount) + " bands as they were sampled" : std::string()) +
             (sidecar ? (format == io::OutputFormat::Gltf ? ", buffer in " : ", layout in ") + sidecar->target().string()
                      : std::string()) +
             ")";
   return true;
+}
+
+}  // namespace
+
+bool sampleInto(const SampleArgs& given, io::OutputSet& outputs, std::string& summary, sampling::Session* shared) {
+  // --shard auto and a shard pattern in -o first (jobs/shard_files.h): the rest sees K/N and a path.
+  SampleArgs args = given;
+  const jobs::ShardOutput shardOut = jobs::resolveShardOutput(given.out, given.shard, given.shardCount);
+  args.out = shardOut.out;
+  args.shard = shardOut.shard;
+  std::optional<sampling::Session> own;
+  sampling::Session& session = shared ? *shared : own.emplace();
+  try {
+    return sampleJob(args, outputs, summary, session, true, false);
+  } catch (const StartAgainWhole&) {
+    // Whatever the bands wrote is discarded; the whole job then fails as it fails, or writes.
+    outputs.clear();
+    return sampleJob(args, outputs, summary, session, false, true);
+  }
 }
 
 namespace {

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the subcommands: model loading, argument parsing, notices, progress.
 #include <shapespline/cli/exit_codes.h>
+#include <shapespline/core/diagnostics.h>
 #include <shapespline/core/curve.h>
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/core/surface.h>
@@ -84,6 +85,8 @@ void requireFinite(const glm::dvec3& v, const char* what);
 // the fp32 GPU kernels.
 void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet);
 void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet);
+// The warnings of a net seen as a stream (SurfaceWarningScan), on the CPU.
+void printPrecisionWarnings(const SurfaceWarningScan& scan, bool quiet);
 
 // With --precision float every value is rounded to fp32 (max 3.4e38): a net beyond kMaxFloatNet
 // leaves no headroom for derivatives, so it is refused (InputError on --precision, exit 2).

@@ -19,34 +19,26 @@ std::string num(double x) {
 // array ("points[i][j]") as in model files.
 using Namer = std::function<std::string(size_t)>;
 
-void checkAlpha(const std::vector<double>& alpha, const Namer& name, std::vector<Warning>& out) {
-  if (alpha.empty()) return;
-  const auto it = std::min_element(alpha.begin(), alpha.end());
-  if (*it < kAlphaWarn)
-    out.push_back({name(static_cast<size_t>(it - alpha.begin())),
-                   "alpha = " + num(*it) + " is below " + num(kAlphaWarn) +
-                       ": V = P + ((1-alpha)/alpha)(P - node) amplifies rounding errors by 1/alpha (docs/math.md "
-                       "section 14), so about " + num(std::floor(-std::log10(*it))) + " digits are lost"});
+void checkAlpha(const SmallestAlpha& smallest, const Namer& name, std::vector<Warning>& out) {
+  if (!smallest.any || !(smallest.value < kAlphaWarn)) return;
+  out.push_back({name(smallest.where),
+                 "alpha = " + num(smallest.value) + " is below " + num(kAlphaWarn) +
+                     ": V = P + ((1-alpha)/alpha)(P - node) amplifies rounding errors by 1/alpha (docs/math.md "
+                     "section 14), so about " + num(std::floor(-std::log10(smallest.value))) + " digits are lost"});
 }
 
-// `forEach(f)` calls f(k, P_k) for every point in order (a vector, or a surface's net in place).
-template <class ForEach>
-void checkPoints(ForEach&& forEach, int dims, const Namer& name, std::vector<Warning>& out) {
-  double biggest = 0.0, biggestValue = 0.0;
-  size_t where = 0;
-  int axis = 0;
-  bool any = false;
-  glm::dvec3 lo(0.0), hi(0.0);
-  forEach([&](size_t k, const glm::dvec3& p) {
-    if (!any) lo = hi = p, any = true;
-    for (int d = 0; d < dims; ++d) {
-      const double a = std::abs(p[d]);
-      if (a > biggest) biggest = a, biggestValue = p[d], where = k, axis = d;
-      lo[d] = std::min(lo[d], p[d]);
-      hi[d] = std::max(hi[d], p[d]);
-    }
-  });
-  if (!any) return;
+void checkAlpha(const std::vector<double>& alpha, const Namer& name, std::vector<Warning>& out) {
+  SmallestAlpha smallest;
+  smallest.add(alpha.data(), alpha.size());
+  checkAlpha(smallest, name, out);
+}
+
+void checkPoints(const PointSpread& spread, const Namer& name, std::vector<Warning>& out) {
+  if (!spread.any) return;
+  const int dims = spread.dims, axis = spread.axis;
+  const double biggest = spread.biggest, biggestValue = spread.biggestValue;
+  const size_t where = spread.where;
+  const glm::dvec3 &lo = spread.lo, &hi = spread.hi;
   // Extent as the largest per-axis width: never squares, so it cannot overflow or underflow itself.
   // hi - lo may overflow to inf for coordinates near DBL_MAX; that case is caught by `biggest`.
   double extent = 0.0;
@@ -65,6 +57,14 @@ void checkPoints(ForEach&& forEach, int dims, const Namer& name, std::vector<War
                            " from the origin: fewer than " +
                            num(std::max(0.0, std::floor(16 + std::log10(extent / biggest)))) +
                            " significant digits describe its shape"});
+}
+
+// `forEach(f)` calls f(k, P_k) for every point in order (a vector, or a surface's net in place).
+template <class ForEach>
+void checkPoints(ForEach&& forEach, int dims, const Namer& name, std::vector<Warning>& out) {
+  PointSpread spread{dims};
+  forEach([&](size_t, const glm::dvec3& p) { spread.add(p); });
+  checkPoints(spread, name, out);
 }
 
 // Strictly or weakly increasing knots; `field` names the array ("knots", "knots[0]").
@@ -98,8 +98,8 @@ auto eachOf(const std::vector<glm::dvec3>& points) {
   };
 }
 
-template <class ForEach>
-std::vector<Warning> surfaceWarnings(const SurfaceShape& model, ForEach&& forEachPoint) {
+// A surface's warnings from its points' spread and its smallest α.
+std::vector<Warning> surfaceWarnings(const SurfaceShape& model, const PointSpread& points, const SmallestAlpha& alpha) {
   std::vector<Warning> out;
   const size_t cols = static_cast<size_t>(std::max(model.cols, 1));
   const auto grid = [cols](const char* what) {
@@ -108,11 +108,20 @@ std::vector<Warning> surfaceWarnings(const SurfaceShape& model, ForEach&& forEac
     };
   };
   checkFamily(model.family, out);
-  checkPoints(forEachPoint, 3, grid("points"), out);
-  checkAlpha(model.alpha, grid("alpha"), out);
+  checkPoints(points, grid("points"), out);
+  checkAlpha(alpha, grid("alpha"), out);
   checkKnots(model.knotsU, "knots[0]", out);
   checkKnots(model.knotsV, "knots[1]", out);
   return out;
+}
+
+template <class ForEach>
+std::vector<Warning> surfaceWarnings(const SurfaceShape& model, ForEach&& forEachPoint) {
+  PointSpread points{3};
+  forEachPoint([&](size_t, const glm::dvec3& p) { points.add(p); });
+  SmallestAlpha alpha;
+  alpha.add(model.alpha.data(), model.alpha.size());
+  return surfaceWarnings(model, points, alpha);
 }
 
 }  // namespace
@@ -136,6 +145,24 @@ std::vector<Warning> precisionWarnings(const Surface& surface) {
     surface.forEachControlPoint([&](const glm::dvec3& p) { f(k++, p); });
   });
 }
+
+void PointSpread::add(const glm::dvec3& p) {
+  if (!any) lo = hi = p, any = true;
+  for (int d = 0; d < dims; ++d) {
+    const double a = std::abs(p[d]);
+    if (a > biggest) biggest = a, biggestValue = p[d], where = seen, axis = d;
+    lo[d] = std::min(lo[d], p[d]);
+    hi[d] = std::max(hi[d], p[d]);
+  }
+  ++seen;
+}
+
+void SmallestAlpha::add(const double* alpha, size_t count) {
+  for (size_t k = 0; k < count; ++k, ++seen)
+    if (!any || alpha[k] < value) value = alpha[k], where = seen, any = true;
+}
+
+std::vector<Warning> SurfaceWarningScan::warnings() const { return surfaceWarnings(shape_, points_, alpha_); }
 
 std::string formatWarning(const Warning& warning) { return "warning: " + warning.field + ": " + warning.message; }
 

@@ -45,6 +45,43 @@ std::vector<Warning> precisionWarnings(const CurveModel& model);
 std::vector<Warning> precisionWarnings(const SurfaceModel& model);
 std::vector<Warning> precisionWarnings(const Surface& surface);  // the same, on the built net
 
+// The passes the rules make over a model's values, fed in order a run at a time (a net streamed
+// from its file is never held): the points' largest coordinate and extent, the smallest α.
+struct PointSpread {
+  int dims = 3;
+  double biggest = 0.0, biggestValue = 0.0;
+  size_t where = 0;  // the point (flat index) of the largest coordinate, and its axis
+  int axis = 0;
+  bool any = false;
+  glm::dvec3 lo{0.0}, hi{0.0};
+  size_t seen = 0;
+  void add(const glm::dvec3& p);
+};
+struct SmallestAlpha {
+  double value = 0.0;
+  size_t where = 0;  // the first α of that value
+  bool any = false;
+  size_t seen = 0;
+  void add(const double* alpha, size_t count);
+};
+
+// precisionWarnings of a surface whose points and α are seen a run at a time, each in order: the
+// same warnings the built surface gives.
+class SurfaceWarningScan {
+ public:
+  explicit SurfaceWarningScan(const SurfaceShape& shape) : shape_(shape) {}
+  void points(const glm::dvec3* p, size_t count) {
+    for (size_t k = 0; k < count; ++k) points_.add(p[k]);
+  }
+  void alphas(const double* alpha, size_t count) { alpha_.add(alpha, count); }
+  std::vector<Warning> warnings() const;
+
+ private:
+  const SurfaceShape& shape_;
+  PointSpread points_{3};
+  SmallestAlpha alpha_;
+};
+
 // "warning: <field>: <message>"
 std::string formatWarning(const Warning& warning);
 

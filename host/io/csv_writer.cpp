@@ -56,6 +56,10 @@ class CsvWriter final : public SampleWriter {
     out_.write(h);
   }
 
+  void setIdentity(const std::string& job, const JobMetadata& metadata) override {
+    layout_.job = job;
+    layout_.metadata = metadata;
+  }
   void consume(const GridChunk& chunk) override {
     const int sv = layout_.samplesV, su = layout_.samplesU;
     const size_t n = chunk.pointCount();  // whole items or a row range of one

@@ -76,6 +76,10 @@ class NpyWriter final : public SampleWriter {
   bool writeSlice(const GridChunk& chunk, size_t first, size_t count) override {
     return placed_.slice(chunk, first, count);
   }
+  void setIdentity(const std::string& job, const JobMetadata& metadata) override {
+    layout_.job = job;
+    layout_.metadata = metadata;
+  }
   void consume(const GridChunk& chunk) override { placed_.consume(chunk); }
   std::optional<RecordSink> recordSink() override { return placed_.sink(); }
 

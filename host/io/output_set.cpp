@@ -72,6 +72,13 @@ void OutputSet::discard() noexcept {
   for (auto& f : files_) f.discard();
 }
 
+void OutputSet::clear() noexcept {
+  discard();
+  files_.clear();
+  keys_.clear();
+  inputs_.clear();
+}
+
 void writeStdout(std::string_view text) {
   if (!text.empty() && std::fwrite(text.data(), 1, text.size(), stdout) != text.size()) {
     const int err = errno;

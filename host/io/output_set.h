@@ -41,6 +41,8 @@ class OutputSet {
   void commit();
   // Removes every temporary file now (the destructor does it too when commit() was not reached).
   void discard() noexcept;
+  // discard(), then forgets every file and input: the set is as new (a job that starts again).
+  void clear() noexcept;
 
   size_t size() const { return files_.size(); }
 

@@ -143,6 +143,7 @@ class CheckedWriter final : public SampleWriter {
   void consume(const GridChunk& chunk) override { guard([&] { inner_->consume(chunk); }); }
   // Only positioned, encoded writes go through a sink: there is no derived value to guard.
   std::optional<RecordSink> recordSink() override { return inner_->recordSink(); }
+  void setIdentity(const std::string& job, const JobMetadata& metadata) override { inner_->setIdentity(job, metadata); }
   void finish() override { guard([&] { inner_->finish(); }); }
 
  private:

@@ -130,6 +130,15 @@ class SampleWriter {
   // records sit at offsets known from the point index. With it the sampler hands neither slices
   // nor planes for the points it encoded. None for the other formats.
   virtual std::optional<RecordSink> recordSink() { return std::nullopt; }
+  // The job fingerprint and metadata for a writer that first writes them in finish()
+  // (identityWrittenAtFinish): a caller that learns them only once the samples are written (a net
+  // streamed in bands, cli sample) gives them here before finish(). The other formats write them
+  // in begin() and refuse this.
+  virtual void setIdentity(const std::string& job, const JobMetadata& metadata) {
+    (void)job;
+    (void)metadata;
+    throw std::logic_error("SampleWriter::setIdentity: this format writes the job's identity in begin()");
+  }
   // Writes trailing data (PLY faces, SVG body, sidecar); the caller then commits the files.
   virtual void finish() = 0;
 };
@@ -144,6 +153,10 @@ std::unique_ptr<SampleWriter> makeSampleWriter(OutputFormat format, AtomicFile& 
 inline bool hasLayoutSidecar(OutputFormat f) {
   return f == OutputFormat::RawF32 || f == OutputFormat::RawF64 || f == OutputFormat::Npy;
 }
+
+// The formats that write the layout's job fingerprint and metadata only in finish() (the raw and
+// .npy sidecar; CSV carries neither), so that SampleWriter::setIdentity may give them late.
+inline bool identityWrittenAtFinish(OutputFormat f) { return hasLayoutSidecar(f) || f == OutputFormat::Csv; }
 
 // The formats that write meshes (OBJ, PLY, glTF), welded when layout.welded (io/welded_mesh.h).
 inline bool isMesh(OutputFormat f) { return f == OutputFormat::Obj || f == OutputFormat::Ply || isGltf(f); }

@@ -55,7 +55,8 @@ bool bandsCanStream(const SurfaceModel& m, const ModelArrays& arrays) {
 }
 
 StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays, SurfaceFingerprint& fingerprint,
-                               SpanRange rows, const BandSink& sink, BandSizes sizes, size_t windowPoints) {
+                               SpanRange rows, const BandSink& sink, BandSizes sizes, size_t windowPoints,
+                               SurfaceWarningScan* warnings) {
   if (!bandsCanStream(m, arrays)) throw std::logic_error("streamSurfaceBands: not a net of uniform spans in a file");
   const DeferredArray& points = *deferredArray(arrays, "points");
   const bool alphaEB = m.family.construction == Construction::AlphaEB;
@@ -73,15 +74,21 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
   }
 
   const std::vector<SpanRange> bands = bandsOver(rows, m.cols, sizes);
-  std::vector<std::vector<int>> needs;
-  for (const SpanRange& b : bands) needs.push_back(Surface::bandPointRows(m, b.first, b.last));
+  // The rows each band reads, found when first asked for (each costs the net's layout: finding
+  // them all up front would delay the first band).
+  std::vector<std::optional<std::vector<int>>> needs(bands.size());
+  auto need = [&](size_t i) -> const std::vector<int>& {
+    if (!needs[i]) needs[i] = Surface::bandPointRows(m, bands[i].first, bands[i].last);
+    return *needs[i];
+  };
 
   // A net closed in u wraps: its first band reads its last rows, its last band its first rows.
   // Those are kept apart: the last ones read first (a stream of their own), the first ones as read.
   std::map<int, KeptRow> kept;
-  if (m.closedU) {
-    for (const std::vector<int>& need : needs)
-      for (int k : need)
+  if (m.closedU && !bands.empty()) {
+    // The first band reads the last rows, the last band the first ones.
+    for (size_t i : {size_t{0}, bands.size() - 1})
+      for (int k : need(i))
         if (k < kMaxBasisCount || k >= netRows - kMaxBasisCount) kept[k];
     ArrayStream pointTail(points, arrays.maxValueBytes);
     std::optional<ArrayStream> alphaTail;
@@ -117,11 +124,13 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
     pointFile.read(&b.points.data()->x, 3 * n, 3 * std::uint64_t(first));
     out.largestCoordinate = std::max(out.largestCoordinate, largestMagnitude(&b.points.data()->x, 3 * n));
     fingerprint.points(b.points.data(), n);
+    if (warnings) warnings->points(b.points.data(), n);
     if (alphaStream) {
       b.alpha.resize(n);
       alphaStream->read(b.alpha.data(), n, first);
       checkSurfaceAlphas(b.alpha.data(), n, first, m.cols);
       out.alpha.add(b.alpha.data(), n);
+      if (warnings) warnings->alphas(b.alpha.data(), n);
     }
     for (auto& [k, row] : kept) {
       if (k < b.first || k >= b.first + b.count || !row.points.empty()) continue;
@@ -149,22 +158,31 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
     const RowBlock& b = blockOf(k);
     return &b.alpha[static_cast<size_t>(k - b.first) * cols];
   };
-  // The lowest row band i reads from the blocks (INT_MAX past the last band: none).
+  // The lowest row that bands i on read from the blocks (INT_MAX: none). Bands read ascending
+  // rows but for the kept ones, so the first band that reads any from the blocks has it.
   auto lowestInBlocks = [&](size_t i) {
-    if (i >= bands.size()) return INT_MAX;
-    for (int k : needs[i])
-      if (!kept.count(k)) return k;
+    for (; i < bands.size(); ++i)
+      for (int k : need(i))
+        if (!kept.count(k)) return k;
     return INT_MAX;
   };
 
   for (size_t i = 0; i < bands.size(); ++i) {
     int highest = -1;  // the last row to read before band i (a kept row counts until it is read)
-    for (int k : needs[i])
+    for (int k : need(i))
       if (auto it = kept.find(k); it == kept.end() || it->second.points.empty()) highest = std::max(highest, k);
-    while (read <= highest) readBlock();
+    // Blocks below every row still to be read from them go as soon as the next one is in (a shard's
+    // first band may lie far into the net).
+    auto dropBelow = [&](int lowest) {
+      while (!blocks.empty() && blocks.front().first + blocks.front().count <= lowest) blocks.pop_front();
+    };
+    const int lowest = lowestInBlocks(i);
+    while (read <= highest) {
+      readBlock();
+      dropBelow(lowest);
+    }
     sink(Surface::bandOf(m, bands[i].first, bands[i].last, pointRow, alphaRow), bands[i].first, bands[i].last);
-    const int lowest = lowestInBlocks(i + 1);
-    while (!blocks.empty() && blocks.front().first + blocks.front().count <= lowest) blocks.pop_front();
+    dropBelow(lowestInBlocks(i + 1));
   }
   while (read < netRows) {  // the rest of the net, through the rules and the fingerprint only
     readBlock();
@@ -185,9 +203,11 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
       out.alpha.add(uniformRow.data(), cols);
       fingerprint.alphas(uniformRow.data(), cols);
     }
+    if (warnings) warnings->alphas(uniformRow.data(), cols);  // the smallest is the first
   } else if (alphaEB) {
     out.alpha.add(m.alpha.data(), m.alpha.size());
     fingerprint.alphas(m.alpha.data(), m.alpha.size());
+    if (warnings) warnings->alphas(m.alpha.data(), m.alpha.size());
   }
 
   // Every vertex a band held was checked by its band; the rest need the bound (or the caller's

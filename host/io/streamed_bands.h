@@ -9,6 +9,7 @@
 // rules are applied as the values arrive, so the first error found need not be the one the full
 // parse names first (that parse checks every file's values before any other rule): a caller that
 // must name the whole job's error runs the full parse when this throws.
+#include <shapespline/core/diagnostics.h>
 #include <shapespline/core/model.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/io/model_json.h>
@@ -35,10 +36,12 @@ bool bandsCanStream(const SurfaceModel& outline, const ModelArrays& arrays);
 // Streams the outline's values (as streamSurfaceNet) and hands `sink` the bands that cover patch
 // rows `rows` (none when rows.first > rows.last) as soon as their rows are read and checked. The
 // returned StreamedNet::verticesShown is true when every vertex was either in a band (each checks
-// its own) or cleared by the bound from the whole net. Throws ModelError for a value that breaks
-// a rule (not necessarily the full parse's first, above) and whatever `sink` throws.
+// its own) or cleared by the bound from the whole net. `warnings` (optional) sees every point and
+// α for the precision warnings. Throws ModelError for a value that breaks a rule (not necessarily
+// the full parse's first, above) and whatever `sink` throws.
 StreamedNet streamSurfaceBands(const SurfaceModel& outline, const ModelArrays& arrays,
                                SurfaceFingerprint& fingerprint, SpanRange rows, const BandSink& sink,
-                               BandSizes sizes = {}, size_t windowPoints = kStreamWindowPoints);
+                               BandSizes sizes = {}, size_t windowPoints = kStreamWindowPoints,
+                               SurfaceWarningScan* warnings = nullptr);
 
 }  // namespace shapespline::io

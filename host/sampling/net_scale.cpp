@@ -25,6 +25,8 @@ int netScaleFor(double m, Precision precision) {
   return e >= -band && e < band ? 0 : -e;
 }
 
+int cpuNetScaleFor(double m) { return std::min(0, netScaleFor(m, Precision::Double)); }
+
 double largestCoordinate(const std::vector<glm::dvec3>& points) {
   return largestMagnitude(reinterpret_cast<const double*>(points.data()), 3 * points.size());
 }

@@ -28,6 +28,10 @@ double largestCoordinate(const std::vector<glm::dvec3>& points);
 double largestCoordinate(const Curve& curve);
 double largestCoordinate(const Surface& surface);
 int netScaleFor(double largestCoordinate, Precision precision);
+// The exponent the CPU path uses: it scales only nets beyond 2^200 down (where sums and products
+// would overflow); fp64 holds tiny nets as they are, and scaling them up would make the
+// derivatives of tiny knot intervals (net / h^r) overflow.
+int cpuNetScaleFor(double magnitude);
 
 // The model with its net multiplied by 2^k (validated again by create).
 Curve scaledCurve(const Curve& curve, int k);

@@ -263,11 +263,9 @@ template <class Model>
 Report Session::planFor(const Model& model, const DeviceRequest& request) {
   Report r;
   r.outputPrecision = request.precision;
-  // The CPU path scales only nets beyond 2^200 down (where sums and products would overflow): fp64
-  // holds tiny nets as they are, and scaling them up would make the derivatives of tiny knot
-  // intervals (net / h^r) overflow. The GPU's exponent is set below.
+  // The CPU's exponent (net_scale.h cpuNetScaleFor); the GPU's is set below.
   const double magnitude = largestCoordinate(model);  // one pass over the net for both exponents
-  r.netScaleExponent = std::min(0, netScaleFor(magnitude, Precision::Double));
+  r.netScaleExponent = cpuNetScaleFor(magnitude);
   if (request.device == DeviceKind::Cpu) return r;
   auto fallBack = [&](const std::string& why) { return cpuFallback(r, request, why); };
   if (auto why = deviceUnusable(request)) return fallBack(*why);

@@ -85,6 +85,25 @@ model("bad_nan_alpha_shape.json", points={"npy": "nan.npy"}, alpha={"npy": "alph
 few = P[:1].copy(); few[0, 1, 1] = np.nan
 save("nan_few.npy", few)
 model("bad_nan_few_rows.json", points={"npy": "nan_few.npy"}, alpha=0.5)
+# Nets a job on the CPU samples in bands as they stream (tests ...Bands...), each beside the same
+# numbers written out: closed in u, α one number, a plain UBP net, a net beyond 2^200 in its last
+# row (the CPU scales it: the job starts again whole), one with precision warnings.
+model("ref_closed.json", points={"npy": "net.npy"}, alpha={"npy": "alpha.npy"}, closed=[True, False])
+model("inline_closed.json", points=P.tolist(), alpha=al.tolist(), closed=[True, False])
+model("inline_uniform.json", points=P.tolist(), alpha=0.5)
+ubp = {"kind": "surface", "construction": "ubp", "order": 5, "lambda": 0.5, "closed": [True, True]}
+json.dump(dict(ubp, points={"npy": "net.npy"}), open(os.path.join(d, "ref_ubp.json"), "w"))
+json.dump(dict(ubp, points=P.tolist()), open(os.path.join(d, "inline_ubp.json"), "w"))
+scaled = P.copy(); scaled[9] *= 1e70
+save("net_scaled.npy", scaled)
+model("ref_scaled.json", points={"npy": "net_scaled.npy"}, alpha={"npy": "alpha.npy"})
+model("inline_scaled.json", points=scaled.tolist(), alpha=al.tolist())
+risky = P + 1e13  # spans 9 units 1e13 from the origin (a coordinate beyond 1e150 would be scaled)
+risky_alpha = al.copy(); risky_alpha[5, 5] = 1e-7
+save("net_risky.npy", risky)
+save("alpha_risky.npy", risky_alpha)
+model("ref_risky.json", points={"npy": "net_risky.npy"}, alpha={"npy": "alpha_risky.npy"})
+model("inline_risky.json", points=risky.tolist(), alpha=risky_alpha.tolist())
 # A rational B-spline surface from files.
 save("wsurf.npy", np.random.default_rng(5).uniform(0.5, 2.0, (n, n)))
 ku = [0, 0, 0] + list(np.linspace(0.1, 0.9, n - 3)) + [1, 1, 1]
@@ -354,6 +373,103 @@ TEST_F(NpyArrays, EmptyShardsRefuseBadArraysAsTheWholeJob) {
     EXPECT_NE(errors[0], "");
     EXPECT_EQ(errors[0], errors[1]);
   }
+}
+
+// A job on the CPU to a raw, .npy or CSV file samples a net in files in bands of patch rows as it
+// reads them (io/streamed_bands.h): the same bytes as the net written out in JSON, the same job
+// fingerprint and metadata in the sidecar, for closed and open nets, α per vertex or one number,
+// plain families, and shards that sample; the summary says how many bands it took.
+TEST_F(NpyArrays, JobsOnTheCpuSampleTheNetInBandsAsItStreams) {
+  // The sidecar without the lines that name the model file, its digest and the output itself.
+  auto identity = [&](const std::string& sidecar) {
+    std::string kept, text = readText(dir_ / sidecar);
+    for (size_t at = 0; at < text.size();) {
+      const size_t end = std::min(text.find('\n', at), text.size());
+      const std::string line = text.substr(at, end - at);
+      if (line.find("\"model_file\"") == std::string::npos && line.find("\"model_sha256\"") == std::string::npos &&
+          line.find("\"source\"") == std::string::npos && line.find("\"data_file\"") == std::string::npos)
+        kept += line + "\n";
+      at = end + 1;
+    }
+    return kept;
+  };
+  const std::pair<const char*, const char*> pairs[] = {
+      {"ref.json", "inline.json"},           {"ref32.json", "inline32.json"},
+      {"ref_closed.json", "inline_closed.json"}, {"ref_uniform.json", "inline_uniform.json"},
+      {"ref_ubp.json", "inline_ubp.json"}};
+  for (const auto& [ref, written] : pairs) {
+    for (const char* format : {".f32", ".f64", ".npy", ".csv"}) {
+      SCOPED_TRACE(std::string(ref) + " to " + format);
+      const std::string a = std::string("banded") + format, b = std::string("built") + format;
+      const CliResult banded = runCli("sample " + quote((models() / ref).string()) + " -o " +
+                                          quote((dir_ / a).string()) + " --grid 3x4 --derivatives --normals --device cpu",
+                                      dir_.path());
+      const CliResult built = runCli("sample " + quote((models() / written).string()) + " -o " +
+                                         quote((dir_ / b).string()) + " --grid 3x4 --derivatives --normals --device cpu",
+                                     dir_.path());
+      ASSERT_EQ(banded.rc, 0) << banded.err;
+      ASSERT_EQ(built.rc, 0) << built.err;
+      EXPECT_NE(banded.err.find("bands as they were sampled"), std::string::npos) << banded.err;
+      EXPECT_EQ(built.err.find("bands"), std::string::npos) << built.err;
+      EXPECT_GT(fs::file_size(dir_ / a), 1000u);
+      EXPECT_TRUE(readText(dir_ / a) == readText(dir_ / b)) << "the bands sampled other bytes";
+      if (std::string(format) != ".csv") {
+        EXPECT_EQ(identity(a + ".json"), identity(b + ".json"));
+      }
+    }
+  }
+  // Shards that sample stream their own rows' bands; they merge into the whole job's bytes.
+  std::string files;
+  for (int k = 1; k <= 3; ++k) {
+    const std::string out = "part" + std::to_string(k) + ".f64";
+    const CliResult r = runCli("sample " + quote((models() / "ref_closed.json").string()) + " -o " +
+                                   quote((dir_ / out).string()) + " --grid 4 --device cpu --shard " + std::to_string(k) + "/3",
+                               dir_.path());
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_NE(r.err.find("bands as they were sampled"), std::string::npos) << r.err;
+    files += " " + quote((dir_ / out).string());
+  }
+  ASSERT_EQ(runCli("merge -o " + quote((dir_ / "merged.f64").string()) + files, dir_.path()).rc, 0);
+  ASSERT_EQ(runCli("sample " + quote((models() / "inline_closed.json").string()) + " -o " +
+                       quote((dir_ / "whole.f64").string()) + " --grid 4 --device cpu -q",
+                   dir_.path())
+                .rc,
+            0);
+  EXPECT_GT(fs::file_size(dir_ / "whole.f64"), 1000u);
+  EXPECT_TRUE(readText(dir_ / "merged.f64") == readText(dir_ / "whole.f64"));
+}
+
+// What the bands cannot settle alone starts the job again whole, whose outcome is then the job's:
+// a net the CPU scales (beyond 2^200, here in its last row) samples to the bytes of the same net
+// written out, and its summary names no bands; the precision warnings, which need every value,
+// come after the samples and are the built net's.
+TEST_F(NpyArrays, BandedJobsEndAsTheWholeJob) {
+  const CliResult scaled = runCli("sample " + quote((models() / "ref_scaled.json").string()) + " -o " +
+                                      quote((dir_ / "a.f64").string()) + " --grid 4 --derivatives --device cpu",
+                                  dir_.path());
+  ASSERT_EQ(scaled.rc, 0) << scaled.err;
+  EXPECT_EQ(scaled.err.find("bands"), std::string::npos) << scaled.err;
+  ASSERT_EQ(sample("inline_scaled.json", "b.f64").rc, 0);
+  EXPECT_TRUE(readText(dir_ / "a.f64") == readText(dir_ / "b.f64"));
+
+  auto warnings = [](const std::string& err) {
+    std::string out;
+    for (size_t at = err.find("warning:"); at != std::string::npos; at = err.find("warning:", at + 1))
+      out += err.substr(at, err.find('\n', at) - at) + "\n";
+    return out;
+  };
+  const CliResult risky = runCli("sample " + quote((models() / "ref_risky.json").string()) + " -o " +
+                                     quote((dir_ / "c.f64").string()) + " --grid 4 --device cpu",
+                                 dir_.path());
+  const CliResult written = runCli("sample " + quote((models() / "inline_risky.json").string()) + " -o " +
+                                       quote((dir_ / "d.f64").string()) + " --grid 4 --device cpu",
+                                   dir_.path());
+  ASSERT_EQ(risky.rc, 0) << risky.err;
+  ASSERT_EQ(written.rc, 0) << written.err;
+  EXPECT_NE(risky.err.find("bands as they were sampled"), std::string::npos) << risky.err;
+  EXPECT_NE(warnings(risky.err).find("from the origin"), std::string::npos) << risky.err;
+  EXPECT_NE(warnings(risky.err).find("alpha[5][5]"), std::string::npos) << risky.err;
+  EXPECT_EQ(warnings(risky.err), warnings(written.err));
 }
 
 }  // namespace

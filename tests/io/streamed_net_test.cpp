@@ -387,8 +387,25 @@ TEST_F(StreamedNet, BandsAreTheWholeSurfacesPatchRowsAndTheIdentityIsItsOwn) {
   write("alpha.npy", npyBytes("(9, 9)", wavy.alpha));
   nlohmann::json inlineAlpha = nlohmann::json::array();
   for (int i = 0; i < 9; ++i) inlineAlpha.push_back(std::vector<double>(wavy.alpha.begin() + 9 * i, wavy.alpha.begin() + 9 * i + 9));
+  // A tall closed net: more rows than the ones kept apart at either end (kMaxBasisCount each), so
+  // that bands read rows from the blocks between bands made of kept rows alone.
+  SurfaceModel tall = test::wavyNet(aeb, 5, true, 2.0);
+  tall.rows = 30;
+  tall.points.clear();
+  tall.alpha.clear();
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 5; ++j) {
+      tall.points.push_back({std::cos(i * 0.2) + 0.1 * j, std::sin(i * 0.2), 0.3 * j + 0.01 * i * i});
+      tall.alpha.push_back(0.3 + 0.02 * i + 0.01 * j);
+    }
+  write("tall.npy", npyBytes("(30, 5, 3)", flat(tall.points)));
+  write("tall_alpha.npy", npyBytes("(30, 5)", tall.alpha));
   const std::string aebHead = R"({"kind": "surface", "construction": "alpha_eb", "degree": 5, )";
   const std::vector<std::string> docs = {
+      aebHead + R"("alpha": {"npy": "tall_alpha.npy"}, "closed": [true, false], "points": {"npy": "tall.npy"}})",
+      aebHead + R"("alpha": {"npy": "tall_alpha.npy"}, "points": {"npy": "tall.npy"}})",
+      R"({"kind": "surface", "construction": "ubp", "order": 6, "lambda": 0.5, "closed": [true, true], )"
+      R"("points": {"npy": "tall.npy"}})",
       aebHead + R"("alpha": {"npy": "alpha.npy"}, "points": {"npy": "net.npy"}})",
       aebHead + R"("alpha": {"npy": "alpha.npy"}, "closed": [true, false], "points": {"npy": "net.npy"}})",
       aebHead + R"("alpha": {"npy": "alpha.npy"}, "closed": [true, true], "points": {"npy": "net32.npy"}})",
@@ -408,7 +425,7 @@ TEST_F(StreamedNet, BandsAreTheWholeSurfacesPatchRowsAndTheIdentityIsItsOwn) {
     const SpanRange all = built->patches().u;
     for (const SpanRange rows : {all, SpanRange{all.first + 1, all.last - 1}, SpanRange{all.last, all.last},
                                  SpanRange{0, -1}}) {
-      for (const BandSizes sizes : {BandSizes{1, 1}, BandSizes{2, 1 << 20}}) {
+      for (const BandSizes sizes : {BandSizes{1, 1}, BandSizes{2, 1 << 20}, BandSizes{1, 300}}) {
         for (size_t window : {size_t{1}, size_t{7}, size_t{9}, size_t{kStreamWindowPoints}}) {
           const std::string what = "rows " + std::to_string(rows.first) + ".." + std::to_string(rows.last) +
                                    ", first band " + std::to_string(sizes.firstRows) + ", window " +
