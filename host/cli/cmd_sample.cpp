@@ -258,9 +258,9 @@ sampling::GridOptions bandOptions(const sampling::GridOptions& options, size_t o
 }
 
 // Thrown by a job whose net streamed in bands when it must start again whole: the stream stopped
-// at an error (the whole job names its own, which may be another value's; its rules run before
-// any sample), or the net is one the CPU path scales (its bands were sampled unscaled). Not a
-// std::exception: sampleInto catches it before anything reports it.
+// at an error other than a failed write (the whole job names its own, which may be another
+// value's: its rules run before any sample), or the net is one the CPU path scales (its bands were
+// sampled unscaled). Not a std::exception: sampleInto catches it before anything reports it.
 struct StartAgainWhole {};
 
 }  // namespace
@@ -580,6 +580,8 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       io::SurfaceFingerprint fingerprint(shape, counts.alpha, counts.weights, layout, format);
       SurfaceWarningScan warnings(shape);
       const size_t jobEnd = layout.firstItem + layout.itemCount;
+      sampling::DeviceRequest onCpu = request;  // as planned: a band is never planned for a device
+      onCpu.device = sampling::DeviceKind::Cpu;
       try {
         net = io::streamSurfaceBands(
             shape, outline, fingerprint, patchRowsOf(layout, layout.firstItem, layout.itemCount),
@@ -592,7 +594,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
               GridSpec g = grid;
               g.firstItem = a - bandFirst;
               g.itemCount = b - a;
-              session.sampleGrid(band, request, g, fields,
+              session.sampleGrid(band, onCpu, g, fields,
                                  [&](const GridChunk& c) {
                                    GridChunk whole = c;
                                    whole.firstItem += bandFirst;
@@ -613,6 +615,8 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
         printPrecisionWarnings(warnings, args.quiet);  // they need the whole net: after its samples
       } catch (const StartAgainWhole&) {
         throw;
+      } catch (const io::OutputWriteError&) {
+        throw;  // the file system's failure (exit 3): sampling again would meet it again
       } catch (...) {
         throw StartAgainWhole{};
       }

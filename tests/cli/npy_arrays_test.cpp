@@ -442,7 +442,7 @@ TEST_F(NpyArrays, JobsOnTheCpuSampleTheNetInBandsAsItStreams) {
 // What the bands cannot settle alone starts the job again whole, whose outcome is then the job's:
 // a net the CPU scales (beyond 2^200, here in its last row) samples to the bytes of the same net
 // written out, and its summary names no bands; the precision warnings, which need every value,
-// come after the samples and are the built net's.
+// come after the samples and are the built net's. A write that fails is not tried again.
 TEST_F(NpyArrays, BandedJobsEndAsTheWholeJob) {
   const CliResult scaled = runCli("sample " + quote((models() / "ref_scaled.json").string()) + " -o " +
                                       quote((dir_ / "a.f64").string()) + " --grid 4 --derivatives --device cpu",
@@ -470,6 +470,18 @@ TEST_F(NpyArrays, BandedJobsEndAsTheWholeJob) {
   EXPECT_NE(warnings(risky.err).find("from the origin"), std::string::npos) << risky.err;
   EXPECT_NE(warnings(risky.err).find("alpha[5][5]"), std::string::npos) << risky.err;
   EXPECT_EQ(warnings(risky.err), warnings(written.err));
+
+  // A write that fails (a 64 KiB file size limit against 48 MB of records) ends the job: exit 3,
+  // the file system's message, nothing left.
+  fs::create_directories(dir_ / "limited");
+  const CliResult full = runShell("bash -c 'ulimit -f 64; exec \"$0\" \"$@\"' " + quote(SHAPESPLINE_CLI) +
+                                      " sample " + quote((models() / "ref.json").string()) + " -o " +
+                                      quote((dir_ / "limited" / "e.f64").string()) +
+                                      " --grid 64 --derivatives --device cpu -q",
+                                  dir_.path());
+  EXPECT_EQ(full.rc, 3) << full.err;
+  EXPECT_NE(full.err.find("File too large"), std::string::npos) << full.err;
+  EXPECT_TRUE(fs::is_empty(dir_ / "limited")) << "partial output";
 }
 
 }  // namespace
