@@ -204,8 +204,9 @@ size_t shardBound(size_t total, int k, int shards) {
   return total / n * kk + total % n * kk / n;
 }
 
-// Whether this job could stream its net: a shard (only a shard can have no items) that neither
-// saves the model nor trims (both need the built surface).
+// Whether this job could stream its net: a shard (only a shard can have no items) or a job whose
+// net may stream in bands (`bands`), that neither saves the model nor trims (both need the built
+// surface).
 bool mayStreamNet(const SampleArgs& args, int shards, bool bands) {
   return (shards > 1 || bands) && args.saveModel.empty() && !args.trim;
 }
@@ -255,6 +256,33 @@ sampling::GridOptions bandOptions(const sampling::GridOptions& options, size_t o
       submit(std::move(block), shifted(c), first, count);
     };
   return o;
+}
+
+// The items of the job `grid` (whole-job numbers) in patch rows first..last of `band`, sampled on the
+// CPU and delivered with the job's item numbers (a band's item 0 is its first row's first item).
+void sampleBand(sampling::Session& session, const Surface& band, int first, int last, const io::SampleLayout& layout,
+                const GridSpec& grid, FieldMask fields, const ChunkConsumer& sink, const sampling::GridOptions& options,
+                const sampling::DeviceRequest& onCpu) {
+  const size_t bandFirst = static_cast<size_t>(first - layout.spanU.front()) * layout.itemsV;
+  const size_t bandEnd = static_cast<size_t>(last + 1 - layout.spanU.front()) * layout.itemsV;
+  const size_t a = std::max(bandFirst, grid.firstItem), b = std::min(bandEnd, grid.firstItem + grid.itemCount);
+  GridSpec g = grid;
+  g.firstItem = a - bandFirst;
+  g.itemCount = b - a;
+  session.sampleGrid(
+      band, onCpu, g, fields,
+      [&](const GridChunk& c) {
+        GridChunk whole = c;
+        whole.firstItem += bandFirst;
+        sink(whole);
+      },
+      bandOptions(options, bandFirst));
+}
+
+// The α-EB vertex rule (§4.2) over a net that streamed, where the bound from its points could not
+// clear every vertex: the built surface checks each (ModelError naming the first).
+void requireFiniteVerticesOf(const SampleArgs& args) {
+  (void)Surface::create(std::get<SurfaceModel>(loadModel(args.model, args.allowOutsideArrays, nullptr, nullptr)));
 }
 
 // Thrown by a job whose net streamed in bands when it must start again whole: the stream stopped
@@ -452,9 +480,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
     net = io::streamSurfaceNet(shape, outline, fingerprint);
     requireFloatRange(net->largestCoordinate, precision);
     layout.job = fingerprint.finish();
-    // A net the α-EB vertex bound does not clear: the built surface checks every vertex (§4.2).
-    if (!net->verticesShown)
-      (void)Surface::create(std::get<SurfaceModel>(loadModel(args.model, args.allowOutsideArrays, nullptr, nullptr)));
+    if (!net->verticesShown) requireFiniteVerticesOf(args);
   } else if (!streamed) {
     layout.job = curve ? io::jobFingerprint(curve->model(), layout, format)
                        : io::jobFingerprint(*surface, layout, format);
@@ -579,7 +605,6 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       const SurfaceCounts counts = io::outlineCounts(shape, outline);
       io::SurfaceFingerprint fingerprint(shape, counts.alpha, counts.weights, layout, format);
       SurfaceWarningScan warnings(shape);
-      const size_t jobEnd = layout.firstItem + layout.itemCount;
       sampling::DeviceRequest onCpu = request;  // as planned: a band is never planned for a device
       onCpu.device = sampling::DeviceKind::Cpu;
       try {
@@ -588,29 +613,14 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
             [&](const Surface& band, int first, int last) {
               ++bandCount;
               if (sampling::cpuNetScaleFor(sampling::largestCoordinate(band)) != 0) throw StartAgainWhole{};
-              const size_t bandFirst = static_cast<size_t>(first - layout.spanU.front()) * layout.itemsV;
-              const size_t bandEnd = static_cast<size_t>(last + 1 - layout.spanU.front()) * layout.itemsV;
-              const size_t a = std::max(bandFirst, layout.firstItem), b = std::min(bandEnd, jobEnd);
-              GridSpec g = grid;
-              g.firstItem = a - bandFirst;
-              g.itemCount = b - a;
-              session.sampleGrid(band, onCpu, g, fields,
-                                 [&](const GridChunk& c) {
-                                   GridChunk whole = c;
-                                   whole.firstItem += bandFirst;
-                                   sink(whole);
-                                 },
-                                 bandOptions(options, bandFirst));
+              sampleBand(session, band, first, last, layout, grid, fields, sink, options, onCpu);
             },
             {}, io::kStreamWindowPoints, args.quiet ? nullptr : &warnings);
         requireFloatRange(net->largestCoordinate, precision);
         // A net beyond 2^200 is scaled on the CPU (sampling/net_scale.h): as a whole, not per band.
         if (sampling::cpuNetScaleFor(net->largestCoordinate) != 0) throw StartAgainWhole{};
         layout.job = fingerprint.finish();
-        // Vertices outside this shard's bands that the bound does not clear (§4.2): the built surface
-        // checks each.
-        if (!net->verticesShown)
-          (void)Surface::create(std::get<SurfaceModel>(loadModel(args.model, args.allowOutsideArrays, nullptr, nullptr)));
+        if (!net->verticesShown) requireFiniteVerticesOf(args);  // outside this shard's bands
         identify();
         printPrecisionWarnings(warnings, args.quiet);  // they need the whole net: after its samples
       } catch (const StartAgainWhole&) {
@@ -621,17 +631,18 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
         throw StartAgainWhole{};
       }
       writer->setIdentity(layout.job, layout.metadata);
-    }
-    // A welded shard also samples its context (the outside items that share its points), in item
-    // order around its own items, so that its vertices equal the unsharded file's (io/welded_mesh.h).
-    for (const auto& [a, b] : banded ? std::vector<std::pair<size_t, size_t>>{} : io::streamedItemRanges(format, layout)) {
-      GridSpec g = grid;
-      g.firstItem = a;
-      g.itemCount = b - a;
-      if (curve) {
-        session.sampleGrid(*curve, request, g, fields, sink, options);
-      } else {
-        session.sampleGrid(*surface, request, g, fields, sink, options);
+    } else {
+      // A welded shard also samples its context (the outside items that share its points), in item
+      // order around its own items, so that its vertices equal the unsharded file's (io/welded_mesh.h).
+      for (const auto& [a, b] : io::streamedItemRanges(format, layout)) {
+        GridSpec g = grid;
+        g.firstItem = a;
+        g.itemCount = b - a;
+        if (curve) {
+          session.sampleGrid(*curve, request, g, fields, sink, options);
+        } else {
+          session.sampleGrid(*surface, request, g, fields, sink, options);
+        }
       }
     }
   }
