@@ -82,11 +82,12 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
     return *needs[i];
   };
 
-  // A net closed in u wraps: its first band reads its last rows, its last band its first rows.
-  // Those are kept apart: the last ones read first (a stream of their own), the first ones as read.
+  // A net closed in u wraps: its first band reads its last rows, its last band its first rows
+  // (every wrapped row a band reads, as the first band starts at the net's first entry and the
+  // last ends at its last). Those are kept apart: the last ones read first (a stream of their
+  // own), the first ones as read.
   std::map<int, KeptRow> kept;
   if (m.closedU && !bands.empty()) {
-    // The first band reads the last rows, the last band the first ones.
     for (size_t i : {size_t{0}, bands.size() - 1})
       for (int k : need(i))
         if (k < kMaxBasisCount || k >= netRows - kMaxBasisCount) kept[k];
