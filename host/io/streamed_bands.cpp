@@ -83,9 +83,9 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
   };
 
   // A net closed in u wraps: its first band reads its last rows, its last band its first rows
-  // (every wrapped row a band reads, as the first band starts at the net's first entry and the
-  // last ends at its last). Those are kept apart: the last ones read first (a stream of their
-  // own), the first ones as read.
+  // (a band between them reads no wrapped row the first or the last does not: bands further in
+  // reach less far past either end). Those are kept apart: the last ones read first (a stream of
+  // their own), the first ones as read.
   std::map<int, KeptRow> kept;
   if (m.closedU && !bands.empty()) {
     for (size_t i : {size_t{0}, bands.size() - 1})
