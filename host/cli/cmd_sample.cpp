@@ -13,6 +13,7 @@
 #include <shapespline/jobs/shard_record.h>
 #include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_mesh.h>
+#include <shapespline/sampling/gpu_limits.h>
 #include <shapespline/sampling/net_scale.h>
 #include <shapespline/sampling/session.h>
 
@@ -220,15 +221,12 @@ bool shardHasNoItems(const SurfaceShape& shape, int k, int n, io::OutputFormat f
 }
 
 // A job sampled while its net streams in bands (io/streamed_bands.h), never holding it whole: a
-// uniform-span surface in files, a format that takes the job's identity last, the CPU (the GPU
-// plans for the whole net: its scale, its buffer limits, its fp32 warnings), and no shard record
-// of an earlier run (resuming compares the fingerprint, which needs the whole net first). The
-// device is asked last: with --device auto that waits for the device's set-up.
+// uniform-span surface in files, a format that takes the job's identity last, and no shard record
+// of an earlier run (resuming compares the fingerprint, which needs the whole net first).
 bool streamsInBands(const SurfaceModel& shape, const io::ModelArrays& arrays, io::OutputFormat format,
-                    const SampleArgs& args, sampling::Session& session, const sampling::DeviceRequest& request) {
+                    const SampleArgs& args) {
   return io::bandsCanStream(shape, arrays) && io::identityWrittenAtFinish(format) &&
-         (args.shard.empty() || !std::filesystem::exists(jobs::shardRecordPath(args.out))) &&
-         request.device != sampling::DeviceKind::Vulkan && !session.planDevice(request).gpu;
+         (args.shard.empty() || !std::filesystem::exists(jobs::shardRecordPath(args.out)));
 }
 
 // The patch rows the items [first, first + count) of a surface's grid lie in (none for no items).
@@ -258,11 +256,12 @@ sampling::GridOptions bandOptions(const sampling::GridOptions& options, size_t o
   return o;
 }
 
-// The items of the job `grid` (whole-job numbers) in patch rows first..last of `band`, sampled on the
-// CPU and delivered with the job's item numbers (a band's item 0 is its first row's first item).
+// The items of the job `grid` (whole-job numbers) in patch rows first..last of `band`, sampled as
+// `request` asks and delivered with the job's item numbers (a band's item 0 is its first row's
+// first item).
 void sampleBand(sampling::Session& session, const Surface& band, int first, int last, const io::SampleLayout& layout,
                 const GridSpec& grid, FieldMask fields, const ChunkConsumer& sink, const sampling::GridOptions& options,
-                const sampling::DeviceRequest& onCpu) {
+                const sampling::DeviceRequest& request) {
   const size_t bandFirst = static_cast<size_t>(first - layout.spanU.front()) * layout.itemsV;
   const size_t bandEnd = static_cast<size_t>(last + 1 - layout.spanU.front()) * layout.itemsV;
   const size_t a = std::max(bandFirst, grid.firstItem), b = std::min(bandEnd, grid.firstItem + grid.itemCount);
@@ -270,7 +269,7 @@ void sampleBand(sampling::Session& session, const Surface& band, int first, int 
   g.firstItem = a - bandFirst;
   g.itemCount = b - a;
   session.sampleGrid(
-      band, onCpu, g, fields,
+      band, request, g, fields,
       [&](const GridChunk& c) {
         GridChunk whole = c;
         whole.firstItem += bandFirst;
@@ -287,8 +286,8 @@ void requireFiniteVerticesOf(const SampleArgs& args) {
 
 // Thrown by a job whose net streamed in bands when it must start again whole: the stream stopped
 // at an error other than a failed write (the whole job names its own, which may be another
-// value's: its rules run before any sample), or the net is one the CPU path scales (its bands were
-// sampled unscaled). Not a std::exception: sampleInto catches it before anything reports it.
+// value's: its rules run before any sample), or a band was planned otherwise than the whole net would be (another device,
+// another scale). Not a std::exception: sampleInto catches it before anything reports it.
 struct StartAgainWhole {};
 
 }  // namespace
@@ -355,7 +354,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       const auto* shape = std::get_if<SurfaceModel>(&model);
       const bool none = shape && shardHasNoItems(*shape, shardK, shardN, format, args);
       banded = !outline.deferred.empty() && shape && !none && bands &&
-               streamsInBands(*shape, outline, format, args, session, request);
+               streamsInBands(*shape, outline, format, args);
       whole = !outline.deferred.empty() && !none && !banded;
     } catch (const ModelError&) {
       whole = true;  // the full parse names the error (its rules on the values come before the shape's)
@@ -605,24 +604,36 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       const SurfaceCounts counts = io::outlineCounts(shape, outline);
       io::SurfaceFingerprint fingerprint(shape, counts.alpha, counts.weights, layout, format);
       SurfaceWarningScan warnings(shape);
-      sampling::DeviceRequest onCpu = request;  // as planned: a band is never planned for a device
-      onCpu.device = sampling::DeviceKind::Cpu;
+      // Every band is planned as the whole net is (`report`): the device the job planned (a band on
+      // the CPU is never offered the GPU), and one scale exponent (sampling/net_scale.h: a job
+      // evaluates 2^k x net, k from the whole net's largest coordinate), checked against the whole
+      // net's once it has streamed.
+      sampling::DeviceRequest bandRequest = request;
+      if (!report.gpu) bandRequest.device = sampling::DeviceKind::Cpu;
+      std::optional<int> exponent;
       try {
         net = io::streamSurfaceBands(
             shape, outline, fingerprint, patchRowsOf(layout, layout.firstItem, layout.itemCount),
             [&](const Surface& band, int first, int last) {
               ++bandCount;
-              if (sampling::cpuNetScaleFor(sampling::largestCoordinate(band)) != 0) throw StartAgainWhole{};
-              sampleBand(session, band, first, last, layout, grid, fields, sink, options, onCpu);
+              const sampling::Report planned = session.plan(band, bandRequest);
+              if (planned.gpu != report.gpu || planned.netScaleExponent != exponent.value_or(planned.netScaleExponent))
+                throw StartAgainWhole{};
+              exponent = planned.netScaleExponent;
+              sampleBand(session, band, first, last, layout, grid, fields, sink, options, bandRequest);
             },
             {}, io::kStreamWindowPoints, args.quiet ? nullptr : &warnings);
         requireFloatRange(net->largestCoordinate, precision);
-        // A net beyond 2^200 is scaled on the CPU (sampling/net_scale.h): as a whole, not per band.
-        if (sampling::cpuNetScaleFor(net->largestCoordinate) != 0) throw StartAgainWhole{};
+        const int wholeExponent = report.gpu ? sampling::netScaleFor(net->largestCoordinate, report.computedPrecision)
+                                             : sampling::cpuNetScaleFor(net->largestCoordinate);
+        if (exponent != wholeExponent) throw StartAgainWhole{};
+        // The GPU hands an α-EB net with a tiny α to the CPU (rows of a shard's other bands, too).
+        if (report.gpu && sampling::gpuLimitation(shape, net->alpha.summary().min, report.computedPrecision))
+          throw StartAgainWhole{};
         layout.job = fingerprint.finish();
         if (!net->verticesShown) requireFiniteVerticesOf(args);  // outside this shard's bands
         identify();
-        printPrecisionWarnings(warnings, args.quiet);  // they need the whole net: after its samples
+        printPrecisionWarnings(warnings, shape.cols, gpuFloat, args.quiet);  // they need the whole net
       } catch (const StartAgainWhole&) {
         throw;
       } catch (const io::OutputWriteError&) {

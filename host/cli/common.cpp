@@ -182,36 +182,36 @@ std::string num3(double x) {
   return buf;
 }
 
-// `forEachPoint(f)` calls f(P) for every control point (a vector, or a surface's net in place).
-template <class ForEach>
-void floatWarnings(ForEach&& forEachPoint, int dims, const std::vector<double>& alpha,
-                   const std::function<std::string(size_t)>& name, std::vector<Warning>& out) {
-  if (!alpha.empty()) {
-    const auto it = std::min_element(alpha.begin(), alpha.end());
-    if (*it < kAlphaWarnFloat && *it >= kAlphaWarn) {  // below kAlphaWarn core already warns
-      out.push_back({"alpha" + name(static_cast<size_t>(it - alpha.begin())),
-                     "alpha = " + num3(*it) + " amplifies rounding errors by 1/alpha: the fp32 GPU kernels lose about " +
-                         num3(std::floor(-std::log10(*it))) + " of their 7 digits (use --precision double)"});
-    }
+// The fp32 kernels' warnings from the control points' spread and the smallest α (`name` gives
+// the index part of α's field).
+void floatWarnings(const PointSpread& points, const SmallestAlpha& alpha, const std::function<std::string(size_t)>& name,
+                   std::vector<Warning>& out) {
+  if (alpha.any && alpha.value < kAlphaWarnFloat && alpha.value >= kAlphaWarn) {  // below kAlphaWarn core warns
+    out.push_back({"alpha" + name(alpha.where),
+                   "alpha = " + num3(alpha.value) + " amplifies rounding errors by 1/alpha: the fp32 GPU kernels lose about " +
+                       num3(std::floor(-std::log10(alpha.value))) + " of their 7 digits (use --precision double)"});
   }
-  double biggest = 0.0, extent = 0.0;
-  bool any = false;
-  glm::dvec3 lo(0.0), hi(0.0);
-  forEachPoint([&](const glm::dvec3& p) {
-    if (!any) lo = hi = p, any = true;
-    for (int d = 0; d < dims; ++d) {
-      biggest = std::max(biggest, std::abs(p[d]));
-      lo[d] = std::min(lo[d], p[d]);
-      hi[d] = std::max(hi[d], p[d]);
-    }
-  });
-  if (!any) return;
-  for (int d = 0; d < dims; ++d) extent = std::max(extent, hi[d] - lo[d]);
+  if (!points.any) return;
+  double extent = 0.0;
+  for (int d = 0; d < points.dims; ++d) extent = std::max(extent, points.hi[d] - points.lo[d]);
+  const double biggest = points.biggest;
   if (extent > 0.0 && extent < kRelativeExtentFloat * biggest && extent >= kRelativeExtent * biggest) {
     out.push_back({"points", "the control net spans only " + num3(extent) + " but lies " + num3(biggest) +
                                  " from the origin: in fp32 (7 digits) fewer than 3 digits describe its shape "
                                  "(use --precision double)"});
   }
+}
+
+// The same from every control point (`forEachPoint(f)` calls f(P): a vector, or a surface's net in
+// place) and the α values.
+template <class ForEach>
+void floatWarnings(ForEach&& forEachPoint, int dims, const std::vector<double>& alpha,
+                   const std::function<std::string(size_t)>& name, std::vector<Warning>& out) {
+  PointSpread points{dims};
+  forEachPoint([&](const glm::dvec3& p) { points.add(p); });
+  SmallestAlpha smallest;
+  smallest.add(alpha.data(), alpha.size());
+  floatWarnings(points, smallest, name, out);
 }
 
 }  // namespace
@@ -233,8 +233,14 @@ void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet) 
   print(warnings);
 }
 
-void printPrecisionWarnings(const SurfaceWarningScan& scan, bool quiet) {
-  if (!quiet) print(scan.warnings());
+void printPrecisionWarnings(const SurfaceWarningScan& scan, int cols, bool gpuFloat, bool quiet) {
+  if (quiet) return;
+  std::vector<Warning> warnings = scan.warnings();
+  const size_t n = static_cast<size_t>(std::max(cols, 1));
+  if (gpuFloat)
+    floatWarnings(scan.spread(), scan.smallestAlpha(),
+                  [n](size_t k) { return "[" + std::to_string(k / n) + "][" + std::to_string(k % n) + "]"; }, warnings);
+  print(warnings);
 }
 
 void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet) {

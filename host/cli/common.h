@@ -85,8 +85,8 @@ void requireFinite(const glm::dvec3& v, const char* what);
 // the fp32 GPU kernels.
 void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet);
 void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet);
-// The warnings of a net seen as a stream (SurfaceWarningScan), on the CPU.
-void printPrecisionWarnings(const SurfaceWarningScan& scan, bool quiet);
+// The same for a net of `cols` columns seen as a stream (SurfaceWarningScan).
+void printPrecisionWarnings(const SurfaceWarningScan& scan, int cols, bool gpuFloat, bool quiet);
 
 // With --precision float every value is rounded to fp32 (max 3.4e38): a net beyond kMaxFloatNet
 // leaves no headroom for derivatives, so it is refused (InputError on --precision, exit 2).

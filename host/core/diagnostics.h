@@ -75,6 +75,8 @@ class SurfaceWarningScan {
   }
   void alphas(const double* alpha, size_t count) { alpha_.add(alpha, count); }
   std::vector<Warning> warnings() const;
+  const PointSpread& spread() const { return points_; }
+  const SmallestAlpha& smallestAlpha() const { return alpha_; }
 
  private:
   const SurfaceShape& shape_;

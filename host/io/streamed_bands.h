@@ -26,7 +26,7 @@ using BandSink = std::function<void(const Surface& band, int first, int last)>;
 
 struct BandSizes {
   int firstRows = 1;          // patch rows of the first band (the first samples come after it)
-  size_t maxBytes = 4 << 20;  // of a band's net at most (bands double from firstRows up to it)
+  size_t maxBytes = 16 << 20;  // of a band's net at most (bands double from firstRows up to it)
 };
 
 // Whether streamSurfaceBands can take this outline: uniform-span families (not knot vectors), no

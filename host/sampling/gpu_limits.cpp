@@ -76,6 +76,12 @@ std::optional<std::string> gpuLimitation(const Curve& curve, Precision precision
   return limitation(curve.model().family, curve.model().alpha, precision);
 }
 
+std::optional<std::string> gpuLimitation(const SurfaceShape& shape, double smallestAlpha, Precision precision) {
+  if (parameterizationOf(shape) == Parameterization::KnotVector)
+    throw std::logic_error("gpuLimitation: a knot-vector surface's limits need its knots and weights");
+  return limitation(shape.family, {smallestAlpha}, precision);
+}
+
 std::optional<std::string> gpuLimitation(const Surface& surface, Precision precision) {
   if (surface.usesKnotVector()) {
     if (auto why = knotLimitation(surface.model().knotsU, "knots[0]", precision)) return why;

@@ -34,5 +34,8 @@ inline constexpr size_t kMaxKnotsGpuFloat = 65536;
 // Why the `precision` kernels cannot evaluate the model, or nullopt when they can.
 std::optional<std::string> gpuLimitation(const Curve& curve, Precision precision);
 std::optional<std::string> gpuLimitation(const Surface& surface, Precision precision);
+// The same for a uniform-span surface of this shape whose smallest α is `smallestAlpha` (a net
+// streamed from its files, never built).
+std::optional<std::string> gpuLimitation(const SurfaceShape& shape, double smallestAlpha, Precision precision);
 
 }  // namespace shapespline::sampling

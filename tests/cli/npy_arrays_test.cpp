@@ -4,6 +4,7 @@
 // (fp64 arrays; fp32 arrays as their float values), and every bad array is refused with exit 2,
 // an error naming the key and the file, and no output.
 #include "cli_runner.h"
+#include "output_checks.h"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +105,18 @@ save("net_risky.npy", risky)
 save("alpha_risky.npy", risky_alpha)
 model("ref_risky.json", points={"npy": "net_risky.npy"}, alpha={"npy": "alpha_risky.npy"})
 model("inline_risky.json", points=risky.tolist(), alpha=risky_alpha.tolist())
+# For the fp32 kernels: a last row 1e7 times as far (the GPU scales the whole net by 2^-26, its
+# first bands alone by 1), and a net that fp32 resolves poorly (1e6 from the origin, alpha 1e-3).
+far = P.copy(); far[9] *= 1e7
+save("net_far.npy", far)
+model("ref_far.json", points={"npy": "net_far.npy"}, alpha={"npy": "alpha.npy"})
+model("inline_far.json", points=far.tolist(), alpha=al.tolist())
+coarse = P + 1e6
+coarse_alpha = al.copy(); coarse_alpha[5, 5] = 1e-3
+save("net_coarse.npy", coarse)
+save("alpha_coarse.npy", coarse_alpha)
+model("ref_coarse.json", points={"npy": "net_coarse.npy"}, alpha={"npy": "alpha_coarse.npy"})
+model("inline_coarse.json", points=coarse.tolist(), alpha=coarse_alpha.tolist())
 # A rational B-spline surface from files.
 save("wsurf.npy", np.random.default_rng(5).uniform(0.5, 2.0, (n, n)))
 ku = [0, 0, 0] + list(np.linspace(0.1, 0.9, n - 3)) + [1, 1, 1]
@@ -482,6 +495,42 @@ TEST_F(NpyArrays, BandedJobsEndAsTheWholeJob) {
   EXPECT_EQ(full.rc, 3) << full.err;
   EXPECT_NE(full.err.find("File too large"), std::string::npos) << full.err;
   EXPECT_TRUE(fs::is_empty(dir_ / "limited")) << "partial output";
+}
+
+// The same on the GPU (fp32 kernels): bands planned as the whole net is, the bytes of the net
+// written out; a net whose whole scale differs from its first bands' starts again whole; the fp32
+// warnings after the samples are the built net's.
+TEST_F(NpyArrays, JobsOnVulkanSampleTheNetInBandsToo) {
+  REQUIRE_VULKAN();
+  auto run = [&](const std::string& model, const std::string& out) {
+    return runCli("sample " + quote((models() / model).string()) + " -o " + quote((dir_ / out).string()) +
+                      " --grid 3x4 --normals --device vulkan --precision float --require-device",
+                  dir_.path());
+  };
+  for (const auto& [ref, written] :
+       {std::pair{"ref.json", "inline.json"}, std::pair{"ref_closed.json", "inline_closed.json"},
+        std::pair{"ref_ubp.json", "inline_ubp.json"}, std::pair{"ref_far.json", "inline_far.json"},
+        std::pair{"ref_coarse.json", "inline_coarse.json"}}) {
+    SCOPED_TRACE(ref);
+    const CliResult banded = run(ref, "a.f32"), built = run(written, "b.f32");
+    ASSERT_EQ(banded.rc, 0) << banded.err;
+    ASSERT_EQ(built.rc, 0) << built.err;
+    const bool restarts = std::string(ref) == "ref_far.json";
+    EXPECT_EQ(banded.err.find("bands as they were sampled") == std::string::npos, restarts) << banded.err;
+    EXPECT_GT(fs::file_size(dir_ / "a.f32"), 1000u);
+    EXPECT_TRUE(readText(dir_ / "a.f32") == readText(dir_ / "b.f32")) << "the bands sampled other bytes";
+    auto warnings = [](const std::string& err) {
+      std::string out;
+      for (size_t at = err.find("warning:"); at != std::string::npos; at = err.find("warning:", at + 1))
+        out += err.substr(at, err.find('\n', at) - at) + "\n";
+      return out;
+    };
+    EXPECT_EQ(warnings(banded.err), warnings(built.err));
+    if (std::string(ref) == "ref_coarse.json") {
+      EXPECT_NE(warnings(banded.err).find("fp32 GPU kernels lose"), std::string::npos) << banded.err;
+      EXPECT_NE(warnings(banded.err).find("in fp32 (7 digits)"), std::string::npos) << banded.err;
+    }
+  }
 }
 
 }  // namespace
