@@ -168,15 +168,16 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
     return INT_MAX;
   };
 
+  // Blocks below every row still to be read from them go as soon as the next one is in (a shard's
+  // first band may lie far into the net).
+  auto dropBelow = [&](int lowest) {
+    while (!blocks.empty() && blocks.front().first + blocks.front().count <= lowest) blocks.pop_front();
+  };
+
   for (size_t i = 0; i < bands.size(); ++i) {
     int highest = -1;  // the last row to read before band i (a kept row counts until it is read)
     for (int k : need(i))
       if (auto it = kept.find(k); it == kept.end() || it->second.points.empty()) highest = std::max(highest, k);
-    // Blocks below every row still to be read from them go as soon as the next one is in (a shard's
-    // first band may lie far into the net).
-    auto dropBelow = [&](int lowest) {
-      while (!blocks.empty() && blocks.front().first + blocks.front().count <= lowest) blocks.pop_front();
-    };
     const int lowest = lowestInBlocks(i);
     while (read <= highest) {
       readBlock();

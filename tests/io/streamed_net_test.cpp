@@ -201,20 +201,29 @@ class StreamedNet : public ::testing::Test {
                        std::string& fingerprint) {
     write("m.json", doc);
     ModelArrays arrays;
-    arrays.folder = dir_;
-    arrays.outline = true;
     try {
-      const SurfaceModel outline = std::get<SurfaceModel>(parseModelText(doc, &arrays));
+      const SurfaceModel outline = outlineOf(doc, arrays);
       EXPECT_FALSE(arrays.deferred.empty());
       EXPECT_TRUE(outline.points.empty()) << "an outline read its points";
-      const SurfaceCounts counts = outlineCounts(outline, arrays);
-      SurfaceFingerprint f(outline, counts.alpha, counts.weights, layout, OutputFormat::RawF32);
+      SurfaceFingerprint f = fingerprintFor(outline, arrays, layout);
       net = streamSurfaceNet(outline, arrays, f, window);
       fingerprint = f.finish();
       return "";
     } catch (const ModelError& e) {
       return e.what();
     }
+  }
+
+  // `doc` parsed as an outline (its array files in dir_, left unread), and the job fingerprint for it.
+  SurfaceModel outlineOf(const std::string& doc, ModelArrays& arrays) {
+    arrays.folder = dir_;
+    arrays.outline = true;
+    return std::get<SurfaceModel>(parseModelText(doc, &arrays));
+  }
+  static SurfaceFingerprint fingerprintFor(const SurfaceModel& outline, const ModelArrays& arrays,
+                                           const SampleLayout& layout) {
+    const SurfaceCounts counts = outlineCounts(outline, arrays);
+    return SurfaceFingerprint(outline, counts.alpha, counts.weights, layout, OutputFormat::RawF32);
   }
 
   fs::path dir_;
@@ -431,12 +440,9 @@ TEST_F(StreamedNet, BandsAreTheWholeSurfacesPatchRowsAndTheIdentityIsItsOwn) {
                                    ", first band " + std::to_string(sizes.firstRows) + ", window " +
                                    std::to_string(window);
           ModelArrays arrays;
-          arrays.folder = dir_;
-          arrays.outline = true;
-          const SurfaceModel outline = std::get<SurfaceModel>(parseModelText(doc, &arrays));
+          const SurfaceModel outline = outlineOf(doc, arrays);
           ASSERT_TRUE(bandsCanStream(outline, arrays)) << what;
-          const SurfaceCounts counts = outlineCounts(outline, arrays);
-          SurfaceFingerprint f(outline, counts.alpha, counts.weights, layout, OutputFormat::RawF32);
+          SurfaceFingerprint f = fingerprintFor(outline, arrays, layout);
           int next = rows.first;
           const io::StreamedNet net = streamSurfaceBands(
               outline, arrays, f, rows,
@@ -503,11 +509,8 @@ TEST_F(StreamedNet, BandsStopAtABrokenNet) {
     ASSERT_NE(expected, "") << "the full parse accepts the broken net";
     for (size_t window : {size_t{1}, size_t{5}, size_t{64}}) {
       ModelArrays arrays;
-      arrays.folder = dir_;
-      arrays.outline = true;
-      const SurfaceModel outline = std::get<SurfaceModel>(parseModelText(doc, &arrays));
-      const SurfaceCounts counts = outlineCounts(outline, arrays);
-      SurfaceFingerprint f(outline, counts.alpha, counts.weights, SampleLayout{}, OutputFormat::RawF32);
+      const SurfaceModel outline = outlineOf(doc, arrays);
+      SurfaceFingerprint f = fingerprintFor(outline, arrays, SampleLayout{});
       int lastSampled = -1;
       try {
         (void)streamSurfaceBands(
@@ -515,7 +518,9 @@ TEST_F(StreamedNet, BandsStopAtABrokenNet) {
             BandSizes{1, 1}, window);
         ADD_FAILURE() << "the bands accepted a broken net (window " << window << ")";
       } catch (const ModelError& e) {
-        if (c.what.find("V overflows") != std::string::npos) EXPECT_EQ(e.what(), expected) << window;
+        if (c.what.find("V overflows") != std::string::npos) {
+          EXPECT_EQ(e.what(), expected) << window;
+        }
       }
       // No band that sees the bad value was handed out.
       EXPECT_LT(lastSampled + c.reach, c.badRow) << window;
