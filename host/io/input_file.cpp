@@ -226,6 +226,14 @@ json parseJsonText(std::string_view text, const std::string& documentField, cons
     json::sax_parse(text.begin(), text.end(), &sax);
     return result;
   } catch (const json::exception& e) {
+    // Text that does not even begin as a JSON object is no file of ours (a model, a sample list, a
+    // sidecar): none of its bytes are echoed, not even in nlohmann's "last read" (a path that named
+    // /etc/shadow must not print its first line).
+    const std::size_t first = text.find_first_not_of(" \t\r\n");
+    const bool utf8Bom = text.substr(0, 3) == "\xEF\xBB\xBF";
+    if (first == std::string_view::npos || (text[first] != '{' && !(utf8Bom && text.substr(3, 1) == "{")))
+      throw ModelError(documentField, "", "malformed JSON: the text is not a JSON object (it does not begin with '{'); "
+                                          "its bytes are not shown");
     // parse_error carries the byte position; show the text around it as the value.
     std::string near;
     if (const auto* pe = dynamic_cast<const json::parse_error*>(&e)) {

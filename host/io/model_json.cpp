@@ -13,6 +13,7 @@
 #include <shapespline/core/value_scan.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/input_file.h>
+#include <shapespline/io/named_file.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/raw_records.h>
 
@@ -123,26 +124,18 @@ size_t readPoint(const json& p, const std::string& field, bool surface, glm::dve
 
 bool isArrayReference(const json& v) { return v.is_object(); }
 
-// The file an array reference names, checked against `files` (folder, outside-ness).
+// The file an array reference names, by the named-file rule (io/named_file.h).
 std::filesystem::path referencedFile(const json& ref, const std::string& key, const ModelArrays* files) {
   if (ref.size() != 1 || !ref.contains("npy") || !ref.at("npy").is_string())
     failJson(key, ref, "an array reference is {\"npy\": \"FILE.npy\"}, a file name relative to the model file");
   const std::string name = ref.at("npy").get<std::string>();
   if (!files)
     throw ModelError(key, shortText(name), "array files are read only for a model file (the name is relative to its folder)");
-  if (name.empty()) throw ModelError(key, "\"\"", "the .npy file name is empty");
-  const std::filesystem::path rel(name);
-  const std::filesystem::path file = files->folder / rel;
-  if (files->allowOutside) return file;
-  const std::string outside = " is outside the model file's folder (allow it with --allow-outside-arrays)";
-  if (rel.is_absolute()) throw ModelError(key, shortText(name), "an absolute path" + outside);
-  std::error_code ec;
-  const std::filesystem::path dir = std::filesystem::canonical(files->folder.empty() ? "." : files->folder, ec);
-  const std::filesystem::path real = std::filesystem::weakly_canonical(file, ec);
-  if (ec) throw ModelError(key, shortText(name), "cannot resolve the path: " + ec.message());
-  const std::filesystem::path up = real.lexically_relative(dir);
-  if (up.empty() || *up.begin() == "..") throw ModelError(key, shortText(name), "the file (after links)" + outside);
-  return file;
+  NamedFileRule rule;
+  rule.folder = files->folder;
+  rule.allowOutside = files->allowOutside;
+  rule.allowHint = "allow arrays elsewhere with --allow-outside-arrays";
+  return resolveNamedFile(rule, name, key);
 }
 
 // The array a reference names (given in memory or read from its file) and, for messages, its name.

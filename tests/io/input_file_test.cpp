@@ -140,6 +140,23 @@ TEST(ParseJsonText, MalformedTextShowsWhereAndStaysShort) {
   EXPECT_LE(big.value().size(), io::kMaxValueChars);
 }
 
+// A file that does not begin as a JSON object is not one of ours (a path that named /etc/hostname):
+// its bytes appear neither as the value nor in nlohmann's "last read".
+TEST(ParseJsonText, TextThatIsNoJsonObjectIsNotEchoed) {
+  for (const char* text : {"vm-7f3a secret\n", "  root:x:0:0:root\n", "[\"secret\", tru]", "\xEF\xBB\xBFsecret"}) {
+    SCOPED_TRACE(text);
+    const ModelError e = modelError([&] { io::parseJsonText(text, "(document)"); });
+    EXPECT_EQ(e.field(), "(document)");
+    EXPECT_EQ(e.value(), "");
+    EXPECT_NE(e.rule().find("not a JSON object"), std::string::npos) << e.what();
+    for (const char* word : {"secret", "root", "vm-7f3a"})
+      EXPECT_EQ(std::string(e.what()).find(word), std::string::npos) << e.what();
+  }
+  // A UTF-8 byte-order mark before the object is still an object's text: shown as before.
+  const ModelError bom = modelError([] { io::parseJsonText("\xEF\xBB\xBF{\"kind\": tru}", "(document)"); });
+  EXPECT_EQ(bom.value().rfind("near \"", 0), 0u) << bom.value();
+}
+
 // An array of many objects: nlohmann's callback parser rescans the enclosing array after every
 // object (100k objects took 14 s); the SAX limits must stay linear.
 // Measured as the growth from n to 8n objects in one run (linear: about 8x; quadratic: 64x), so a

@@ -211,6 +211,13 @@ std::vector<BadModel> build() {
        "trim.rule"},
       {"trim_no_loops", surface("bspline", kTrimmable + R"("trim": {"loops": [], "tolerance": 0}, "points": )" + kNet4),
        "trim.loops"},
+      // Files a model names (docs/format.md "Files a model names"): inside the model file's folder.
+      {"points_npy_parent_dir", surface("alpha_eb", R"("degree": 4, "alpha": 0.5, "points": {"npy": "../../../../etc/hostname"})"),
+       "points"},
+      {"points_npy_absolute", surface("alpha_eb", R"("degree": 4, "alpha": 0.5, "points": {"npy": "/etc/hostname"})"), "points"},
+      {"alpha_npy_parent_dir", surface("alpha_eb", R"("degree": 4, "alpha": {"npy": "../alpha.npy"}, "points": )" + kNet4),
+       "alpha"},
+      {"points_npy_empty_name", curve("alpha_eb", R"("degree": 4, "alpha": 0.5, "points": {"npy": ""})"), "points"},
   };
 }
 
