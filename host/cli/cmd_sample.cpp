@@ -11,6 +11,7 @@
 #include <shapespline/io/streamed_bands.h>
 #include <shapespline/io/streamed_net.h>
 #include <shapespline/jobs/shard_record.h>
+#include <shapespline/io/part_manifest.h>
 #include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/sampling/gpu_limits.h>
@@ -185,7 +186,18 @@ GridChunk withInjectedNan(const GridChunk& c, size_t points, std::vector<double>
   return out;
 }
 
-// --trim (docs/cad.md): a surface with trim loops, a point-cloud output, one whole job.
+}  // namespace
+
+void requireTrimmedShardFormat(const SampleArgs& args, io::OutputFormat format) {
+  if (!args.shard.empty() && !io::trimmedShardFormat(format))
+    throw InputError("--shard", args.shard,
+                     "shards of trimmed faces and parts are written as .npy, .f32, .f64 or .ply, which carry the "
+                     "shard's identity for merge (a CSV cannot)");
+}
+
+namespace {
+
+// --trim (docs/cad.md): a surface with trim loops, a point-cloud output.
 void requireTrimmable(const SampleArgs& args, const io::Model& model, io::OutputFormat format) {
   const auto* surface = std::get_if<SurfaceModel>(&model);
   if (!surface || surface->trim.empty())
@@ -194,7 +206,7 @@ void requireTrimmable(const SampleArgs& args, const io::Model& model, io::Output
     throw InputError("-o", args.out,
                      "a trimmed face is written as a point cloud (.npy, .f32, .f64, .csv or .ply); meshes and pictures "
                      "of trimmed faces are refused until a trimmed mesher exists");
-  if (!args.shard.empty()) throw InputError("--shard", args.shard, "trimmed sampling is not sharded yet");
+  requireTrimmedShardFormat(args, format);
   if (args.meshLayoutGiven) throw InputError("--mesh-layout", args.meshLayout, "does not apply to --trim (a point cloud)");
 }
 
@@ -311,6 +323,13 @@ void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
 
 namespace {
 
+// What a file of `format` stores of values computed for `precision`: the job metadata's precision.
+Precision storedPrecisionOf(io::OutputFormat format, Precision precision) {
+  if (format == io::OutputFormat::RawF32 || io::isGltf(format)) return Precision::Float;
+  if (format == io::OutputFormat::RawF64) return Precision::Double;
+  return precision;
+}
+
 // sampleInto's job (its arguments resolved) on `session`. `bands`: the net may stream in bands;
 // `noticesShown`: an earlier try of the job printed the plan's notices.
 bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summary, sampling::Session& session,
@@ -334,7 +353,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   }
 
   // A part's manifest (`shapespline import`): every face, trimmed, into one point cloud.
-  const bool part = isPartManifest(args.model);
+  const bool part = io::isPartManifest(args.model);
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
   std::optional<io::ModelDigest> modelDigest;  // the metadata's SHA-256, hashed beside the parse and build
   if (!part) modelDigest.emplace(args.model);
@@ -420,8 +439,10 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
                          (precision == Precision::Float && format != io::OutputFormat::RawF64 &&
                           format != io::OutputFormat::Svg);
   if (part) {
-    if (!args.shard.empty()) throw InputError("--shard", args.shard, "a part is sampled whole (not sharded yet)");
     PartJob job{format, request, su, sv, fields, precision, {}};
+    job.storedPrecision = storedPrecisionOf(format, precision);
+    job.shardK = shardK;
+    job.shardN = shardN;
     job.check = [fileFloat](const GridChunk& c, size_t first, size_t count) { requireFinite(c, first, count, fileFloat); };
     return samplePartInto(args, job, outputs, summary, &session);
   }
@@ -464,8 +485,20 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
                      "the job would produce " + std::to_string(static_cast<long long>(totalPoints)) +
                          " points; at most 1e12 are allowed");
   }
-  layout.firstItem = shardBound(layout.totalItems, shardK - 1, shardN);
-  layout.itemCount = shardBound(layout.totalItems, shardK, shardN) - layout.firstItem;
+  // A trimmed face's shards balance the samples inside its loops (io::balancedTrimmedShard).
+  std::optional<io::TrimmedShard> trimShard;
+  if (args.trim) {
+    layout.firstItem = 0;
+    layout.itemCount = layout.totalItems;
+    trimShard = io::balancedTrimmedShard(io::samplesInsideByItem(layout, surface->model().trim), shardK, shardN);
+    trimShard->index = shardK;
+    trimShard->count = shardN;
+    layout.firstItem = trimShard->firstItem;
+    layout.itemCount = trimShard->items;
+  } else {
+    layout.firstItem = shardBound(layout.totalItems, shardK - 1, shardN);
+    layout.itemCount = shardBound(layout.totalItems, shardK, shardN) - layout.firstItem;
+  }
   // Every shard of this job (and the unsharded job) carries the same fingerprint; `merge` checks it.
   // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
   if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
@@ -530,9 +563,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   // it. A job whose net streams in bands knows it (and its fingerprint) only once it has sampled.
   auto identify = [&] {
     try {
-      const Precision stored = format == io::OutputFormat::RawF32 || io::isGltf(format) ? Precision::Float
-                               : format == io::OutputFormat::RawF64 ? Precision::Double
-                                                                    : precision;
+      const Precision stored = storedPrecisionOf(format, precision);
       layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, modelDigest->get(), report.device,
                                                   report.computedPrecision, stored, su)
                         : net ? io::jobMetadataOf(std::get<SurfaceModel>(model), net->alpha, net->rational,
@@ -550,15 +581,26 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(*surface, gpuFloat, args.quiet);
 
+  // A shard's record; a trimmed face's counts its records inside the loops, under the trimmed job.
+  jobs::ShardRecord want;
+  if (record && !banded) {
+    want = jobs::shardRecordOf(layout, format);
+    if (trimShard) {
+      trimShard->job = io::trimmedJobFingerprint(layout.job, surface->model().trim);
+      want.job = trimShard->job;
+      want.vertices = trimShard->records;
+    }
+  }
   // Resume: a shard whose record and files verify is left as it is.
-  if (record && !banded && jobs::shardAlreadyDone(layout, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole},
-                                 args.quiet)) {
+  if (record && !banded &&
+      jobs::shardAlreadyDone(want, format, {args.out, sidecar ? sidecar->target().string() : "", extraRole}, args.quiet)) {
     return false;
   }
   std::unique_ptr<io::SampleWriter> writer;
   const io::TrimmedPointWriter* trimmed = nullptr;
   if (args.trim) {
     auto w = std::make_unique<io::TrimmedPointWriter>(format, out, sidecar, surface->model().trim);
+    if (record) w->setShard(*trimShard);
     trimmed = w.get();
     writer = std::move(w);
   } else {
@@ -661,7 +703,8 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   if (record) {
     out.flushToTemp();
     if (sidecar) sidecar->flushToTemp();
-    jobs::writeShardRecordOf(*record, layout, format, out, sidecar, extraRole);
+    if (banded) want = jobs::shardRecordOf(layout, format);  // its job known once the net has streamed
+    jobs::writeShardRecord(*record, want, out, sidecar, extraRole);
   }
   summary = "wrote " + args.out + " (" + std::to_string(layout.itemCount) + (isSurface ? " patches, " : " spans, ") +
             std::to_string(layout.pointCount()) + " points" +

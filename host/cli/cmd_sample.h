@@ -65,10 +65,14 @@ struct PartJob {
   FieldMask fields;
   Precision precision;
   SliceConsumer check;  // the finiteness check of every slice (sample's requireFinite)
+  Precision storedPrecision = Precision::Double;  // what the file stores (the job metadata's)
+  int shardK = 1, shardN = 1;                     // --shard K/N (1/1 unsharded)
 };
 
-// Whether `path` is a part manifest (part.json of `shapespline import`: "format" "shapespline-part").
-bool isPartManifest(const std::string& path);
+// A sharded trimmed job (a face with --trim, a part) writes a format that carries its shard's
+// identity: InputError naming --shard otherwise (CSV).
+void requireTrimmedShardFormat(const SampleArgs& args, io::OutputFormat format);
+
 // Samples every converted face of the part, each trimmed, into one point cloud with a `face` column
 // (cli/part_sample.cpp); as sampleInto.
 bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& outputs, std::string& summary,

@@ -9,17 +9,18 @@
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/part_manifest.h>
+#include <shapespline/io/shard_info.h>
 #include <shapespline/io/trimmed_points.h>
+#include <shapespline/jobs/shard_files.h>
+#include <shapespline/jobs/shard_record.h>
 #include <shapespline/sampling/session.h>
 
-#include <fstream>
+#include <algorithm>
 #include <optional>
 
 namespace shapespline::cli {
 namespace {
-
-constexpr const char* kPartFormat = "shapespline-part";
-constexpr size_t kSniffBytes = 64 * 1024;
 
 struct PartFace {
   int id = 0;
@@ -28,19 +29,16 @@ struct PartFace {
   io::SampleLayout layout;
 };
 
-}  // namespace
-
-bool isPartManifest(const std::string& path) {
-  if (std::filesystem::path(path).extension() != ".json") return false;
-  // A model file may be 32 MiB of JSON: look for the format's name in its head before parsing.
-  std::ifstream in(path, std::ios::binary);
-  std::string head(kSniffBytes, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
-  if (head.find(kPartFormat) == std::string::npos) return false;
-  const nlohmann::json j = readJsonFile(path, "MODEL");
-  return j.is_object() && j.value("format", std::string()) == kPartFormat;
+// A face's model file; its errors also name the manifest's key that names the file.
+io::Model loadPartFace(const std::filesystem::path& file, const std::string& key) {
+  try {
+    return loadModel(file.string());
+  } catch (const ModelError& e) {
+    throw ModelError(key + " (" + io::shortText(file.filename().string()) + "): " + e.field(), e.value(), e.rule());
+  }
 }
+
+}  // namespace
 
 bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& outputs, std::string& summary,
                     sampling::Session* shared) {
@@ -48,32 +46,26 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
     throw InputError("-o", args.out,
                      "a part is written as one point cloud (.npy, .f32, .f64, .csv or .ply); meshes and pictures of "
                      "trimmed faces are refused until a trimmed mesher exists");
+  requireTrimmedShardFormat(args, job.format);
   const std::filesystem::path manifestPath(args.model);
-  const nlohmann::json manifest = readJsonFile(args.model, "MODEL");
-  if (!manifest.contains("faces") || !manifest["faces"].is_array())
-    throw InputError("MODEL", args.model, "a part manifest needs a \"faces\" array");
+  const io::PartManifest manifest = io::readPartManifest(manifestPath);
   outputs.reads(manifestPath, "MODEL");
 
+  // Every face is read, built and counted first: the shard's cut balances the records of the whole
+  // part, and the job's fingerprint covers every face.
   std::vector<PartFace> faces;
-  uint64_t total = 0;
-  int skipped = 0;
-  for (size_t i = 0; i < manifest["faces"].size(); ++i) {
-    const nlohmann::json& entry = manifest["faces"][i];
-    const std::string field = "faces[" + std::to_string(i) + "]";
-    if (!entry.is_object() || !entry.contains("id") || !entry["id"].is_number_integer() || !entry.contains("model"))
-      throw InputError("MODEL", args.model, field + " needs an integer \"id\" and a \"model\"");
-    if (entry["model"].is_null()) {
-      ++skipped;  // not converted at import; part.json says why
-      continue;
-    }
-    if (!entry["model"].is_string()) throw InputError("MODEL", args.model, field + ".model must be a file name");
+  std::vector<uint64_t> keptByItem;  // the part's items, face after face
+  std::vector<std::pair<int, std::string>> faceJobs;
+  uint64_t gridPoints = 0;
+  for (const io::PartFaceEntry& entry : manifest.faces) {
+    if (!entry.model) continue;
     PartFace& face = faces.emplace_back();
-    face.id = entry["id"].get<int>();
-    face.model = manifestPath.parent_path() / entry["model"].get<std::string>();
-    io::Model model = loadModel(face.model.string());
+    face.id = entry.id;
+    face.model = *entry.model;
+    io::Model model = loadPartFace(face.model, entry.field + ".model");
     auto* surfaceModel = std::get_if<SurfaceModel>(&model);
     if (!surfaceModel || surfaceModel->trim.empty())
-      throw InputError("MODEL", face.model.string(), field + " is not a trimmed surface (a face written by import)");
+      throw InputError("MODEL", face.model.string(), entry.field + " is not a trimmed surface (a face written by import)");
     outputs.reads(face.model, "MODEL's face");
     face.surface.emplace(Surface::create(std::move(*surfaceModel)));
     io::SampleLayout& layout = face.layout;
@@ -85,41 +77,97 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
     layout.source = face.model.string();
     setSurfaceItems(face.surface->model(), layout);
     layout.itemCount = layout.totalItems;
-    total += io::samplesInside(layout, face.surface->model().trim);
+    const TrimLoops& trim = face.surface->model().trim;
+    const std::vector<uint64_t> kept = io::samplesInsideByItem(layout, trim);
+    keptByItem.insert(keptByItem.end(), kept.begin(), kept.end());
+    gridPoints += layout.pointCount();
+    faceJobs.emplace_back(face.id, io::trimmedJobFingerprint(io::jobFingerprint(*face.surface, layout, job.format), trim));
   }
   if (faces.empty()) throw InputError("MODEL", args.model, "the part has no converted face to sample");
+
+  // This shard's run of the part's items (all of them unsharded), cut into each face's own range.
+  io::TrimmedShard shard = io::balancedTrimmedShard(keptByItem, job.shardK, job.shardN);
+  shard.job = io::partJobFingerprint(faceJobs);
+  shard.index = job.shardK;
+  shard.count = job.shardN;
+  uint64_t faceStart = 0, points = 0;
+  for (PartFace& face : faces) {
+    io::SampleLayout& layout = face.layout;
+    const uint64_t from = std::clamp(shard.firstItem, faceStart, faceStart + layout.totalItems);
+    const uint64_t to = std::clamp(shard.firstItem + shard.items, faceStart, faceStart + layout.totalItems);
+    layout.firstItem = from - faceStart;
+    layout.itemCount = to - from;
+    points += layout.pointCount();
+    faceStart += layout.totalItems;
+  }
 
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
   if (io::hasLayoutSidecar(job.format)) sidecar = &outputs.add(args.out + ".json", "-o");
+  io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(jobs::shardRecordPath(args.out), "-o");
   std::optional<sampling::Session> own;
   sampling::Session& session = shared ? *shared : own.emplace();
   const sampling::Report report = session.plan(*faces.front().surface, job.request);
   printNotices(report, args.quiet);
 
+  // The shard record: the part's job and items, its records, the manifest as the model (the rest of
+  // the metadata is the first face's, whose grid and precisions the whole part shares).
+  jobs::ShardRecord want;
+  if (record) {
+    io::SampleLayout first = faces.front().layout;
+    first.metadata = io::jobMetadataOf(*faces.front().surface, manifestPath.string(), io::sha256OfFile(manifestPath),
+                                       report.device, report.computedPrecision, job.storedPrecision, job.samplesU,
+                                       job.samplesV);
+    first.metadata.modelFile = args.model;
+    want = jobs::shardRecordOf(first, job.format);
+    want.job = shard.job;
+    want.shardIndex = shard.index;
+    want.shardCount = shard.count;
+    want.firstItem = shard.firstItem;
+    want.itemCount = shard.items;
+    want.totalItems = shard.totalItems;
+    want.points = points;
+    want.vertices = shard.records;
+    if (jobs::shardAlreadyDone(want, job.format, {args.out, sidecar ? sidecar->target().string() : "", "sidecar"},
+                               args.quiet))
+      return false;
+  }
+
   io::TrimmedPointWriter writer(job.format, out, sidecar);
+  if (record) writer.setShard(shard);
   const nlohmann::json part = {{"manifest", manifestPath.filename().string()},
                                {"manifest_sha256", io::sha256OfFile(manifestPath)},
                                {"faces", faces.size()},
-                               {"faces_skipped_at_import", skipped},
+                               {"faces_skipped_at_import", manifest.skipped},
                                {"device", report.device}};
-  writer.beginPart(faces.front().layout, total, part);
+  writer.beginPart(faces.front().layout, shard.records, gridPoints, part);
   sampling::GridOptions options;
   options.threads = args.threads;
   options.chunkPoints = static_cast<size_t>(args.chunkPoints);
   options.slice = job.check;
   for (const PartFace& face : faces) {
+    if (face.layout.itemCount == 0) continue;
     writer.nextFace(face.layout, face.surface->model().trim, face.id);
     GridSpec grid;
     grid.samplesU = job.samplesU;
     grid.samplesV = job.samplesV;
-    grid.itemCount = face.layout.totalItems;
+    grid.firstItem = face.layout.firstItem;
+    grid.itemCount = face.layout.itemCount;
     session.sampleGrid(*face.surface, job.request, grid, job.fields, [&](const GridChunk& c) { writer.consume(c); },
                        options);
   }
   writer.finish();
-  summary = "wrote " + args.out + " (" + std::to_string(faces.size()) + " faces, " + std::to_string(total) +
-            " points inside their trim loops" + (sidecar ? ", layout in " + sidecar->target().string() : "") + ")";
+  if (record) {
+    out.flushToTemp();
+    if (sidecar) sidecar->flushToTemp();
+    jobs::writeShardRecord(*record, want, out, sidecar, "sidecar");
+  }
+  summary = "wrote " + args.out + " (" + std::to_string(faces.size()) + " faces, " +
+            (record ? "items " + std::to_string(shard.firstItem) + ".." + std::to_string(shard.firstItem + shard.items) +
+                          " of " + std::to_string(shard.totalItems) + ", "
+                    : std::string()) +
+            std::to_string(shard.records) + " points inside their trim loops" +
+            (sidecar ? ", layout in " + sidecar->target().string() : "") + ")";
   return true;
 }
 

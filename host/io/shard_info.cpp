@@ -257,6 +257,33 @@ std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, O
   return f.finish();
 }
 
+std::string trimmedJobFingerprint(const std::string& faceJob, const TrimLoops& trim) {
+  Fnv1a h;
+  h.text("shapespline trimmed job");
+  h.text(faceJob);
+  h.f64(trim.tolerance);
+  h.u64(trim.loops.size());
+  for (const auto& loop : trim.loops) {
+    h.u64(loop.size());
+    for (const glm::dvec2& p : loop) {
+      h.f64(p.x);
+      h.f64(p.y);
+    }
+  }
+  return h.hex();
+}
+
+std::string partJobFingerprint(const std::vector<std::pair<int, std::string>>& faces) {
+  Fnv1a h;
+  h.text("shapespline part job");
+  h.u64(faces.size());
+  for (const auto& [id, job] : faces) {
+    h.u64(static_cast<uint64_t>(id));
+    h.text(job);
+  }
+  return h.hex();
+}
+
 ShardInfo shardInfoOf(const SampleLayout& l) {
   ShardInfo s;
   s.job = l.job;

@@ -31,6 +31,12 @@ inline constexpr uint64_t kMaxItemCount = (uint64_t{1} << 62) - 1;
 std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);
 std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format);
 
+// A trimmed job's fingerprint (`sample --trim`, `sample part.json`): the fingerprint of the face's
+// grid job (above) and its trim loops; a part's, the ordered (face id, trimmed fingerprint) of its
+// faces. Shards of one trimmed job, and only they, carry the same one.
+std::string trimmedJobFingerprint(const std::string& faceJob, const TrimLoops& trim);
+std::string partJobFingerprint(const std::vector<std::pair<int, std::string>>& faces);
+
 // The fingerprint's word hash of an array given in pieces: the same value as the whole array at
 // once (jobFingerprint hashes 10^8 values without holding them twice, or at all when streamed).
 class FingerprintWords {

@@ -1,6 +1,7 @@
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/number_text.h>
 #include <shapespline/io/raw_records.h>
+#include <shapespline/io/shard_info.h>
 #include <shapespline/io/trimmed_points.h>
 
 #include <nlohmann/json.hpp>
@@ -35,24 +36,99 @@ bool trimmedPointFormat(OutputFormat f) {
          f == OutputFormat::Ply;
 }
 
+bool trimmedShardFormat(OutputFormat f) { return trimmedPointFormat(f) && f != OutputFormat::Csv; }
+
 namespace {
 
-uint64_t countInside(const SampleLayout& layout, const TrimClassifier& classifier) {
+// The samples inside of each of the layout's items, handed to `add(item, count)`.
+template <class Add>
+void countInside(const SampleLayout& layout, const TrimClassifier& classifier, Add&& add) {
   layout.checkDerivedValues();
   const auto sv = static_cast<size_t>(layout.samplesV);
-  uint64_t inside = 0;
-  for (size_t item = layout.firstItem; item < layout.firstItem + layout.itemCount; ++item)
+  for (size_t item = layout.firstItem; item < layout.firstItem + layout.itemCount; ++item) {
+    uint64_t inside = 0;
     for (size_t p = 0; p < layout.pointsPerItem(); ++p) {
       const auto [u, v] = layout.parameter(item, static_cast<int>(p / sv), static_cast<int>(p % sv));
       inside += classifier.inside({u, v});
     }
-  return inside;
+    add(item, inside);
+  }
+}
+
+uint64_t countInside(const SampleLayout& layout, const TrimClassifier& classifier) {
+  uint64_t total = 0;
+  countInside(layout, classifier, [&](size_t, uint64_t n) { total += n; });
+  return total;
 }
 
 }  // namespace
 
 uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim) {
   return countInside(layout, TrimClassifier(trim));
+}
+
+std::vector<uint64_t> samplesInsideByItem(const SampleLayout& layout, const TrimLoops& trim) {
+  std::vector<uint64_t> kept;
+  kept.reserve(layout.itemCount);
+  countInside(layout, TrimClassifier(trim), [&](size_t, uint64_t n) { kept.push_back(n); });
+  return kept;
+}
+
+nlohmann::json TrimmedShard::toJson() const {
+  return {{"job", job},           {"index", index},     {"count", count},
+          {"first_item", firstItem}, {"items", items},     {"total_items", totalItems},
+          {"first_record", firstRecord}, {"records", records}, {"total_records", totalRecords}};
+}
+
+std::optional<TrimmedShard> TrimmedShard::fromJson(const nlohmann::json& j) {
+  if (!j.is_object() || j.size() != 9) return std::nullopt;
+  for (const char* key : {"index", "count", "first_item", "items", "total_items", "first_record", "records",
+                          "total_records"})
+    if (!j.contains(key) || !j[key].is_number_unsigned()) return std::nullopt;
+  if (!j.contains("job") || !j["job"].is_string()) return std::nullopt;
+  TrimmedShard s;
+  s.job = j["job"].get<std::string>();
+  const uint64_t index = j["index"].get<uint64_t>(), count = j["count"].get<uint64_t>();
+  if (index < 1 || index > count || count > kMaxShardCount) return std::nullopt;
+  s.index = static_cast<int>(index);
+  s.count = static_cast<int>(count);
+  s.firstItem = j["first_item"].get<uint64_t>();
+  s.items = j["items"].get<uint64_t>();
+  s.totalItems = j["total_items"].get<uint64_t>();
+  s.firstRecord = j["first_record"].get<uint64_t>();
+  s.records = j["records"].get<uint64_t>();
+  s.totalRecords = j["total_records"].get<uint64_t>();
+  const bool inRange = s.totalItems <= kMaxItemCount && s.totalRecords <= kMaxItemCount &&
+                       s.firstItem <= s.totalItems && s.items <= s.totalItems - s.firstItem &&
+                       s.firstRecord <= s.totalRecords && s.records <= s.totalRecords - s.firstRecord;
+  if (!inRange || s.job.size() != 16 || s.job.find_first_not_of("0123456789abcdef") != std::string::npos)
+    return std::nullopt;
+  return s;
+}
+
+TrimmedShard balancedTrimmedShard(const std::vector<uint64_t>& kept, int k, int n) {
+  __extension__ using Wide = unsigned __int128;  // records (< 2^62) times shards (<= 10^9)
+  std::vector<uint64_t> before(kept.size() + 1, 0);  // records before item i
+  for (size_t i = 0; i < kept.size(); ++i) before[i + 1] = before[i] + kept[i];
+  const uint64_t items = kept.size(), records = before.back();
+  // The first item whose records-before reach j/n of all (exact in 128 bits); by item count when
+  // nothing is kept. The last shard always ends at the last item.
+  auto cut = [&](int j) -> uint64_t {
+    if (j >= n) return items;
+    const auto jj = static_cast<Wide>(j), nn = static_cast<Wide>(n);
+    if (records == 0) return static_cast<uint64_t>(jj * items / nn);
+    const auto at = std::lower_bound(before.begin(), before.end(), jj * records,
+                                     [&](uint64_t b, Wide target) { return b * nn < target; });
+    return static_cast<uint64_t>(at - before.begin());
+  };
+  TrimmedShard s;
+  s.firstItem = cut(k - 1);
+  s.items = cut(k) - s.firstItem;
+  s.totalItems = items;
+  s.firstRecord = before[s.firstItem];
+  s.records = before[s.firstItem + s.items] - s.firstRecord;
+  s.totalRecords = records;
+  return s;
 }
 
 TrimmedPointWriter::TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar, const TrimLoops& trim)
@@ -73,13 +149,18 @@ void TrimmedPointWriter::setLayout(const SampleLayout& layout) {
 void TrimmedPointWriter::begin(const SampleLayout& layout) {
   setLayout(layout);
   kept_ = countInside(layout, classifier_);
+  gridPoints_ = layout.totalItems * layout.pointsPerItem();
+  if (shard_ && shard_->records != kept_) throw std::logic_error("TrimmedPointWriter: the shard's records differ");
   header(false);
 }
 
-void TrimmedPointWriter::beginPart(const SampleLayout& anyFace, uint64_t total, const nlohmann::json& part) {
+void TrimmedPointWriter::beginPart(const SampleLayout& anyFace, uint64_t total, uint64_t gridPoints,
+                                   const nlohmann::json& part) {
   part_ = part;
   setLayout(anyFace);
   kept_ = total;
+  gridPoints_ = gridPoints;
+  if (shard_ && shard_->records != kept_) throw std::logic_error("TrimmedPointWriter: the shard's records differ");
   header(true);
 }
 
@@ -120,6 +201,7 @@ void TrimmedPointWriter::header(bool withFace) {
                     "inside the face's trim loops\n" +
                     (part_.is_null() ? metadataComments(layout_.metadata, "comment ")
                                      : "comment part: " + part_.dump() + "\n") +
+                    (shard_ ? std::string(kTrimmedShardComment) + shard_->toJson().dump() + "\n" : std::string()) +
                     "element vertex " + std::to_string(kept_) + "\n";
     for (const Column& c : columns_)
       if (c.kind == Column::Uv) h += property + "u\n" + property + "v\n";
@@ -184,12 +266,13 @@ void TrimmedPointWriter::finish() {
       {"dtype", float64_ ? "<f8" : "<f4"},
       {"records", kept_},
       {"fields", fields},
-      {"grid_points", layout_.pointCount()},
+      {"grid_points", gridPoints_},
       {"samples_per_patch", {layout_.samplesU, layout_.samplesV}},
       {"trim", part_.is_null() ? nlohmann::json{{"rule", "even-odd"}, {"tolerance", trim_.tolerance}}
                                : nlohmann::json{{"rule", "even-odd"}}}};
   if (part_.is_null()) s["metadata"] = metadataJson(layout_.metadata);
   else s["part"] = part_;
+  if (shard_) s["shard"] = shard_->toJson();
   sidecar_->write(s.dump(1) + "\n");
 }
 

@@ -16,14 +16,44 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace shapespline::io {
 
 bool trimmedPointFormat(OutputFormat format);
+// The formats a trimmed job shards to: those that carry the shard's identity (not CSV).
+bool trimmedShardFormat(OutputFormat format);
 
 // The samples of a job's grid inside `trim` (what begin() counts, without sampling anything).
 uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim);
+// The same for each of the layout's items, in item order.
+std::vector<uint64_t> samplesInsideByItem(const SampleLayout& layout, const TrimLoops& trim);
+
+// One shard of a trimmed job (docs/cluster.md "Trimmed faces and parts"): a run of the job's items
+// (a part's items are its faces' items, face after face) and the records (samples inside the trim
+// loops) they hold. Written into the shard's raw sidecar as "shard" and into its PLY header as a
+// "comment shard: " line; `merge` joins shards whose runs follow each other from the first item
+// and record to the last.
+struct TrimmedShard {
+  std::string job;  // io/shard_info.h trimmedJobFingerprint or partJobFingerprint
+  int index = 1, count = 1;
+  uint64_t firstItem = 0, items = 0, totalItems = 0;
+  uint64_t firstRecord = 0, records = 0, totalRecords = 0;
+
+  nlohmann::json toJson() const;
+  // The inverse of toJson for a value read back: nullopt unless it is exactly such an object with
+  // consistent numbers (1 <= index <= count, runs within their totals).
+  static std::optional<TrimmedShard> fromJson(const nlohmann::json& j);
+};
+inline constexpr std::string_view kTrimmedShardComment = "comment shard: ";
+
+// Shard k of n of a job whose items keep `kept[i]` records: the items cut where the records before
+// the cut first reach (k-1)/n and k/n of all of them, so that shards hold about the same number of
+// records whatever the sizes of the faces (within one item's records); by item count when no item
+// keeps any. `job`, `index` and `count` are left to the caller.
+TrimmedShard balancedTrimmedShard(const std::vector<uint64_t>& kept, int k, int n);
 
 class TrimmedPointWriter final : public SampleWriter {
  public:
@@ -35,7 +65,10 @@ class TrimmedPointWriter final : public SampleWriter {
   TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar);
   // `part`: what the header comments and the sidecar say of the part instead of one model's job
   // metadata (the manifest's name and SHA-256, the faces).
-  void beginPart(const SampleLayout& anyFace, uint64_t total, const nlohmann::json& part);
+  // `gridPoints`: the grid samples of every face's items (of the whole job, also in a shard).
+  void beginPart(const SampleLayout& anyFace, uint64_t total, uint64_t gridPoints, const nlohmann::json& part);
+  // A shard's identity, given before begin() / beginPart().
+  void setShard(const TrimmedShard& shard) { shard_ = shard; }
   void nextFace(const SampleLayout& layout, const TrimLoops& trim, int faceId);
 
   void begin(const SampleLayout& layout) override;
@@ -68,6 +101,8 @@ class TrimmedPointWriter final : public SampleWriter {
   std::vector<Column> columns_;
   bool float64_ = true;
   uint64_t kept_ = 0, written_ = 0;
+  uint64_t gridPoints_ = 0;             // of the whole job, for the sidecar
+  std::optional<TrimmedShard> shard_;
   nlohmann::json part_;  // a part's description (null for one face)
   std::string buffer_;
 };

@@ -10,6 +10,7 @@
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
+#include <shapespline/io/trimmed_points.h>
 #include <shapespline/io/welded_formats.h>
 #include <shapespline/io/welded_mesh.h>
 #include <shapespline/jobs/shard_record.h>
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fcntl.h>
 #include <limits>
 #include <memory>
@@ -1123,6 +1125,206 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool npy, std::opti
   return {total, out.bytesWritten()};
 }
 
+// ---- Trimmed point clouds (sample --trim, sample part.json): records joined in shard order --------
+//
+// A shard carries io::TrimmedShard: in its raw sidecar as "shard", in its PLY header as a "comment
+// shard: " line. Everything else in the sidecar or header is the whole job's, the same in every
+// shard but for the record count; the merged file is shard 1's with the shard taken out and the
+// count of all records put in, then every shard's records in order: the unsharded job's bytes.
+
+constexpr std::string_view kTrimmedSidecarFormat = "shapespline-trimmed-points";
+constexpr std::string_view kTrimmedPlyComment = "comment shapespline trimmed point cloud";
+
+// A shard's JSON text of at most kMaxSidecarBytes: its object, or MergeError naming `what`.
+nlohmann::json readShardJson(const Where& w, const std::string& what) {
+  ShardFile f(w);
+  if (f.size() > kMaxSidecarBytes) refuse(w, what + " is larger than " + std::to_string(kMaxSidecarBytes >> 20) + " MiB");
+  std::string text(static_cast<size_t>(f.size()), '\0');
+  f.readExact(text.data(), text.size());
+  f.expectEnd();
+  if (!jsonDepthWithin(text, kMaxSidecarDepth)) refuse(w, what + " nests deeper than " + std::to_string(kMaxSidecarDepth) + " levels");
+  nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (doc.is_discarded() || !doc.is_object()) refuse(w, what + " is not a JSON object");
+  return doc;
+}
+
+// What one trimmed shard holds: its identity, the whole job's header or sidecar without it, and
+// where its records lie.
+struct TrimmedPart {
+  io::TrimmedShard shard;
+  std::string header;        // PLY: the header without the shard line, its vertex count left out
+  nlohmann::json sidecar;    // raw and .npy: the sidecar without "shard", "records" and "data"
+  uint64_t dataOffset = 0;   // the first record's byte in the data file
+  uint64_t recordBytes = 0;
+};
+
+io::TrimmedShard trimmedShardOf(const nlohmann::json& j, const Where& w) {
+  const std::optional<io::TrimmedShard> s = io::TrimmedShard::fromJson(j);
+  if (!s) refuse(w, "has a malformed trimmed shard description (" + snippet(j.dump()) + ")");
+  return *s;
+}
+
+// A trimmed PLY shard's header, read up to end_header (at most kMaxPlyHeaderBytes).
+TrimmedPart readTrimmedPly(ShardFile& f) {
+  const Where& w = f.where();
+  TrimmedPart p;
+  std::string line;
+  bool complete = false, shardSeen = false, vertexSeen = false;
+  std::string type;
+  uint64_t headerBytes = 0, vertices = 0;
+  while (true) {
+    if (!f.line(line, kMaxPlyHeaderBytes, &complete) || !complete) refuse(w, "has a PLY header that does not end");
+    headerBytes += line.size() + 1;
+    if (headerBytes > kMaxPlyHeaderBytes) refuse(w, "has a PLY header longer than 64 KiB");
+    if (line == "end_header") break;
+    if (startsWith(line, io::kTrimmedShardComment)) {
+      const nlohmann::json j = nlohmann::json::parse(line.substr(io::kTrimmedShardComment.size()), nullptr, false);
+      if (shardSeen) refuse(w, "has two 'comment shard:' lines");
+      p.shard = trimmedShardOf(j, w);
+      shardSeen = true;
+      continue;
+    }
+    if (startsWith(line, "element vertex ")) {
+      const auto v = parseCount(std::string_view(line).substr(15), io::kMaxItemCount);
+      if (!v || vertexSeen) refuse(w, "has a malformed 'element vertex' line (" + snippet(line) + ")");
+      vertices = *v;
+      vertexSeen = true;
+      p.header += "element vertex \n";
+      continue;
+    }
+    if (startsWith(line, "property ")) {
+      const std::string t = line.substr(9, line.find(' ', 9) == std::string::npos ? std::string::npos : line.find(' ', 9) - 9);
+      if ((t != "float" && t != "double") || (!type.empty() && t != type)) refuse(w, "has a property that is not float or double, or mixes them");
+      type = t;
+      p.recordBytes += t == "float" ? 4 : 8;
+    } else if (startsWith(line, "element ")) {
+      refuse(w, "has another element than its vertices (a trimmed point cloud has none)");
+    }
+    p.header += line + "\n";
+  }
+  if (!shardSeen) refuse(w, "is a trimmed point cloud without a 'comment shard:' line (not a shard: sample it with --shard)");
+  if (!vertexSeen || p.recordBytes == 0) refuse(w, "has no vertices with properties");
+  if (vertices != p.shard.records) refuse(w, "has " + std::to_string(vertices) + " vertices, its shard line says " + std::to_string(p.shard.records));
+  p.dataOffset = headerBytes;
+  return p;
+}
+
+// A trimmed raw or .npy shard's sidecar (SHARD.json) and, for .npy, its header checked against it.
+TrimmedPart readTrimmedRaw(ShardFile& data, const Where& sideWhere, bool npy, std::optional<bool> float64) {
+  TrimmedPart p;
+  nlohmann::json doc = readShardJson(sideWhere, "sidecar");
+  if (doc.value("format", "") != kTrimmedSidecarFormat) refuse(sideWhere, "sidecar is not a trimmed point cloud's");
+  if (!doc.contains("shard")) refuse(sideWhere, "sidecar has no \"shard\" (not a shard: sample it with --shard)");
+  p.shard = trimmedShardOf(doc["shard"], sideWhere);
+  const std::string dtype = doc.value("dtype", "");
+  if ((dtype != "<f8" && dtype != "<f4") || (float64 && *float64 != (dtype == "<f8")))
+    refuse(sideWhere, "sidecar \"dtype\" is not the data file's (\"<f8\" for .f64, \"<f4\" for .f32)");
+  const nlohmann::json& fields = doc.contains("fields") ? doc["fields"] : nlohmann::json();
+  if (!fields.is_array() || fields.empty() || fields.size() > 16) refuse(sideWhere, "sidecar \"fields\" is malformed");
+  std::vector<std::pair<std::string, int>> npyFields;
+  uint64_t components = 0;
+  for (const nlohmann::json& f : fields) {
+    if (!f.is_object() || !f.contains("name") || !f["name"].is_string() || !f.contains("components") ||
+        !f["components"].is_number_unsigned() || f["components"].get<uint64_t>() > 3 || f["components"].get<uint64_t>() < 1)
+      refuse(sideWhere, "sidecar \"fields\" is malformed");
+    npyFields.emplace_back(f["name"].get<std::string>(), f["components"].get<int>());
+    components += f["components"].get<uint64_t>();
+  }
+  const bool f64 = dtype == "<f8";
+  p.recordBytes = components * (f64 ? 8 : 4);
+  if (npy) {
+    const std::string expected = io::npyHeader(npyFields, f64, p.shard.records);
+    std::string head(expected.size(), '\0');
+    if (data.size() < head.size() || data.read(head.data(), head.size()) != head.size() || head != expected)
+      refuse(data.where(), "does not begin with the .npy header its sidecar describes");
+    p.dataOffset = expected.size();
+  }
+  if (doc.value("records", uint64_t{0}) != p.shard.records) refuse(sideWhere, "sidecar \"records\" differs from its shard's");
+  doc.erase("shard");
+  doc.erase("records");
+  doc.erase("data");
+  p.sidecar = std::move(doc);
+  return p;
+}
+
+MergeResult mergeTrimmed(const std::vector<std::string>& shards, OutputFormat format, AtomicFile& out,
+                         AtomicFile* sidecarOut) {
+  const bool npy = format == OutputFormat::Npy, ply = format == OutputFormat::Ply;
+  const std::optional<bool> float64 = format == OutputFormat::RawF64   ? std::optional<bool>(true)
+                                      : format == OutputFormat::RawF32 ? std::optional<bool>(false)
+                                                                       : std::nullopt;
+  std::vector<TrimmedPart> parts;
+  for (size_t k = 1; k <= shards.size(); ++k) {
+    const Where where{shardField(k), shards[k - 1]}, sideWhere{shardField(k), shards[k - 1] + ".json"};
+    ShardFile data(where);
+    TrimmedPart p = ply ? readTrimmedPly(data) : readTrimmedRaw(data, sideWhere, npy, float64);
+    const io::TrimmedShard& s = p.shard;
+    uint64_t bytes = 0, size = 0;
+    if (!mulOk(s.records, p.recordBytes, &bytes) || !addOk(bytes, p.dataOffset, &size) || data.size() != size)
+      refuse(where, "is " + std::to_string(data.size()) + " bytes, its header and shard description say " + std::to_string(size));
+    if (s.index != static_cast<int>(k) || s.count != static_cast<int>(shards.size()))
+      refuse(where, "is shard " + std::to_string(s.index) + "/" + std::to_string(s.count) + ", expected " +
+                        std::to_string(k) + "/" + std::to_string(shards.size()) + " (give the shards 1..N in order)");
+    const uint64_t itemsBefore = parts.empty() ? 0 : parts.back().shard.firstItem + parts.back().shard.items;
+    const uint64_t recordsBefore = parts.empty() ? 0 : parts.back().shard.firstRecord + parts.back().shard.records;
+    if (!parts.empty()) {
+      const TrimmedPart& first = parts.front();
+      if (s.job != first.shard.job || s.totalItems != first.shard.totalItems || s.totalRecords != first.shard.totalRecords)
+        refuse(where, "is a shard of another job than SHARD[1]'s (job " + s.job + ", SHARD[1]'s " + first.shard.job + ")");
+      if (p.header != first.header || p.sidecar != first.sidecar)
+        refuse(where, "describes its job otherwise than SHARD[1] (another device, build or model?)");
+    }
+    if (s.firstItem != itemsBefore || s.firstRecord != recordsBefore)
+      refuse(where, "starts at item " + std::to_string(s.firstItem) + ", record " + std::to_string(s.firstRecord) +
+                        "; the shards before it end at item " + std::to_string(itemsBefore) + ", record " +
+                        std::to_string(recordsBefore));
+    if (k == shards.size() && (s.firstItem + s.items != s.totalItems || s.firstRecord + s.records != s.totalRecords))
+      refuse(where, "ends before the job's last item: a shard is missing");
+    parts.push_back(std::move(p));
+  }
+  const io::TrimmedShard& last = parts.back().shard;
+  if (ply) {
+    std::string header = parts.front().header;
+    const size_t at = header.find("element vertex \n") + 15;
+    header.insert(at, std::to_string(last.totalRecords));
+    out.write(header + "end_header\n");
+  } else if (npy) {
+    std::vector<std::pair<std::string, int>> fields;
+    for (const nlohmann::json& f : parts.front().sidecar["fields"]) fields.emplace_back(f["name"], f["components"].get<int>());
+    out.write(io::npyHeader(fields, parts.front().sidecar["dtype"] == "<f8", last.totalRecords));
+  }
+  std::vector<char> buffer(kMergeBufferBytes);
+  for (size_t k = 1; k <= shards.size(); ++k) {
+    ShardFile data({shardField(k), shards[k - 1]});
+    data.seek(parts[k - 1].dataOffset);
+    copyBytes(data, out, parts[k - 1].shard.records * parts[k - 1].recordBytes, buffer);
+    data.expectEnd();
+  }
+  if (sidecarOut) {
+    nlohmann::json side = parts.front().sidecar;
+    side["records"] = last.totalRecords;
+    side["data"] = out.target().filename().string();
+    sidecarOut->write(side.dump(1) + "\n");
+  }
+  return {last.totalItems, out.bytesWritten()};
+}
+
+// Whether shard 1 is a trimmed point cloud (its sidecar's format, or its PLY header's third line).
+bool isTrimmedShard(const std::string& shard, OutputFormat format) {
+  if (format == OutputFormat::Ply) {
+    ShardFile f({shardField(1), shard});
+    std::string line;
+    bool complete = false;
+    for (int n = 0; n < 3; ++n)
+      if (!f.line(line, kMaxPlyHeaderBytes, &complete)) return false;
+    return startsWith(line, kTrimmedPlyComment);
+  }
+  if (format != OutputFormat::Npy && format != OutputFormat::RawF32 && format != OutputFormat::RawF64) return false;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(shard + ".json", ec)) return false;
+  return readShardJson({shardField(1), shard + ".json"}, "sidecar").value("format", "") == kTrimmedSidecarFormat;
+}
+
 }  // namespace
 
 MergeResult mergeShards(const std::vector<std::string>& shards, const std::string& output) {
@@ -1145,6 +1347,12 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
   }
   AtomicFile& out = files.add(output, "-o");
   MergeResult result;
+  if (isTrimmedShard(shards.front(), format)) {
+    AtomicFile* side = format == OutputFormat::Ply ? nullptr : &files.add(output + ".json", "-o");
+    result = mergeTrimmed(shards, format, out, side);
+    files.commit();
+    return result;
+  }
   switch (format) {
     case OutputFormat::Obj: result = mergeObj(shards, out); break;
     case OutputFormat::Ply: result = mergePly(shards, out); break;

@@ -40,8 +40,9 @@ std::string formatName(io::OutputFormat f) {
   return "?";
 }
 
-// The record of `layout`'s shard, without its files.
-ShardRecord recordOf(const io::SampleLayout& layout, io::OutputFormat format) {
+}  // namespace
+
+ShardRecord shardRecordOf(const io::SampleLayout& layout, io::OutputFormat format) {
   ShardRecord r;
   r.job = layout.job;
   r.surface = layout.surface;
@@ -59,6 +60,8 @@ ShardRecord recordOf(const io::SampleLayout& layout, io::OutputFormat format) {
   r.metadata = layout.metadata;
   return r;
 }
+
+namespace {
 
 fs::path folderOf(const std::string& path) {
   const fs::path f = fs::path(path).parent_path();
@@ -245,8 +248,7 @@ ShardOutput resolveShardOutput(const std::string& out, const std::string& shard,
   return o;
 }
 
-bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, const ShardFileList& files,
-                      bool quiet) {
+bool shardAlreadyDone(const ShardRecord& want, io::OutputFormat format, const ShardFileList& files, bool quiet) {
   const fs::path recordPath = shardRecordPath(files.data);
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(recordPath, ec))) return false;
@@ -263,7 +265,7 @@ bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, c
   } catch (const ShardRecordError& e) {
     return redo(std::string("the record ") + e.what());
   }
-  if (const std::string why = recordDifference(got, recordOf(layout, format), format, files); !why.empty()) {
+  if (const std::string why = recordDifference(got, want, format, files); !why.empty()) {
     return redo(why);
   }
   const fs::path folder = folderOf(files.data);
@@ -274,15 +276,13 @@ bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, c
     std::fprintf(stderr,
                  "shapespline: notice: %s: shard %s is complete: its files verify against '%s' (job %s, sizes and "
                  "SHA-256); nothing to do\n",
-                 files.data.c_str(), kn(layout.shardIndex, layout.shardCount).c_str(), recordPath.c_str(),
-                 layout.job.c_str());
+                 files.data.c_str(), kn(want.shardIndex, want.shardCount).c_str(), recordPath.c_str(), want.job.c_str());
   }
   return true;
 }
 
-void writeShardRecordOf(io::AtomicFile& record, const io::SampleLayout& layout, io::OutputFormat format,
-                        const io::AtomicFile& data, const io::AtomicFile* extra, const std::string& extraRole) {
-  ShardRecord r = recordOf(layout, format);
+void writeShardRecord(io::AtomicFile& record, ShardRecord r, const io::AtomicFile& data, const io::AtomicFile* extra,
+                      const std::string& extraRole) {
   auto describe = [](const io::AtomicFile& f, const std::string& role) {
     try {
       ShardRecordFile d = describeShardFile(f.tempPath(), role);

@@ -1,10 +1,11 @@
 #pragma once
 // The files of a shard at the command line (issue 16): `sample`'s shard pattern and --shard auto
 // (resolveShardOutput), its shard record OUT.shard.json and the resume check (shardAlreadyDone,
-// writeShardRecordOf), and `merge`'s inputs: a shard pattern expanded to the shards 1..N, and the
+// writeShardRecord), and `merge`'s inputs: a shard pattern expanded to the shards 1..N, and the
 // shard record of every shard that has one verified (mergeInputs).
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/jobs/shard_record.h>
 
 #include <string>
 #include <vector>
@@ -28,18 +29,21 @@ struct ShardFileList {
   std::string extraRole;   // "sidecar" | "buffer"
 };
 
-// True when OUT.shard.json exists, describes this job's shard (fingerprint, shard, items, counts,
-// metadata: for raw/.npy/CSV shards but for device and computed precision, which merge allows to
-// differ) and every file verifies (size, SHA-256): prints a notice (unless quiet) and the caller
-// writes nothing. A record that does not verify prints a notice saying why, and false is returned
-// (the shard is sampled again); no record: false, silently.
-bool shardAlreadyDone(const io::SampleLayout& layout, io::OutputFormat format, const ShardFileList& files,
-                      bool quiet);
+// The record of a grid job's shard, without its files (a trimmed job's is this with its own job,
+// items and records: cli/part_sample.cpp, cli/cmd_sample.cpp).
+ShardRecord shardRecordOf(const io::SampleLayout& layout, io::OutputFormat format);
 
-// Writes the shard record of `layout` into `record`, after hashing the (flushed) temporary files of
-// `data` and `extra` (nullptr when none) under their target names.
-void writeShardRecordOf(io::AtomicFile& record, const io::SampleLayout& layout, io::OutputFormat format,
-                        const io::AtomicFile& data, const io::AtomicFile* extra, const std::string& extraRole);
+// True when OUT.shard.json exists, is the record `want` (job fingerprint, shard, items, counts,
+// metadata: for raw/.npy/CSV shards but for device and computed precision, which merge allows to
+// differ) but for its files, and every file verifies (size, SHA-256): prints a notice (unless
+// quiet) and the caller writes nothing. A record that does not verify prints a notice saying why,
+// and false is returned (the shard is sampled again); no record: false, silently.
+bool shardAlreadyDone(const ShardRecord& want, io::OutputFormat format, const ShardFileList& files, bool quiet);
+
+// Writes the shard record `r` into `record`, after hashing the (flushed) temporary files of `data`
+// and `extra` (nullptr when none) under their target names.
+void writeShardRecord(io::AtomicFile& record, ShardRecord r, const io::AtomicFile& data, const io::AtomicFile* extra,
+                      const std::string& extraRole);
 
 // `merge`'s SHARD arguments: one shard pattern is expanded to shards 1..N (N from the {count} of the
 // files present, else from shard 1's record, raw sidecar or PLY/OBJ job line, else the highest K

@@ -148,7 +148,8 @@ TEST_F(TrimmedSampling, RefusesMeshesShardsAndModelsWithoutLoops) {
   CliResult r = runCli("sample " + model + " --trim -o " + quote((*dir_ / "x.obj").string()), dir_->path());
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("point cloud"), std::string::npos) << r.err;
-  r = runCli("sample " + model + " --trim --shard 1/2 -o " + quote((*dir_ / "x.npy").string()), dir_->path());
+  // Trimmed shards go to formats that carry their identity (tests/cli/part_shards_test.cpp).
+  r = runCli("sample " + model + " --trim --shard 1/2 -o " + quote((*dir_ / "x.csv").string()), dir_->path());
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("--shard"), std::string::npos) << r.err;
   r = runCli("sample " + quote(examplesDir() + "/surface_aeb.json") + " --trim -o " + quote((*dir_ / "y.npy").string()),
@@ -156,7 +157,7 @@ TEST_F(TrimmedSampling, RefusesMeshesShardsAndModelsWithoutLoops) {
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("no trim loops"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(*dir_ / "x.obj"));
-  EXPECT_FALSE(fs::exists(*dir_ / "x.npy"));
+  EXPECT_FALSE(fs::exists(*dir_ / "x.csv"));
   EXPECT_FALSE(fs::exists(*dir_ / "y.npy"));
 }
 
