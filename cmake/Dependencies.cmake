@@ -48,3 +48,57 @@ if(SHAPESPLINE_BUILD_VIEWER)
 else()
   message(STATUS "Viewer off (SHAPESPLINE_BUILD_VIEWER=OFF): shapespline view reports that it is not built")
 endif()
+
+# shapespline_linked_dependencies(OUT TARGET...): what the TARGETs bring in from outside the project:
+# every imported target, library file and bare library name in their link closure (LINK_LIBRARIES,
+# then INTERFACE_LINK_LIBRARIES recursively; our own targets are walked through, not listed). An
+# imported target that find_package made in another folder is not visible here: it is listed by name
+# and not walked (ldd sees the shared libraries behind it).
+# Header-only and static libraries leave no trace that ldd could see, so this is how
+# tests/package/third_party.py finds them; THIRD_PARTY.md must name each one.
+function(shapespline_linked_dependencies out)
+  set(found "")
+  set(seen "")
+  set(queue ${ARGN})
+  while(queue)
+    list(POP_FRONT queue item)
+    # $<LINK_ONLY:x> and $<BUILD_INTERFACE:x> link x here; what an install interface names is
+    # found again through the installed package's own dependencies.
+    if(item MATCHES "^\\$<(LINK_ONLY|BUILD_INTERFACE):(.*)>$")
+      set(item "${CMAKE_MATCH_2}")
+    elseif(item MATCHES "^\\$<INSTALL_INTERFACE:" OR item MATCHES "^::@" OR item MATCHES "^-" AND NOT item MATCHES "^-l")
+      continue()  # an install-only item, CMake's marker of a link from another folder, a linker flag
+    endif()
+    string(REGEX REPLACE "^-l" "" item "${item}")
+    if(item STREQUAL "" OR item IN_LIST seen)
+      continue()
+    endif()
+    list(APPEND seen "${item}")
+    if(TARGET "${item}")
+      get_target_property(aliased "${item}" ALIASED_TARGET)
+      if(aliased)
+        list(APPEND queue "${aliased}")
+        continue()
+      endif()
+      get_target_property(imported "${item}" IMPORTED)
+      if(imported)
+        list(APPEND found "${item}")
+      endif()
+      get_target_property(interface "${item}" INTERFACE_LINK_LIBRARIES)
+      if(interface)
+        list(APPEND queue ${interface})
+      endif()
+      get_target_property(type "${item}" TYPE)
+      if(NOT imported AND NOT type STREQUAL "INTERFACE_LIBRARY")
+        get_target_property(direct "${item}" LINK_LIBRARIES)
+        if(direct)
+          list(APPEND queue ${direct})
+        endif()
+      endif()
+    else()
+      list(APPEND found "${item}")  # a library file, or a bare name such as dl
+    endif()
+  endwhile()
+  list(SORT found)
+  set(${out} "${found}" PARENT_SCOPE)
+endfunction()

@@ -55,6 +55,14 @@ install(FILES ${PROJECT_BINARY_DIR}/package/shapespline-config.cmake
               ${PROJECT_BINARY_DIR}/package/shapespline-config-version.cmake
         DESTINATION ${SHAPESPLINE_CMAKE_DIR})
 
+# The licence and the list of third-party libraries, in share/doc/shapespline; with them the
+# Debian machine-readable copyright file (DEP-5), which a .deb carries as
+# usr/share/doc/shapespline/copyright (CMAKE_INSTALL_DOCDIR is share/doc/shapespline).
+set(CPACK_PACKAGE_CONTACT "shapespline maintainers <shapespline@localhost>")  # also its Upstream-Contact
+configure_file(${CMAKE_CURRENT_LIST_DIR}/debian-copyright.in ${PROJECT_BINARY_DIR}/package/copyright @ONLY)
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/THIRD_PARTY.md ${PROJECT_BINARY_DIR}/package/copyright
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
     "Shape-parametric spline curves and surfaces: C++20 library (CPU fp64, Vulkan compute) and CLI")
 
@@ -75,7 +83,7 @@ install(FILES ${PROJECT_BINARY_DIR}/package/shapespline.pc DESTINATION ${CMAKE_I
 # find_dependency (needed to build against it, not to run the CLI); Suggests: a Vulkan driver.
 set(CPACK_PACKAGE_NAME shapespline)
 set(CPACK_PACKAGE_VENDOR shapespline)
-set(CPACK_PACKAGE_CONTACT "shapespline maintainers <shapespline@localhost>")
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

@@ -18,6 +18,7 @@ import numpy.typing as npt
 
 __version__: str
 git_commit: str
+__license__: str  # the SPDX id of the licence, "Apache-2.0"
 
 Device = Literal["auto", "vulkan", "gpu", "cpu"]
 PrecisionName = Literal["double", "float", "float64", "float32", "fp64", "fp32"]

@@ -766,6 +766,7 @@ PYBIND11_MODULE(shapespline, m) {
       "B-splines), sampled on a Vulkan GPU or the CPU fp64 path. See docs/python.md.";
   m.attr("__version__") = SHAPESPLINE_VERSION_STRING;
   m.attr("git_commit") = SHAPESPLINE_GIT_COMMIT;
+  m.attr("__license__") = SHAPESPLINE_LICENSE;
 
   // ---- Exceptions ----
   static py::exception<ModelError> modelError(m, "ModelError", PyExc_ValueError);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # package/install_and_consume: cmake --install into a scratch prefix; every installed header
 # compiles on its own against that prefix (so no public header needs a private one); pkg-config
-# resolves; tests/consumer builds and runs against it.
+# resolves; the licence files and fields are there; tests/consumer builds and runs against it.
 source "$(dirname "$0")/common.sh"
 
 cmake --install "$BUILD" --prefix "$T/usr" >"$T/install.log" || { cat "$T/install.log"; fail "cmake --install"; }
@@ -32,6 +32,7 @@ xargs -P 2 -I{} sh -c 'printf "#include <%s>\n" "$1" | $CXX -std=c++20 -fsyntax-
     >"$T/hdr.$$.log" 2>&1 || { echo "FAIL: <$1> does not compile on its own:"; cat "$T/hdr.$$.log"; exit 255; }' \
     _ {} <"$T/headers" || fail "a public header does not compile alone"
 
+licence "$T/usr"
 cli_import "$T/usr"
 pkgconfig "$T/usr"
 python_import "$T/usr"
