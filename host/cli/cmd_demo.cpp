@@ -1,7 +1,7 @@
 // `shapespline demo`: no input needed. Writes built-in example models (the same as
 // examples/models/) and their samples as OBJ and SVG into ./shapespline-demo/, then a labelled
-// contact sheet of the α-EB surface at its three λ (rendered on the Vulkan device, lavapipe will do),
-// and prints the list and where to look first.
+// contact sheet of what λ and α do (rendered on the Vulkan device, lavapipe will do), and prints the
+// list and where to look first.
 #include <shapespline/cli/cmd_render.h>
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <vector>
 
 namespace shapespline::cli {
 namespace {
@@ -50,6 +52,47 @@ struct DemoArgs {
 };
 
 void writeDemo(const DemoArgs& a);
+
+// The contact sheet's tiles: what each shape parameter does, on the demo's own models (written
+// before the sheet), at values far enough apart to see. Curves overlay their values, a colour
+// each (render --overlay); the surface, whose change is smaller than its size, is coloured by how
+// far each point moves between two values (render --distance).
+struct SheetTile {
+  const char* model;  // in the demo folder
+  const char* sweep;
+  const char* title;
+  bool distance;  // else an overlay
+};
+constexpr SheetTile kSheet[] = {
+    {"open_aeb_alpha_0.25.json", "lambda=-15,-5,0,1", "lambda: the shape of an open curve", false},
+    {"butterfly_aeb.json", "alpha=0.1,0.6,1", "alpha: the tension of a closed curve", false},
+    {"surface_aeb_lambda_0.json", "lambda=1,-15", "alpha-EB surface, 4 x 4 wide", true},
+    {"surface_aeb_lambda_0.json", "alpha=1,0.1", "alpha-EB surface, 4 x 4 wide", true},
+};
+constexpr int kSheetColumns = 2;
+constexpr const char* kSheetSize = "480x360";  // of one tile
+constexpr const char* kSheetSummary =
+    "what lambda and alpha do to an open curve, a closed curve and a surface, the values in each legend";
+
+void writeContactSheet(const std::string& dir, io::AtomicFile& png) {
+  std::vector<render::Image> tiles;
+  std::optional<render::Painter> painter;
+  for (const SheetTile& t : kSheet) {
+    RenderArgs r;
+    r.model = (std::filesystem::path(dir) / t.model).string();
+    r.size = kSheetSize;
+    r.sweep = t.sweep;
+    r.title = t.title;
+    r.overlay = !t.distance;
+    r.distance = t.distance;
+    r.quiet = true;
+    const RenderPlan plan = planRender(r);
+    if (!painter) painter.emplace(plan.width, plan.height);
+    for (render::Image& tile : renderTiles(r, plan, *painter)) tiles.push_back(std::move(tile));
+  }
+  const render::Image sheet = composeSheet(tiles, kSheetColumns);
+  io::writePng(png, sheet.width, sheet.height, sheet.rgba, false);
+}
 
 void runDemo(const DemoArgs& a) {
   std::error_code ec;
@@ -106,16 +149,9 @@ void writeDemo(const DemoArgs& a) {
   if (!io::pngSupported()) {
     sheetMissing = "this build has no libpng";
   } else {
-    RenderArgs r;
-    r.model = (std::filesystem::path(a.dir) / "surface_aeb_lambda_0.json").string();
-    r.output = sheet;
-    r.size = "480x360";
-    r.sweep = "lambda=-2,0,1";
-    r.controlNet = true;
-    r.quiet = true;
     try {
       io::OutputSet picture;
-      renderModel(r, picture);
+      writeContactSheet(a.dir, picture.add(sheet, "--dir"));
       picture.commit();
       written.push_back(sheet);
     } catch (const render::NoRenderDeviceError& e) {
@@ -128,8 +164,7 @@ void writeDemo(const DemoArgs& a) {
   std::printf("shapespline demo wrote %zu files:\n", written.size());
   for (const auto& w : written) std::printf("  %s\n", w.c_str());
   if (sheetMissing.empty()) {
-    std::printf("Look first at %s: the alpha-EB surface at lambda = -2, 0, 1, one labelled tile each.\n",
-                sheet.c_str());
+    std::printf("Look first at %s: %s.\n", sheet.c_str(), kSheetSummary);
   } else {
     std::fprintf(stderr, "shapespline: notice: no %s: %s\n", sheet.c_str(), sheetMissing.c_str());
   }

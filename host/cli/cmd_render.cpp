@@ -1,9 +1,12 @@
 // `shapespline render`: draws a model headlessly with the Vulkan graphics pipeline (host/render) and
 // writes a PNG. Surfaces are tessellated on the GPU (render/painter.h) and shaded with normal-based
-// lighting; curves are drawn as lines with their control polygon and data points. --sweep writes a
-// contact sheet of the same model at several λ or α values, each tile labelled with its value
-// (tile_labels.h), with one camera for every tile. The camera fits what is drawn tightly into the
-// tile (render::Camera::fit), below the label band.
+// lighting; curves are drawn as wide lines with their control polygon and data points. --sweep
+// writes a contact sheet of the same model at several λ or α values, each tile labelled with its
+// value in a header band (tile_labels.h), with one camera for every tile; --overlay draws a curve's
+// values into one tile instead, a colour each, named in a legend. The camera fits what is drawn
+// tightly into the tile (render::Camera::fit), below the header band. `demo` composes its sheet from
+// several plans (planRender, renderTiles, composeSheet) with one painter.
+#include "distance_map.h"
 #include "tile_labels.h"
 
 #include <shapespline/cli/cmd_render.h>
@@ -19,9 +22,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace shapespline::cli {
@@ -81,152 +86,268 @@ const glm::vec4 kNetColour{0.45f, 0.45f, 0.5f, 1.0f};
 const glm::vec4 kDataColour{0.85f, 0.1f, 0.1f, 1.0f};
 const glm::vec4 kCurveColour{0.1f, 0.25f, 0.75f, 1.0f};
 const glm::vec3 kLabelInk{0.1f, 0.1f, 0.1f};
+constexpr float kCurveWidthPx = 2.5f;  // curves drawn wide enough to tell their colours apart
+constexpr int kCurveSamplesPerSpan = 64;
 
-// One tile per sweep value, composed left to right, top to bottom.
-struct Sheet {
-  int cols = 1, rows = 1, w = 0, h = 0;
-  std::vector<uint8_t> rgba;
-  void place(const render::Image& img, size_t k) {
-    const int cx = int(k) % cols, cy = int(k) / cols;
-    for (int y = 0; y < h; ++y)
-      std::copy_n(img.rgba.data() + size_t(y) * w * 4, size_t(w) * 4,
-                  rgba.data() + ((size_t(cy) * h + y) * size_t(cols) * w + size_t(cx) * w) * 4);
-  }
+// The colours of an --overlay's curves, one per value in order (Okabe and Ito's palette, which
+// readers with the common colour-vision deficiencies also tell apart; no red, the data points' colour).
+struct PaletteColour {
+  const char* name;
+  glm::vec4 colour;
 };
+constexpr PaletteColour kOverlayPalette[] = {{"blue", {0.0f, 0.45f, 0.70f, 1.0f}},
+                                             {"orange", {0.90f, 0.60f, 0.0f, 1.0f}},
+                                             {"green", {0.0f, 0.62f, 0.45f, 1.0f}},
+                                             {"purple", {0.80f, 0.47f, 0.65f, 1.0f}},
+                                             {"sky blue", {0.34f, 0.71f, 0.91f, 1.0f}},
+                                             {"yellow", {0.85f, 0.75f, 0.0f, 1.0f}}};
+constexpr size_t kMaxOverlay = std::size(kOverlayPalette);
 
-// The sweep's tile labels ("lambda = 0.5"), drawn into each tile image before it is placed; none
-// for a single render or tiles too small for text.
-class TileLabeller {
+std::string parameterName(const RenderPlan& p) { return p.alphaSweep ? "alpha" : "lambda"; }
+
+// The header of every tile of a plan (the same number of lines in each, so one camera target fits
+// them all), its layout and font; no band for a single render without a title.
+class TileHeaders {
  public:
-  TileLabeller(const Sweep& sweep, int w, int h)
-      : sweep_(sweep), layout_(sweep.values.empty() ? LabelLayout{} : labelLayout(w, h)) {
+  TileHeaders(const RenderArgs& a, const RenderPlan& p, std::optional<ColourBar> bar = std::nullopt)
+      : args_(a), plan_(p), bar_(std::move(bar)) {
+    if (header(0).lines() > 0) layout_ = labelLayout(p.width, p.height);
     if (layout_.fontPx > 0) font_.emplace(layout_.fontPx);
   }
   // Rows at the top of each tile the model must leave free.
-  int band() const { return font_ ? layout_.bandHeight() : 0; }
-  std::string text(size_t k) const { return sweepLabel(sweep_.alpha ? "alpha" : "lambda", sweep_.values[k]); }
-  render::Image apply(render::Image tile, size_t k, const glm::vec3& background, double marginX) const {
-    if (font_) font_->draw(tile, int(marginX), 0, layout_.pad, text(k), kLabelInk, background);
+  int band() const { return font_ ? header(0).lines() * layout_.lineHeight() : 0; }
+  // "lambda = 0.5": what tile k of a sweep shows.
+  std::string value(size_t k) const { return sweepLabel(parameterName(plan_), plan_.values[k]); }
+  TileHeader header(size_t k) const {
+    TileHeader h{args_.title, {}, bar_};
+    if (plan_.values.empty()) return h;
+    if (bar_) {  // the surface at the second value, coloured by its distance from the first
+      h.title = args_.title.empty() ? value(1) : args_.title + ": " + value(1);
+    } else if (args_.overlay) {
+      for (size_t i = 0; i < plan_.values.size(); ++i)
+        h.legend.push_back({value(i), glm::vec3(kOverlayPalette[i].colour)});
+    } else {
+      h.title = args_.title.empty() ? value(k) : args_.title + ": " + value(k);
+    }
+    return h;
+  }
+  render::Image apply(render::Image tile, size_t k, double marginX) const {
+    if (font_) drawHeader(tile, *font_, layout_, header(k), int(marginX), kLabelInk);
     return tile;
   }
 
  private:
-  const Sweep& sweep_;
+  const RenderArgs& args_;
+  const RenderPlan& plan_;
+  std::optional<ColourBar> bar_;
   LabelLayout layout_;
   std::optional<LabelFont> font_;
 };
 
+std::vector<render::Image> surfaceTiles(const RenderArgs& a, const RenderPlan& p, const Sweep& sweep,
+                                        render::Painter& painter, const TileHeaders& headers) {
+  const int w = p.width, h = p.height;
+  const render::PixelRect target = fitTarget(w, h, headers.band());
+  const SurfaceModel& base = std::get<SurfaceModel>(p.model);
+  const size_t count = std::max<size_t>(1, sweep.values.size());
+  // One camera for every tile, so that tiles compare at one scale: it fits what any tile draws
+  // (the CPU-evaluated shapes of every value, and the net where it is drawn).
+  std::vector<glm::dvec3> fitted;
+  if (a.controlNet) fitted = base.points;
+  for (size_t k = 0; k < count; ++k) addSurfaceSamples(Surface::create(withValue(base, sweep, k)), fitted);
+  const Surface first = Surface::create(withValue(base, sweep, 0));
+  std::unique_ptr<render::SurfaceDrawing> drawing = painter.tessellate(first, a.rate, a.wireframe);
+  const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, w, h, target);
+  render::Scene net;
+  if (a.controlNet) {
+    for (int i = 0; i < base.rows; ++i) {
+      std::vector<glm::dvec3> row;
+      for (int j = 0; j < base.cols; ++j) row.push_back(base.at(i, j));
+      if (base.closedV) row.push_back(base.at(i, 0));
+      render::addPolyline(net.lines, row, kNetColour);
+    }
+    for (int j = 0; j < base.cols; ++j) {
+      std::vector<glm::dvec3> col;
+      for (int i = 0; i < base.rows; ++i) col.push_back(base.at(i, j));
+      if (base.closedU) col.push_back(base.at(0, j));
+      render::addPolyline(net.lines, col, kNetColour);
+    }
+    for (const auto& q : base.points) render::addMarker(net.markers, q, 5.0f, kDataColour);
+  }
+  std::vector<render::Image> tiles;
+  for (size_t k = 0; k < count; ++k) {
+    if (!sweep.values.empty()) {
+      if (sweep.alpha) {
+        drawing->setAlphas(std::vector<double>(base.alpha.size(), sweep.values[k]));
+      } else {
+        drawing->setLambda(sweep.values[k]);
+      }
+    }
+    tiles.push_back(headers.apply(painter.draw(*drawing, net, cam), k, target.x0));
+    if (!a.quiet && !sweep.values.empty())
+      std::fprintf(stderr, "shapespline: tile %zu: %s\n", k + 1, headers.value(k).c_str());
+  }
+  return tiles;
+}
+
+// Segments per patch edge of a distance map: about 2^16 points in all, 2 to 32 per patch edge.
+int distanceMeshRate(size_t patches) { return std::clamp(int(std::sqrt(65536.0 / double(patches))) - 1, 2, 32); }
+
+// --distance: one tile, the surface at the second value coloured by its distance from the first.
+render::Image distanceTile(const RenderPlan& p, const DistanceMesh& mesh, render::Painter& painter,
+                           const TileHeaders& headers) {
+  const render::PixelRect target = fitTarget(p.width, p.height, headers.band());
+  const render::Camera cam = render::Camera::fit(mesh.points, p.az, p.el, p.width, p.height, target);
+  render::Scene scene;
+  addDistanceMesh(scene, mesh, cam);
+  return headers.apply(painter.draw(scene, cam), 0, target.x0);
+}
+
+std::vector<render::Image> curveTiles(const RenderArgs& a, const RenderPlan& p, const Sweep& sweep,
+                                      render::Painter& painter, const TileHeaders& headers) {
+  const int w = p.width, h = p.height;
+  const render::PixelRect target = fitTarget(w, h, headers.band());
+  const CurveModel& base = std::get<CurveModel>(p.model);
+  const size_t count = std::max<size_t>(1, sweep.values.size());
+  std::vector<std::vector<glm::dvec3>> polylines(count);
+  std::vector<glm::dvec3> fitted = base.points;  // the control polygon and the data points are always drawn
+  for (size_t k = 0; k < count; ++k) {
+    const Curve c = Curve::create(withValue(base, sweep, k));
+    const SpanRange r = c.spans();
+    for (int s = r.first; s <= r.last; ++s)
+      for (int q = (s == r.first ? 0 : 1); q <= kCurveSamplesPerSpan; ++q)
+        polylines[k].push_back(c.evaluate(s, double(q) / kCurveSamplesPerSpan).point);
+    fitted.insert(fitted.end(), polylines[k].begin(), polylines[k].end());
+  }
+  const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, w, h, target);
+  const auto scene = [&](size_t first, size_t last) {  // the curves first..last-1 over the polygon
+    render::Scene s;
+    std::vector<glm::dvec3> polygon = base.points;
+    if (base.closed && !polygon.empty()) polygon.push_back(polygon.front());
+    render::addPolyline(s.lines, polygon, kNetColour);
+    for (size_t k = first; k < last; ++k) {
+      const glm::vec4 colour = a.overlay ? kOverlayPalette[k].colour : kCurveColour;
+      render::addWidePolyline(s.markers, polylines[k], kCurveWidthPx, colour, cam, w, h);
+    }
+    for (const auto& q : base.points) render::addMarker(s.markers, q, 6.0f, kDataColour);
+    return s;
+  };
+  if (a.overlay) {
+    if (!a.quiet)
+      for (size_t k = 0; k < count; ++k)
+        std::fprintf(stderr, "shapespline: %s: %s\n", headers.value(k).c_str(), kOverlayPalette[k].name);
+    return {headers.apply(painter.draw(scene(0, count), cam), 0, target.x0)};
+  }
+  std::vector<render::Image> tiles;
+  for (size_t k = 0; k < count; ++k) {
+    tiles.push_back(headers.apply(painter.draw(scene(k, k + 1), cam), k, target.x0));
+    if (!a.quiet && !sweep.values.empty())
+      std::fprintf(stderr, "shapespline: tile %zu: %s\n", k + 1, headers.value(k).c_str());
+  }
+  return tiles;
+}
+
+// Up to 4 tiles in one row, else ceil(sqrt(n)) columns.
+int sheetColumns(size_t tiles) { return tiles <= 4 ? int(tiles) : int(std::ceil(std::sqrt(double(tiles)))); }
+
 }  // namespace
 
-void renderModel(const RenderArgs& a, io::OutputSet& outputs) {
-  const auto [w, h] = parseImageSize(a.size, "--size", 16);
+RenderPlan planRender(const RenderArgs& a) {
+  RenderPlan p;
+  std::tie(p.width, p.height) = parseImageSize(a.size, "--size", 16);
   const Sweep sweep = parseSweep(a.sweep);
+  p.alphaSweep = sweep.alpha;
+  p.values = sweep.values;
   if (a.rate < 1 || a.rate > 256) throw InputError("--rate", std::to_string(a.rate), "expected 1..256 segments per patch edge");
-  io::Model model = loadModel(a.model);
-  if (a.lambda) std::visit([&](auto& m) { m.family.lambda = *a.lambda; }, model);
-  const bool isSurface = std::holds_alternative<SurfaceModel>(model);
+  if (!std::all_of(a.title.begin(), a.title.end(), [](char c) { return c >= ' ' && c <= '~'; }) || a.title.size() > 80)
+    throw InputError("--title", a.title, "expected up to 80 printable ASCII characters (the label font has no others)");
+  p.model = loadModel(a.model);
+  if (a.lambda) std::visit([&](auto& m) { m.family.lambda = *a.lambda; }, p.model);
+  const bool isSurface = std::holds_alternative<SurfaceModel>(p.model);
   if (!isSurface) {
     for (const char* o : {"--rate", "--wireframe", "--control-net"})
       refuseOption(a.given, o, "curves (drawn as lines with their control polygon and data points)");
   }
-  const Construction construction = std::visit([](const auto& m) { return m.family.construction; }, model);
+  if (a.overlay) {
+    if (isSurface) throw InputError("--overlay", a.model, "overlays draw curves; a surface sweep has one tile per value");
+    if (p.values.empty()) throw InputError("--overlay", a.sweep, "needs --sweep with the values to overlay");
+    if (p.values.size() > kMaxOverlay)
+      throw InputError("--overlay", a.sweep, "an overlay draws at most " + std::to_string(kMaxOverlay) + " values");
+  }
+  if (a.distance) {
+    if (!isSurface) throw InputError("--distance", a.model, "distance maps colour surfaces; curves take --overlay");
+    if (p.values.size() != 2)
+      throw InputError("--distance", a.sweep, "needs --sweep with two values: the surface at the second is coloured by its distance from the first");
+    for (const char* o : {"--rate", "--wireframe", "--control-net"})
+      refuseOption(a.given, o, "a distance map (the surface is evaluated on the CPU, its patch lines drawn)");
+  }
+  const Construction construction = std::visit([](const auto& m) { return m.family.construction; }, p.model);
   if (!familyOf(construction).usesLambda) {
     const std::string what = "a '" + std::string(constructionName(construction)) + "' model, which has no lambda";
     refuseOption(a.given, "--lambda", what);
-    if (!sweep.values.empty() && !sweep.alpha) throw InputError("--sweep", a.sweep, "lambda sweeps do not apply to " + what);
+    if (!p.values.empty() && !p.alphaSweep) throw InputError("--sweep", a.sweep, "lambda sweeps do not apply to " + what);
   }
-  double az = isSurface ? 35.0 : -90.0, el = isSurface ? 30.0 : 90.0;
-  if (!isSurface && std::get<CurveModel>(model).dimension == 3) az = 35.0, el = 30.0;
+  p.az = isSurface ? 35.0 : -90.0;
+  p.el = isSurface ? 30.0 : 90.0;
+  if (!isSurface && std::get<CurveModel>(p.model).dimension == 3) p.az = 35.0, p.el = 30.0;
   if (!a.view.empty()) {
     const auto v = parseNumbers(a.view, "--view");
     if (v.size() != 2 || v[1] < -90.0 || v[1] > 90.0)
       throw InputError("--view", a.view, "expected az,el in degrees with -90 <= el <= 90");
-    az = v[0];
-    el = v[1];
+    p.az = v[0];
+    p.el = v[1];
   }
+  return p;
+}
+
+std::vector<render::Image> renderTiles(const RenderArgs& a, const RenderPlan& plan, render::Painter& painter) {
+  if (painter.width() != plan.width || painter.height() != plan.height)
+    throw std::logic_error("renderTiles: the painter's size is not the plan's tile size");
+  const Sweep sweep{plan.alphaSweep, plan.values};
+  if (a.distance) {
+    const SurfaceModel& base = std::get<SurfaceModel>(plan.model);
+    const Surface from = Surface::create(withValue(base, sweep, 0)), to = Surface::create(withValue(base, sweep, 1));
+    const DistanceMesh mesh = distanceMesh(from, to, distanceMeshRate(surfaceGridItems(to).size()));
+    char top[32];
+    std::snprintf(top, sizeof top, "%.2g", mesh.scaleTop);
+    const std::string fromText = sweepLabel(plan.alphaSweep ? "alpha" : "lambda", plan.values[0]);
+    const TileHeaders headers(a, plan, ColourBar{"distance from " + fromText + ":", "0", top});
+    if (!a.quiet)
+      std::fprintf(stderr, "shapespline: %s, coloured by its distance from %s: at most %.17g, the scale up to %.17g\n",
+                   headers.value(1).c_str(), fromText.c_str(), mesh.maxDistance, mesh.scaleTop);
+    return {distanceTile(plan, mesh, painter, headers)};
+  }
+  const TileHeaders headers(a, plan);
+  if (std::holds_alternative<SurfaceModel>(plan.model)) return surfaceTiles(a, plan, sweep, painter, headers);
+  return curveTiles(a, plan, sweep, painter, headers);
+}
+
+render::Image composeSheet(const std::vector<render::Image>& tiles, int cols) {
+  const int w = tiles.at(0).width, h = tiles.at(0).height;
+  const int rows = int((tiles.size() + size_t(cols) - 1) / size_t(cols));
+  render::Image sheet{cols * w, rows * h, std::vector<uint8_t>(size_t(cols) * w * size_t(rows) * h * 4, 255)};
+  for (size_t k = 0; k < tiles.size(); ++k) {
+    const int cx = int(k) % cols, cy = int(k) / cols;
+    for (int y = 0; y < h; ++y)
+      std::copy_n(tiles[k].rgba.data() + size_t(y) * w * 4, size_t(w) * 4,
+                  sheet.rgba.data() + ((size_t(cy) * h + y) * size_t(sheet.width) + size_t(cx) * w) * 4);
+  }
+  return sheet;
+}
+
+void renderModel(const RenderArgs& a, io::OutputSet& outputs) {
+  const RenderPlan plan = planRender(a);
   if (!io::pngSupported()) throw std::runtime_error("this build has no libpng; render cannot write PNG files");
   // Opened before any rendering: a bad -o is bad input (exit 2), and the old PNG is replaced only
   // by a complete new one.
   outputs.reads(a.model, "MODEL");
   io::AtomicFile& png = outputs.add(a.output, "-o");
-
-  render::Painter painter(w, h);
-  const size_t tiles = std::max<size_t>(1, sweep.values.size());
-  Sheet sheet;
-  sheet.cols = tiles <= 4 ? int(tiles) : int(std::ceil(std::sqrt(double(tiles))));
-  sheet.rows = int((tiles + sheet.cols - 1) / sheet.cols);
-  sheet.w = w;
-  sheet.h = h;
-  sheet.rgba.assign(size_t(sheet.cols) * w * size_t(sheet.rows) * h * 4, 255);
-  const TileLabeller labels(sweep, w, h);
-  const render::PixelRect target = fitTarget(w, h, labels.band());
-  const glm::vec3 background = render::Scene{}.background;
-
-  // One camera for every tile, so that tiles compare at one scale: it fits what any tile draws
-  // (the CPU-evaluated shapes of every value, and the nets where they are drawn).
-  std::vector<glm::dvec3> fitted;
-  if (isSurface) {
-    const SurfaceModel& base = std::get<SurfaceModel>(model);
-    if (a.controlNet) fitted = base.points;
-    for (size_t k = 0; k < tiles; ++k) addSurfaceSamples(Surface::create(withValue(base, sweep, k)), fitted);
-    const Surface first = Surface::create(withValue(base, sweep, 0));
-    std::unique_ptr<render::SurfaceDrawing> drawing = painter.tessellate(first, a.rate, a.wireframe);
-    const render::Camera cam = render::Camera::fit(fitted, az, el, w, h, target);
-    for (size_t k = 0; k < tiles; ++k) {
-      if (!sweep.values.empty()) {
-        if (sweep.alpha) {
-          drawing->setAlphas(std::vector<double>(base.alpha.size(), sweep.values[k]));
-        } else {
-          drawing->setLambda(sweep.values[k]);
-        }
-      }
-      render::Scene scene;
-      if (a.controlNet) {
-        for (int i = 0; i < base.rows; ++i) {
-          std::vector<glm::dvec3> row;
-          for (int j = 0; j < base.cols; ++j) row.push_back(base.at(i, j));
-          if (base.closedV) row.push_back(base.at(i, 0));
-          render::addPolyline(scene.lines, row, kNetColour);
-        }
-        for (int j = 0; j < base.cols; ++j) {
-          std::vector<glm::dvec3> col;
-          for (int i = 0; i < base.rows; ++i) col.push_back(base.at(i, j));
-          if (base.closedU) col.push_back(base.at(0, j));
-          render::addPolyline(scene.lines, col, kNetColour);
-        }
-        for (const auto& p : base.points) render::addMarker(scene.markers, p, 5.0f, kDataColour);
-      }
-      sheet.place(labels.apply(painter.draw(*drawing, scene, cam), k, background, target.x0), k);
-      if (!a.quiet && !sweep.values.empty())
-        std::fprintf(stderr, "shapespline: tile %zu: %s\n", k + 1, labels.text(k).c_str());
-    }
-  } else {
-    const CurveModel& base = std::get<CurveModel>(model);
-    std::vector<std::vector<glm::dvec3>> polylines(tiles);
-    fitted = base.points;  // the control polygon and the data points are always drawn
-    for (size_t k = 0; k < tiles; ++k) {
-      const Curve c = Curve::create(withValue(base, sweep, k));
-      const SpanRange r = c.spans();
-      for (int s = r.first; s <= r.last; ++s)
-        for (int q = (s == r.first ? 0 : 1); q <= 64; ++q) polylines[k].push_back(c.evaluate(s, q / 64.0).point);
-      fitted.insert(fitted.end(), polylines[k].begin(), polylines[k].end());
-    }
-    const render::Camera cam = render::Camera::fit(fitted, az, el, w, h, target);
-    for (size_t k = 0; k < tiles; ++k) {
-      render::Scene scene;
-      std::vector<glm::dvec3> poly = base.points;
-      if (base.closed && !poly.empty()) poly.push_back(poly.front());
-      render::addPolyline(scene.lines, poly, kNetColour);
-      render::addPolyline(scene.lines, polylines[k], kCurveColour);
-      for (const auto& p : base.points) render::addMarker(scene.markers, p, 6.0f, kDataColour);
-      sheet.place(labels.apply(painter.draw(scene, cam), k, background, target.x0), k);
-      if (!a.quiet && !sweep.values.empty())
-        std::fprintf(stderr, "shapespline: tile %zu: %s\n", k + 1, labels.text(k).c_str());
-    }
-  }
+  render::Painter painter(plan.width, plan.height);
+  const std::vector<render::Image> tiles = renderTiles(a, plan, painter);
+  const render::Image sheet = composeSheet(tiles, sheetColumns(tiles.size()));
   // Opaque output: the background colour was cleared with alpha 0 (the coverage mask).
-  io::writePng(png, sheet.cols * w, sheet.rows * h, sheet.rgba, false);
-  if (!a.quiet) std::fprintf(stderr, "shapespline: wrote %s (%d x %d)\n", a.output.c_str(), sheet.cols * w, sheet.rows * h);
+  io::writePng(png, sheet.width, sheet.height, sheet.rgba, false);
+  if (!a.quiet) std::fprintf(stderr, "shapespline: wrote %s (%d x %d)\n", a.output.c_str(), sheet.width, sheet.height);
 }
 
 namespace {
@@ -252,6 +373,10 @@ void registerRender(CLI::App& app) {
   sub->add_flag("--control-net", args->controlNet, "draw the control net and its points");
   sub->add_option("--view", args->view, "camera azimuth,elevation in degrees (surfaces 35,30; 2-D curves -90,90)");
   sub->add_option("--sweep", args->sweep, "contact sheet: lambda=v1,v2,... or alpha=v1,v2,... (one tile per value)");
+  sub->add_flag("--overlay", args->overlay, "curves: draw every --sweep value into one tile, a colour each, with a legend");
+  sub->add_flag("--distance", args->distance,
+                "surfaces: with --sweep of two values, the surface at the second coloured by its distance from the first");
+  sub->add_option("--title", args->title, "a title over the picture (over each tile of a --sweep)");
   sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
   sub->footer(kExitCodeHelp);
   sub->callback([args, sub] {

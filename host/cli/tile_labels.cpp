@@ -1,5 +1,7 @@
 #include "tile_labels.h"
 
+#include <shapespline/render/colour_map.h>
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -25,6 +27,56 @@ LabelLayout labelLayout(int /*width*/, int height) {
   if (height < 64) return {};
   const int scale = std::clamp(height / 240, 1, 4);
   return {kDesignPx * scale, 3 * scale};
+}
+
+void drawHeader(render::Image& tile, const LabelFont& font, const LabelLayout& layout, const TileHeader& header,
+                int left, const glm::vec3& ink) {
+  const glm::vec3 band(kHeaderGrey);
+  const int rows = std::min(tile.height, header.lines() * layout.lineHeight());
+  for (int y = 0; y < rows; ++y)
+    for (int x = 0; x < tile.width; ++x) {
+      uint8_t* p = tile.rgba.data() + (size_t(y) * tile.width + x) * 4;
+      p[0] = p[1] = p[2] = toByte(kHeaderGrey);
+      p[3] = 255;
+    }
+  int y = 0;
+  if (!header.title.empty()) {
+    font.draw(tile, left, y, layout.pad, header.title, ink, band);
+    y += layout.lineHeight();
+  }
+  const int gap = font.textWidth(" ");
+  const auto fill = [&](int x0, int x1, int thickness, const auto& colourAt) {  // a strip across the line
+    const int sy = y + layout.pad + (layout.fontPx - thickness) / 2;
+    for (int py = sy; py < sy + thickness && py < tile.height; ++py)
+      for (int px = x0; px < x1 && px < tile.width; ++px) {
+        uint8_t* p = tile.rgba.data() + (size_t(py) * tile.width + px) * 4;
+        const glm::vec3 c = colourAt(px);
+        for (int k = 0; k < 3; ++k) p[k] = toByte(c[k]);
+        p[3] = 255;
+      }
+  };
+  int x = left + layout.pad;
+  const auto text = [&](const std::string& t) {  // then a gap
+    font.draw(tile, x - layout.pad, y, layout.pad, t, ink, band);
+    x += font.textWidth(t) + gap;
+  };
+  // Each entry: a swatch two characters wide and a third of the text's height thick, then its text.
+  const int swatchWidth = 2 * font.textWidth("m");
+  for (const LegendEntry& e : header.legend) {
+    fill(x, x + swatchWidth, std::max(2, layout.fontPx / 3), [&](int) { return e.colour; });
+    x += swatchWidth + gap / 2;
+    text(e.text);
+    x += gap;
+  }
+  if (header.bar) {
+    // The bar: twelve characters wide and as tall as the text, t from 0 at its left to 1 at its right.
+    if (!header.bar->caption.empty()) text(header.bar->caption);
+    text(header.bar->low);
+    const int barWidth = 12 * font.textWidth("m"), x0 = x;
+    fill(x0, x0 + barWidth, layout.fontPx, [&](int px) { return render::heatColour(double(px - x0) / (barWidth - 1)); });
+    x += barWidth + gap;
+    text(header.bar->high);
+  }
 }
 
 LabelFont::LabelFont(int pixelHeight) : atlas_(std::make_unique<ImFontAtlas>()) {

@@ -7,8 +7,10 @@
 #include <glm/vec3.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 struct ImFontAtlas;
 struct ImFont;
@@ -22,8 +24,39 @@ std::string sweepLabel(std::string_view name, double value);
 struct LabelLayout {
   int fontPx = 0;  // 13 (ProggyClean's design size) times a whole scale, so the glyphs stay crisp
   int pad = 0;     // around the text, inside the band
-  int bandHeight() const { return fontPx + 2 * pad; }
+  int lineHeight() const { return fontPx + 2 * pad; }
 };
+
+// The header band's colour: a light grey strip across the whole tile, which sets the text apart
+// from the drawing (label ink is dark grey, r = g = b, on it).
+inline constexpr float kHeaderGrey = 0.93f;
+
+// One line of a legend: a swatch of the colour a curve is drawn in, then its text.
+struct LegendEntry {
+  std::string text;
+  glm::vec3 colour;
+};
+
+// A colour bar of render::heatColour from t = 0 to 1: "caption low [bar] high".
+struct ColourBar {
+  std::string caption, low, high;
+};
+
+// What a tile's header says: a title line (the tile's name, or the sweep value of its tile) and a
+// line with a legend or a colour bar; any of them may be absent.
+struct TileHeader {
+  std::string title;
+  std::vector<LegendEntry> legend;
+  std::optional<ColourBar> bar;
+  int lines() const { return int(!title.empty()) + int(!legend.empty() || bar.has_value()); }
+};
+
+class LabelFont;
+
+// Paints `header` over the top lines of `tile`: the band across the whole width, then the title and
+// the legend from x = `left`. Rows painted: header.lines() * layout.lineHeight().
+void drawHeader(render::Image& tile, const LabelFont& font, const LabelLayout& layout, const TileHeader& header,
+                int left, const glm::vec3& ink);
 
 // The layout for a tile of width x height pixels: the text grows with the tile (13 px per 240 px of
 // height, 1 to 4 times); none (fontPx 0) for tiles under 64 px high.

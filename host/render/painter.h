@@ -29,6 +29,9 @@ class Painter {
   Painter(const Painter&) = delete;
   Painter& operator=(const Painter&) = delete;
 
+  int width() const { return renderer_->width(); }
+  int height() const { return renderer_->height(); }
+
   // `rate` segments per patch edge (knot-vector B-splines: per non-empty knot interval);
   // `wireframe`: also upload the triangle edges.
   std::unique_ptr<SurfaceDrawing> tessellate(const Surface& surface, int rate, bool wireframe);

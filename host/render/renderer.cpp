@@ -5,6 +5,9 @@
 #include <shapespline/vk/handle.h>
 #include <shapespline/vk/submit.h>
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
 #include <stdexcept>
 #include <string>
 
@@ -134,6 +137,25 @@ void addMarker(std::vector<OverlayVertex>& out, const glm::dvec3& p, float sizeP
   const float corners[6][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, -h}, {h, h}, {-h, h}};
   for (const auto& o : corners)
     out.push_back({{float(p.x), float(p.y), float(p.z)}, {o[0], o[1]}, {color.r, color.g, color.b, color.a}});
+}
+
+void addWidePolyline(std::vector<OverlayVertex>& out, const std::vector<glm::dvec3>& points, float widthPx,
+                     const glm::vec4& color, const Camera& camera, int width, int height) {
+  const float half = 0.5f * widthPx;
+  const auto vertex = [&](const glm::dvec3& p, const glm::vec2& o) {
+    out.push_back({{float(p.x), float(p.y), float(p.z)}, {o.x, o.y}, {color.r, color.g, color.b, color.a}});
+  };
+  for (size_t i = 0; i + 1 < points.size(); ++i) {
+    const glm::dvec3 a = camera.toPixel(points[i], width, height), b = camera.toPixel(points[i + 1], width, height);
+    const glm::dvec2 along(b.x - a.x, b.y - a.y);
+    const double length = glm::length(along);
+    if (length == 0.0) continue;  // the join markers cover it
+    const glm::vec2 across = glm::vec2(-along.y / length, along.x / length) * half;
+    const glm::dvec3 &p = points[i], &q = points[i + 1];
+    vertex(p, -across), vertex(q, -across), vertex(q, across);
+    vertex(p, -across), vertex(q, across), vertex(p, across);
+  }
+  for (const glm::dvec3& p : points) addMarker(out, p, widthPx, color);
 }
 
 }  // namespace shapespline::render

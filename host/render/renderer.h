@@ -61,6 +61,11 @@ struct Scene {
 // Overlay helpers: a polyline as line-list segments; a square marker of sizePx pixels (two triangles).
 void addPolyline(std::vector<OverlayVertex>& out, const std::vector<glm::dvec3>& points, const glm::vec4& color);
 void addMarker(std::vector<OverlayVertex>& out, const glm::dvec3& p, float sizePx, const glm::vec4& color);
+// A polyline widthPx pixels wide as marker triangles (lines are 1 px on every device): each segment a
+// quad whose sides are offset across its direction on screen as `camera` sees it in a width x height
+// image, each vertex covered by a marker square so that the joins have no gaps.
+void addWidePolyline(std::vector<OverlayVertex>& out, const std::vector<glm::dvec3>& points, float widthPx,
+                     const glm::vec4& color, const Camera& camera, int width, int height);
 
 class OffscreenRenderer {
  public:

@@ -364,6 +364,7 @@ TEST(CliInapplicableOptions, AreExit2NamingTheOptionAndTheReason) {
   ScratchDir dir("inapplicable");
   const std::string surface = quote(exampleModel("bspline_surface.json")), target = quote(exampleModel("bspline_surface_target.json"));
   const std::string curve = quote(exampleModel("open_aeb.json")), bspline = quote(exampleModel("clamped_bspline.json"));
+  const std::string aebSurface = quote(exampleModel("surface_aeb.json"));
   const std::vector<Inapplicable> cases = {
       {"extend " + surface + " --to-curve " + target + " -o e.json --svg s.svg", "--svg", "does not apply to surfaces"},
       {"basis --family bspline --order 4 --lambda 2", "--lambda", "does not apply to --family bspline"},
@@ -378,6 +379,14 @@ TEST(CliInapplicableOptions, AreExit2NamingTheOptionAndTheReason) {
       {"render " + curve + " -o c.png --wireframe", "--wireframe", "does not apply to curves", true},
       {"render " + bspline + " -o c.png --lambda 1", "--lambda", "which has no lambda", true},
       {"render " + bspline + " -o c.png --sweep lambda=0,1", "--sweep", "which has no lambda", true},
+      {"render " + surface + " -o c.png --sweep alpha=0.5,1 --overlay", "--overlay", "overlays draw curves"},
+      {"render " + curve + " -o c.png --overlay", "--overlay", "needs --sweep"},
+      {"render " + curve + " -o c.png --overlay --sweep lambda=-6,-5,-4,-3,-2,-1,0", "--overlay", "at most 6 values"},
+      {"render " + curve + " -o c.png --sweep lambda=0,1 --distance", "--distance", "distance maps colour surfaces"},
+      {"render " + aebSurface + " -o c.png --sweep lambda=0,0.5,1 --distance", "--distance", "needs --sweep with two values"},
+      {"render " + aebSurface + " -o c.png --sweep lambda=0,1 --distance --control-net", "--control-net",
+       "does not apply to a distance map"},
+      {"render " + curve + " -o c.png --title \"\xce\xbb = 1\"", "--title", "printable ASCII"},
   };
   writeText(dir / "at.json", R"({"samples": [{"span": 1, "t": 0.5}]})");
   for (const Inapplicable& c : cases) {
