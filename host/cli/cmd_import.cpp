@@ -65,6 +65,7 @@ cad::ConvertedPart convertPart(const std::string& part, const cad::ImportOptions
 struct ImportArgs {
   std::string part, out;
   double trimTolerance = 1e-5;
+  bool quiet = false;
 };
 
 void runImport(const ImportArgs& a) {
@@ -77,7 +78,8 @@ void runImport(const ImportArgs& a) {
   cad::writePart(converted, a.part, a.out);
   const cad::ImportSummary& s = converted.summary;
   // A face or edge OCCT could not convert does not stop the import (part.json lists it); each is
-  // named here so that it is not missed.
+  // named here so that it is not missed, unless asked to be quiet.
+  if (a.quiet) return;
   for (const std::string& why : s.skipped)
     std::fprintf(stderr, "shapespline: warning: %s: %s (not converted; listed in part.json)\n", a.part.c_str(), why.c_str());
   std::printf("imported %s (%s, %s): %d faces, %d edges, %d shells into %s/", a.part.c_str(), s.format.c_str(),
@@ -103,6 +105,8 @@ void registerImport(CLI::App& app) {
   sub->add_option("--trim-tolerance", a->trimTolerance,
                   "largest deviation of a trim polyline from the face's edges, as a fraction of the face's parameter "
                   "domain (default 1e-5)");
+  sub->add_flag("-q,--quiet", a->quiet,
+                "no summary and no warnings (faces and edges that did not convert stay listed in part.json)");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runImport(*a); });
 }

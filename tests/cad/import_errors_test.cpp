@@ -130,6 +130,12 @@ TEST(ImportCli, FacesThatDoNotConvertAreListedAndNamed) {
   }
   EXPECT_EQ(skipped, 1);
   EXPECT_EQ(converted, 3);
+  // -q, as every subcommand takes it: no summary and no warnings; part.json still lists the face.
+  r = runCli("import -q " + quote((dir / "both.step").string()) + " -o " + quote((dir / "quiet").string()), dir.path());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(nlohmann::json::parse(readText(dir / "quiet" / "part.json")).at("faces"), manifest.at("faces"));
 
   writeStep(high, dir / "high.step");
   r = runCli("import " + quote((dir / "high.step").string()) + " -o " + quote((dir / "high").string()), dir.path());
