@@ -237,16 +237,14 @@ bool streamsInBands(bool canStream, io::OutputFormat format, const SampleArgs& a
          (args.shard.empty() || !std::filesystem::exists(jobs::shardRecordPath(args.out)));
 }
 
-// The layout of a streamed curve's grid from its spans (its points not held): one item a span.
+// The layout of a streamed curve's grid from its spans (its points not held): one item a span,
+// computed when asked (io::SampleLayout::spanRows).
 void setCurveItems(const CurveModel& shape, SpanRange spans, io::SampleLayout& layout) {
-  for (int s = spans.first; s <= spans.last; ++s) {
-    layout.spanU.push_back(s);
-    layout.paramU.emplace_back(uniformSpanParameter(shape.knots, spans, s, 0.0),
-                               uniformSpanParameter(shape.knots, spans, s, 1.0));
-  }
+  layout.spanRows = spans;
+  layout.spanKnots = shape.knots;
   layout.spanV = {0};
   layout.paramV = {{0.0, 0.0}};
-  layout.totalItems = layout.spanU.size();
+  layout.totalItems = layout.rowCount();
   layout.dimension = shape.dimension;
   layout.closed = shape.closed;
 }
@@ -254,7 +252,7 @@ void setCurveItems(const CurveModel& shape, SpanRange spans, io::SampleLayout& l
 // The patch rows the items [first, first + count) of a surface's grid lie in (none for no items).
 SpanRange patchRowsOf(const io::SampleLayout& layout, size_t first, size_t count) {
   if (count == 0) return {0, -1};
-  return {layout.spanU[first / layout.itemsV], layout.spanU[(first + count - 1) / layout.itemsV]};
+  return {layout.rowSpan(first / layout.itemsV), layout.rowSpan((first + count - 1) / layout.itemsV)};
 }
 
 // `options` for a band whose item 0 is item `offset` of the job: its slices and records see the
@@ -285,8 +283,8 @@ template <class Band>
 void sampleBand(sampling::Session& session, const Band& band, int first, int last, const io::SampleLayout& layout,
                 const GridSpec& grid, FieldMask fields, const ChunkConsumer& sink, const sampling::GridOptions& options,
                 const sampling::DeviceRequest& request) {
-  const size_t bandFirst = static_cast<size_t>(first - layout.spanU.front()) * layout.itemsV;
-  const size_t bandEnd = static_cast<size_t>(last + 1 - layout.spanU.front()) * layout.itemsV;
+  const size_t bandFirst = static_cast<size_t>(first - layout.rowSpan(0)) * layout.itemsV;
+  const size_t bandEnd = static_cast<size_t>(last + 1 - layout.rowSpan(0)) * layout.itemsV;
   const size_t a = std::max(bandFirst, grid.firstItem), b = std::min(bandEnd, grid.firstItem + grid.itemCount);
   GridSpec g = grid;
   g.firstItem = a - bandFirst;

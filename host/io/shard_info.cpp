@@ -426,7 +426,7 @@ RawSidecar rawSidecarOf(const SampleLayout& l, const std::string& job, bool floa
   const SpanWindow w = spanWindow(l.firstItem, l.itemCount, s.itemsV);
   s.spansUOffset = w.row0;
   s.spansVOffset = w.col0;
-  for (uint64_t r = w.row0; r < w.row1 && r < l.spanU.size(); ++r) s.spansU.push_back(l.spanU[r]);
+  for (uint64_t r = w.row0; r < w.row1 && r < l.rowCount(); ++r) s.spansU.push_back(l.rowSpan(r));
   for (uint64_t c = w.col0; c < w.col1 && c < l.spanV.size(); ++c) s.spansV.push_back(l.spanV[c]);
   s.computedDouble = l.computedPrecision == Precision::Double;
   s.device = l.device;
