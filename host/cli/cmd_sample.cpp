@@ -505,13 +505,15 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
     const CurveModel& shape = std::get<CurveModel>(model);
     const SurfaceCounts counts = io::outlineCounts(shape, outline);
     io::CurveFingerprint fingerprint(shape, counts.points, counts.alpha, counts.weights, layout, format);
+    CurveWarningScan warnings(shape);
     try {
-      net = io::streamCurveSpans(shape, outline, fingerprint, {0, -1}, {});
+      net = io::streamCurveSpans(shape, outline, fingerprint, {0, -1}, {}, {}, io::kStreamWindowPoints, &warnings);
     } catch (const ModelError&) {
       throw StartAgainWhole{};
     }
     requireFloatRange(net->largestCoordinate, precision);
     layout.job = fingerprint.finish();
+    printPrecisionWarnings(warnings, args.quiet);
   } else if (streamed && !banded) {
     // The value rules in the full parse's order (a command that is also wrong in its options
     // reports those first here: the values are read only now, with the layout the hash needs).
@@ -665,12 +667,15 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       try {
         std::unique_ptr<io::NetFingerprint> fingerprint;
         std::optional<SurfaceWarningScan> warnings;
+        std::optional<CurveWarningScan> curveWarnings;
         if (const auto* curveShape = std::get_if<CurveModel>(&model)) {
           if (report.gpu) throw StartAgainWhole{};
           const SurfaceCounts counts = io::outlineCounts(*curveShape, outline);
           fingerprint = std::make_unique<io::CurveFingerprint>(*curveShape, counts.points, counts.alpha, counts.weights,
                                                                layout, format);
-          net = io::streamCurveSpans(*curveShape, outline, *fingerprint, rows, sampleAsPlanned);
+          if (!args.quiet) curveWarnings.emplace(*curveShape);
+          net = io::streamCurveSpans(*curveShape, outline, *fingerprint, rows, sampleAsPlanned, {},
+                                     io::kStreamWindowPoints, curveWarnings ? &*curveWarnings : nullptr);
           if (exponent.value_or(0) != 0) throw StartAgainWhole{};
         } else {
           const SurfaceModel& shape = std::get<SurfaceModel>(model);
@@ -692,6 +697,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
         identify();
         if (warnings)  // they need the whole net
           printPrecisionWarnings(*warnings, std::get<SurfaceModel>(model).cols, gpuFloat, args.quiet);
+        if (curveWarnings) printPrecisionWarnings(*curveWarnings, args.quiet);
       } catch (const StartAgainWhole&) {
         throw;
       } catch (const io::OutputWriteError&) {

@@ -233,6 +233,10 @@ void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet) 
   print(warnings);
 }
 
+void printPrecisionWarnings(const CurveWarningScan& scan, bool quiet) {
+  if (!quiet) print(scan.warnings());
+}
+
 void printPrecisionWarnings(const SurfaceWarningScan& scan, int cols, bool gpuFloat, bool quiet) {
   if (quiet) return;
   std::vector<Warning> warnings = scan.warnings();

@@ -61,10 +61,15 @@ struct RowNet {
   std::function<void(const double* alpha, size_t count, size_t first)> alphaRule;  // flat index `first`
 };
 
-// A net's points file and its α (α-EB): a file, one number, or written out in the model (`modelAlpha`).
-RowNet rowNetOf(const ModelArrays& arrays, bool alphaEB, const std::vector<double>& modelAlpha) {
+// A net of `rows` rows of `cols` points, closed or not, its points file and its α (α-EB): a file,
+// one number, or written out in the model (`modelAlpha`).
+RowNet rowNetOf(const ModelArrays& arrays, int rows, size_t cols, bool closed, bool alphaEB,
+                const std::vector<double>& modelAlpha) {
   RowNet net;
   net.points = deferredArray(arrays, "points");
+  net.rows = rows;
+  net.cols = cols;
+  net.closed = closed;
   if (!alphaEB) return net;
   net.alphaFile = deferredArray(arrays, "alpha");
   if (net.alphaFile) return net;
@@ -81,8 +86,7 @@ using BuildBand = std::function<void(size_t band, const Surface::PointRowOf&, co
 // building each of `bandCount` bands (rows ascending but for a closed net's wrapped rows) as soon
 // as its rows are in, the rows held only while a band still needs them.
 StreamedNet streamRows(const RowNet& net, const ModelArrays& arrays, NetFingerprint& fingerprint, size_t bandCount,
-                       const RowsOfBand& rowsOf, const BuildBand& build, size_t windowPoints,
-                       SurfaceWarningScan* warnings) {
+                       const RowsOfBand& rowsOf, const BuildBand& build, size_t windowPoints, ValueScan* warnings) {
   const DeferredArray& points = *net.points;
   const DeferredArray* alphaFile = net.alphaFile;
   const bool alphaEB = alphaFile || net.uniformAlpha || net.modelAlpha;
@@ -267,10 +271,7 @@ StreamedNet streamSurfaceBands(const SurfaceModel& m, const ModelArrays& arrays,
                                SurfaceWarningScan* warnings) {
   if (!bandsCanStream(m, arrays)) throw std::logic_error("streamSurfaceBands: not a net of uniform spans in a file");
   const bool alphaEB = m.family.construction == Construction::AlphaEB;
-  RowNet net = rowNetOf(arrays, alphaEB, m.alpha);
-  net.rows = m.rows;
-  net.cols = static_cast<size_t>(m.cols);
-  net.closed = m.closedU;
+  RowNet net = rowNetOf(arrays, m.rows, static_cast<size_t>(m.cols), m.closedU, alphaEB, m.alpha);
   net.alphaRule = [&m](const double* a, size_t n, size_t first) { checkSurfaceAlphas(a, n, first, m.cols); };
 
   const std::vector<SpanRange> bands = bandsOver(rows, m.cols, sizes);
@@ -297,14 +298,14 @@ bool curveSpansCanStream(const CurveModel& m, const ModelArrays& arrays) {
 }
 
 StreamedNet streamCurveSpans(const CurveModel& m, const ModelArrays& arrays, NetFingerprint& fingerprint,
-                             SpanRange spans, const CurveBandSink& sink, BandSizes sizes, size_t windowPoints) {
+                             SpanRange spans, const CurveBandSink& sink, BandSizes sizes, size_t windowPoints,
+                             CurveWarningScan* warnings) {
   if (!curveSpansCanStream(m, arrays)) throw std::logic_error("streamCurveSpans: not a curve of uniform spans in a file");
   const bool alphaEB = m.family.construction == Construction::AlphaEB;
-  RowNet net = rowNetOf(arrays, alphaEB, m.alpha);
-  const int n = static_cast<int>(net.points->header.shape[0]);
-  net.rows = n;
-  net.coords = static_cast<size_t>(net.points->header.shape[1]);
-  net.closed = m.closed;
+  const DeferredArray& points = *deferredArray(arrays, "points");
+  const int n = static_cast<int>(points.header.shape[0]);
+  RowNet net = rowNetOf(arrays, n, 1, m.closed, alphaEB, m.alpha);
+  net.coords = static_cast<size_t>(points.header.shape[1]);
   net.alphaRule = [](const double* a, size_t count, size_t first) { checkCurveAlphas(a, count, first); };
 
   // Bands over every span, so that each α-EB vertex is checked by a band; only those that meet
@@ -316,7 +317,7 @@ StreamedNet streamCurveSpans(const CurveModel& m, const ModelArrays& arrays, Net
         const Curve band = Curve::bandOf(m, n, bands[i].first, bands[i].last, pointOf, alphaOf);
         if (bands[i].last >= spans.first && bands[i].first <= spans.last) sink(band, bands[i].first, bands[i].last);
       },
-      windowPoints, nullptr);
+      windowPoints, warnings);
   out.rational = false;
   return out;
 }

@@ -54,7 +54,8 @@ using CurveBandSink = std::function<void(const Curve& band, int first, int last)
 // vectors), no weights, its points a file.
 bool curveSpansCanStream(const CurveModel& outline, const ModelArrays& arrays);
 
-// Streams the outline's values through the value rules, `fingerprint` and the α tally, and hands
+// Streams the outline's values through the value rules, `fingerprint`, the α tally and `warnings`
+// (optional: the precision warnings), and hands
 // `sink` the bands that cover spans `spans` (none when spans.first > spans.last). Bands are built
 // over every span (the rest only checked), so each α-EB vertex is checked by its band and the
 // returned verticesShown is true. Throws ModelError for a value that breaks a rule (not
@@ -62,6 +63,6 @@ bool curveSpansCanStream(const CurveModel& outline, const ModelArrays& arrays);
 // whatever `sink` throws.
 StreamedNet streamCurveSpans(const CurveModel& outline, const ModelArrays& arrays, NetFingerprint& fingerprint,
                              SpanRange spans, const CurveBandSink& sink, BandSizes sizes = {},
-                             size_t windowPoints = kStreamWindowPoints);
+                             size_t windowPoints = kStreamWindowPoints, CurveWarningScan* warnings = nullptr);
 
 }  // namespace shapespline::io
