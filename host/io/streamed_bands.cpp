@@ -122,10 +122,10 @@ StreamedNet streamRows(const RowNet& net, const ModelArrays& arrays, NetFingerpr
     }
   };
 
-  // A net closed in u wraps: its first band reads its last rows, its last band its first rows
-  // (a band between them reads no wrapped row the first or the last does not: bands further in
-  // reach less far past either end). Those are kept apart: the last ones read first (a stream of
-  // their own), the first ones as read.
+  // A closed net (a surface closed in u, a closed curve) wraps: its first band reads its last rows,
+  // its last band its first rows (a band between them reads no wrapped row the first or the last
+  // does not: bands further in reach less far past either end). Those are kept apart: the last
+  // ones read first (a stream of their own), the first ones as read.
   std::map<int, KeptRow> kept;
   if (net.closed && bandCount > 0) {
     for (size_t i : {size_t{0}, bandCount - 1})
@@ -224,7 +224,7 @@ StreamedNet streamRows(const RowNet& net, const ModelArrays& arrays, NetFingerpr
       dropBelow(lowest);
     }
     build(i, pointRow, alphaRow);
-    needs[i].reset();  // a curve has a band's list per band: kept no longer than the band
+    needs[i].reset();  // done with (a curve's list is as long as its band: not kept for them all)
     dropBelow(lowestInBlocks(i + 1));
   }
   while (read < netRows) {  // the rest of the net, through the rules and the fingerprint only

@@ -9,6 +9,9 @@
 // rules are applied as the values arrive, so the first error found need not be the one the full
 // parse names first (that parse checks every file's values before any other rule): a caller that
 // must name the whole job's error runs the full parse when this throws.
+//
+// A curve whose points are a .npy file streams the same way (streamCurveSpans): its points are the
+// rows (one point each), its bands runs of spans (core Curve::bandOf).
 #include <shapespline/core/curve.h>
 #include <shapespline/core/diagnostics.h>
 #include <shapespline/core/model.h>
