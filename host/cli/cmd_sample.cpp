@@ -499,21 +499,21 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
   if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
   std::optional<io::StreamedNet> net;  // a streamed net's values, as the metadata needs them
+  std::optional<CurveWarningScan> curveWarnings;  // a streamed curve's precision warnings
   if (streamed && !banded && !isSurface) {
     // A curve's values through its bands' rules (not in the full parse's order: the whole job
     // names the first error) into the fingerprint, its bands built and let go.
     const CurveModel& shape = std::get<CurveModel>(model);
     const SurfaceCounts counts = io::outlineCounts(shape, outline);
     io::CurveFingerprint fingerprint(shape, counts.points, counts.alpha, counts.weights, layout, format);
-    CurveWarningScan warnings(shape);
+    curveWarnings.emplace(shape);
     try {
-      net = io::streamCurveSpans(shape, outline, fingerprint, {0, -1}, {}, {}, io::kStreamWindowPoints, &warnings);
+      net = io::streamCurveSpans(shape, outline, fingerprint, {0, -1}, {}, {}, io::kStreamWindowPoints, &*curveWarnings);
     } catch (const ModelError&) {
       throw StartAgainWhole{};
     }
     requireFloatRange(net->largestCoordinate, precision);
     layout.job = fingerprint.finish();
-    printPrecisionWarnings(warnings, args.quiet);
   } else if (streamed && !banded) {
     // The value rules in the full parse's order (a command that is also wrong in its options
     // reports those first here: the values are read only now, with the layout the hash needs).
@@ -595,6 +595,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   if (!banded) identify();
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
+  if (curveWarnings) printPrecisionWarnings(*curveWarnings, gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(*surface, gpuFloat, args.quiet);
 
   // Resume: a shard whose record and files verify is left as it is.
@@ -650,8 +651,8 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       // Every band is planned as the whole net is (`report`): the device the job planned (a band on
       // the CPU is never offered the GPU), and one scale exponent (sampling/net_scale.h: a job
       // evaluates 2^k x net, k from the whole net's largest coordinate), checked against the whole
-      // net's once it has streamed. A curve's bands are sampled on the CPU at scale 1 only (a
-      // scaled curve is built again whole from its points: sampling/net_scale.h scaledCurve).
+      // net's once it has streamed. A curve's bands are sampled at scale 1 only (a scaled curve is
+      // built again whole from its points: sampling/net_scale.h scaledCurve).
       sampling::DeviceRequest bandRequest = request;
       if (!report.gpu) bandRequest.device = sampling::DeviceKind::Cpu;
       std::optional<int> exponent;
@@ -667,9 +668,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       try {
         std::unique_ptr<io::NetFingerprint> fingerprint;
         std::optional<SurfaceWarningScan> warnings;
-        std::optional<CurveWarningScan> curveWarnings;
         if (const auto* curveShape = std::get_if<CurveModel>(&model)) {
-          if (report.gpu) throw StartAgainWhole{};
           const SurfaceCounts counts = io::outlineCounts(*curveShape, outline);
           fingerprint = std::make_unique<io::CurveFingerprint>(*curveShape, counts.points, counts.alpha, counts.weights,
                                                                layout, format);
@@ -697,7 +696,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
         identify();
         if (warnings)  // they need the whole net
           printPrecisionWarnings(*warnings, std::get<SurfaceModel>(model).cols, gpuFloat, args.quiet);
-        if (curveWarnings) printPrecisionWarnings(*curveWarnings, args.quiet);
+        if (curveWarnings) printPrecisionWarnings(*curveWarnings, gpuFloat, args.quiet);
       } catch (const StartAgainWhole&) {
         throw;
       } catch (const io::OutputWriteError&) {

@@ -122,8 +122,8 @@ std::vector<Warning> precisionWarnings(const CurveModel& model) {
 std::vector<Warning> CurveWarningScan::warnings() const {
   std::vector<Warning> out;
   checkFamily(shape_.family, out);
-  checkPoints(points_, [](size_t k) { return "points[" + std::to_string(k) + "]"; }, out);
-  checkAlpha(alpha_, [](size_t k) { return "alpha[" + std::to_string(k) + "]"; }, out);
+  checkPoints(spread(), [](size_t k) { return "points[" + std::to_string(k) + "]"; }, out);
+  checkAlpha(smallestAlpha(), [](size_t k) { return "alpha[" + std::to_string(k) + "]"; }, out);
   checkKnots(shape_.knots, "knots", out);
   return out;
 }
@@ -155,7 +155,7 @@ void SmallestAlpha::add(const double* alpha, size_t count) {
     if (!any || alpha[k] < value) value = alpha[k], where = seen, any = true;
 }
 
-std::vector<Warning> SurfaceWarningScan::warnings() const { return surfaceWarnings(shape_, points_, alpha_); }
+std::vector<Warning> SurfaceWarningScan::warnings() const { return surfaceWarnings(shape_, spread(), smallestAlpha()); }
 
 std::string formatWarning(const Warning& warning) { return "warning: " + warning.field + ": " + warning.message; }
 

@@ -146,6 +146,15 @@ curves("closed", dict(aebc, closed=True), C3, "c3.npy", ca, "ca.npy")
 curves("uniform", dict(aebc, closed=True), C2, "c2.npy", 0.5)
 curves("ubp", ubpc, C3, "c3.npy")
 curves("knots", ebsc, C2, "c2.npy")
+# For the fp32 kernels: a last point 1e7 times as far (the whole curve is scaled, its first bands
+# not: the job starts again whole), and a curve fp32 resolves poorly (1e6 from the origin, α 1e-3).
+far_curve = C2.copy(); far_curve[-1] *= 1e7
+save("c_far.npy", far_curve)
+curves("far", aebc, far_curve, "c_far.npy", ca, "ca.npy")
+coarse_alpha_c = ca.copy(); coarse_alpha_c[7] = 1e-3
+save("c_coarse.npy", C2 + 1e6)
+save("ca_coarse.npy", coarse_alpha_c)
+curves("coarse", aebc, C2 + 1e6, "c_coarse.npy", coarse_alpha_c, "ca_coarse.npy")
 bad = C2.copy(); bad[30, 1] = np.nan
 save("c_nan.npy", bad)
 bad_alpha = ca.copy(); bad_alpha[12] = 1.5
@@ -197,6 +206,14 @@ for key in src:
 print("OK")
 )PY";
 
+// The warning lines of a command's stderr.
+std::string warningLines(const std::string& err) {
+  std::string out;
+  for (size_t at = err.find("warning:"); at != std::string::npos; at = err.find("warning:", at + 1))
+    out += err.substr(at, err.find('\n', at) - at) + "\n";
+  return out;
+}
+
 class NpyArrays : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -243,7 +260,8 @@ class NpyArrays : public ::testing::Test {
 
   // `ref` (its net in files, sampled in bands as it streams) and `written` (the same numbers in the
   // JSON, built whole) sampled with `options` to `format`: the same bytes, the same identity in the
-  // sidecar (its metadata but for the model file and digest), and the summary naming the bands.
+  // sidecar (its metadata but for the model file and digest), the same precision warnings, and the
+  // summary naming the bands.
   void expectBandsAsBuilt(const std::string& ref, const std::string& written, const std::string& format,
                           const std::string& options) {
     SCOPED_TRACE(ref + " to " + format);
@@ -258,6 +276,7 @@ class NpyArrays : public ::testing::Test {
     EXPECT_EQ(built.err.find("bands"), std::string::npos) << built.err;
     EXPECT_GT(fs::file_size(dir_ / a), 1000u);
     EXPECT_TRUE(readText(dir_ / a) == readText(dir_ / b)) << "the bands sampled other bytes";
+    EXPECT_EQ(warningLines(banded.err), warningLines(built.err));
     if (format == ".csv") return;
     EXPECT_EQ(identity(a + ".json"), identity(b + ".json"));
     const std::string ma = line(a + ".json", "metadata"), mb = line(b + ".json", "metadata");
@@ -524,7 +543,7 @@ TEST_F(NpyArrays, CurvesInFilesSampleInBandsAsTheyStream) {
                       " --samples 5 --derivatives --device cpu" + extra,
                   dir_.path());
   };
-  for (const char* name : {"open", "closed", "uniform", "ubp", "knots"}) {
+  for (const char* name : {"open", "closed", "uniform", "ubp", "knots", "far", "coarse"}) {
     const std::string ref = std::string("curve_ref_") + name + ".json", written = std::string("curve_inline_") + name + ".json";
     for (const char* format : {".f32", ".f64", ".npy", ".csv"})
       expectBandsAsBuilt(ref, written, format, " --samples 5 --derivatives --device cpu");
@@ -642,18 +661,35 @@ TEST_F(NpyArrays, JobsOnVulkanSampleTheNetInBandsToo) {
     EXPECT_EQ(banded.err.find("bands as they were sampled") == std::string::npos, restarts) << banded.err;
     EXPECT_GT(fs::file_size(dir_ / "a.f32"), 1000u);
     EXPECT_TRUE(readText(dir_ / "a.f32") == readText(dir_ / "b.f32")) << "the bands sampled other bytes";
-    auto warnings = [](const std::string& err) {
-      std::string out;
-      for (size_t at = err.find("warning:"); at != std::string::npos; at = err.find("warning:", at + 1))
-        out += err.substr(at, err.find('\n', at) - at) + "\n";
-      return out;
-    };
-    EXPECT_EQ(warnings(banded.err), warnings(built.err));
+    EXPECT_EQ(warningLines(banded.err), warningLines(built.err));
     if (std::string(ref) == "ref_coarse.json") {
-      EXPECT_NE(warnings(banded.err).find("fp32 GPU kernels lose"), std::string::npos) << banded.err;
-      EXPECT_NE(warnings(banded.err).find("in fp32 (7 digits)"), std::string::npos) << banded.err;
+      EXPECT_NE(warningLines(banded.err).find("fp32 GPU kernels lose"), std::string::npos) << banded.err;
+      EXPECT_NE(warningLines(banded.err).find("in fp32 (7 digits)"), std::string::npos) << banded.err;
     }
   }
+}
+
+// Curves in files on the GPU (fp32 kernels): bands of spans planned as the whole curve is, the
+// bytes, identity and precision warnings of the curve written out; a curve whose whole scale
+// differs from its first bands' starts again whole.
+TEST_F(NpyArrays, CurvesInFilesSampleInBandsOnVulkanToo) {
+  REQUIRE_VULKAN();
+  const std::string options = " --samples 5 --derivatives --device vulkan --precision float --require-device";
+  for (const char* name : {"open", "closed", "uniform", "ubp", "knots", "coarse"}) {
+    const std::string ref = std::string("curve_ref_") + name + ".json", written = std::string("curve_inline_") + name + ".json";
+    expectBandsAsBuilt(ref, written, ".f32", options);
+  }
+  const CliResult coarse = runCli("sample " + quote((models() / "curve_ref_coarse.json").string()) + " -o " +
+                                      quote((dir_ / "coarse.f32").string()) + options, dir_.path());
+  EXPECT_NE(warningLines(coarse.err).find("fp32 GPU kernels lose"), std::string::npos) << coarse.err;
+  const CliResult far = runCli("sample " + quote((models() / "curve_ref_far.json").string()) + " -o " +
+                                   quote((dir_ / "far_a.f32").string()) + options, dir_.path());
+  const CliResult farBuilt = runCli("sample " + quote((models() / "curve_inline_far.json").string()) + " -o " +
+                                        quote((dir_ / "far_b.f32").string()) + options, dir_.path());
+  ASSERT_EQ(far.rc, 0) << far.err;
+  ASSERT_EQ(farBuilt.rc, 0) << farBuilt.err;
+  EXPECT_EQ(far.err.find("bands"), std::string::npos) << "the scaled curve was not started again whole: " << far.err;
+  EXPECT_TRUE(readText(dir_ / "far_a.f32") == readText(dir_ / "far_b.f32"));
 }
 
 }  // namespace
