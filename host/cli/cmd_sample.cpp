@@ -232,19 +232,39 @@ bool shardHasNoItems(const SurfaceShape& shape, int k, int n, io::OutputFormat f
   return shardBound(total, k - 1, n) == shardBound(total, k, n);
 }
 
+// The spans of a curve whose points are a file (its outline), when it streams: it is first read
+// that way only (`bands`: a job started again whole reads it whole), and its SVG picture needs
+// its points.
+std::optional<SpanRange> streamedCurveSpans(const CurveModel& shape, const io::ModelArrays& arrays,
+                                            io::OutputFormat format, bool bands) {
+  if (!bands || format == io::OutputFormat::Svg || !io::curveSpansCanStream(shape, arrays)) return std::nullopt;
+  return uniformCurveSpans(shape, static_cast<int>(io::outlineCounts(shape, arrays).points));
+}
+
 // A job sampled while its net streams in bands (io/streamed_bands.h), never holding it whole: a
-// uniform-span surface in files, a format that takes the job's identity last, and no shard record
-// of an earlier run (resuming compares the fingerprint, which needs the whole net first).
-bool streamsInBands(const SurfaceModel& shape, const io::ModelArrays& arrays, io::OutputFormat format,
-                    const SampleArgs& args) {
-  return io::bandsCanStream(shape, arrays) && io::identityWrittenAtFinish(format) &&
+// uniform-span net in files (`canStream`), a format that takes the job's identity last, and no
+// shard record of an earlier run (resuming compares the fingerprint, which needs the whole net first).
+bool streamsInBands(bool canStream, io::OutputFormat format, const SampleArgs& args) {
+  return canStream && io::identityWrittenAtFinish(format) &&
          (args.shard.empty() || !std::filesystem::exists(jobs::shardRecordPath(args.out)));
+}
+
+// The layout of a streamed curve's grid from its spans (its points not held): one item a span,
+// computed when asked (io::SampleLayout::spanRows).
+void setCurveItems(const CurveModel& shape, SpanRange spans, io::SampleLayout& layout) {
+  layout.spanRows = spans;
+  layout.spanKnots = shape.knots;
+  layout.spanV = {0};
+  layout.paramV = {{0.0, 0.0}};
+  layout.totalItems = layout.rowCount();
+  layout.dimension = shape.dimension;
+  layout.closed = shape.closed;
 }
 
 // The patch rows the items [first, first + count) of a surface's grid lie in (none for no items).
 SpanRange patchRowsOf(const io::SampleLayout& layout, size_t first, size_t count) {
   if (count == 0) return {0, -1};
-  return {layout.spanU[first / layout.itemsV], layout.spanU[(first + count - 1) / layout.itemsV]};
+  return {layout.rowSpan(first / layout.itemsV), layout.rowSpan((first + count - 1) / layout.itemsV)};
 }
 
 // `options` for a band whose item 0 is item `offset` of the job: its slices and records see the
@@ -268,14 +288,15 @@ sampling::GridOptions bandOptions(const sampling::GridOptions& options, size_t o
   return o;
 }
 
-// The items of the job `grid` (whole-job numbers) in patch rows first..last of `band`, sampled as
-// `request` asks and delivered with the job's item numbers (a band's item 0 is its first row's
-// first item).
-void sampleBand(sampling::Session& session, const Surface& band, int first, int last, const io::SampleLayout& layout,
+// The items of the job `grid` (whole-job numbers) in patch rows (a curve's spans) first..last of
+// `band`, sampled as `request` asks and delivered with the job's item numbers (a band's item 0 is
+// its first row's first item).
+template <class Band>
+void sampleBand(sampling::Session& session, const Band& band, int first, int last, const io::SampleLayout& layout,
                 const GridSpec& grid, FieldMask fields, const ChunkConsumer& sink, const sampling::GridOptions& options,
                 const sampling::DeviceRequest& request) {
-  const size_t bandFirst = static_cast<size_t>(first - layout.spanU.front()) * layout.itemsV;
-  const size_t bandEnd = static_cast<size_t>(last + 1 - layout.spanU.front()) * layout.itemsV;
+  const size_t bandFirst = static_cast<size_t>(first - layout.rowSpan(0)) * layout.itemsV;
+  const size_t bandEnd = static_cast<size_t>(last + 1 - layout.rowSpan(0)) * layout.itemsV;
   const size_t a = std::max(bandFirst, grid.firstItem), b = std::min(bandEnd, grid.firstItem + grid.itemCount);
   GridSpec g = grid;
   g.firstItem = a - bandFirst;
@@ -371,9 +392,14 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       model = loadModelOutline(args.model, args.allowOutsideArrays, outline, &*modelDigest);
       arrayFiles = outline.files;
       const auto* shape = std::get_if<SurfaceModel>(&model);
-      const bool none = shape && shardHasNoItems(*shape, shardK, shardN, format, args);
-      banded = !outline.deferred.empty() && shape && !none && bands &&
-               streamsInBands(*shape, outline, format, args);
+      const auto* curveShape = std::get_if<CurveModel>(&model);
+      const std::optional<SpanRange> spans = curveShape ? streamedCurveSpans(*curveShape, outline, format, bands)
+                                                        : std::nullopt;
+      const size_t spanCount = spans ? static_cast<size_t>(spans->last - spans->first + 1) : 0;
+      const bool none = (shape && shardHasNoItems(*shape, shardK, shardN, format, args)) ||
+                        (spans && shardBound(spanCount, shardK - 1, shardN) == shardBound(spanCount, shardK, shardN));
+      banded = !outline.deferred.empty() && !none && bands &&
+               streamsInBands(shape ? io::bandsCanStream(*shape, outline) : spans.has_value(), format, args);
       whole = !outline.deferred.empty() && !none && !banded;
     } catch (const ModelError&) {
       whole = true;  // the full parse names the error (its rules on the values come before the shape's)
@@ -460,8 +486,11 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   }
   layout.welded = meshFormat && args.meshLayout == "welded" && !args.trim;
   size_t bandCount = 0;  // bands sampled as the net streamed
-  if (streamed) {
+  if (streamed && isSurface) {
     setSurfaceItems(std::get<SurfaceModel>(model), layout);
+  } else if (streamed) {
+    const CurveModel& shape = std::get<CurveModel>(model);
+    setCurveItems(shape, *streamedCurveSpans(shape, outline, format, bands), layout);
   } else if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
     setSurfaceItems(surface->model(), layout);
@@ -503,7 +532,22 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   // A welded mesh of a closed surface faces outwards: flipped when du x dv encloses a negative volume.
   if (layout.welded && surface && layout.closedU && layout.closedV) layout.reversed = signedVolume(*surface) < 0.0;
   std::optional<io::StreamedNet> net;  // a streamed net's values, as the metadata needs them
-  if (streamed && !banded) {
+  std::optional<CurveWarningScan> curveWarnings;  // a streamed curve's precision warnings
+  if (streamed && !banded && !isSurface) {
+    // A curve's values through its bands' rules (not in the full parse's order: the whole job
+    // names the first error) into the fingerprint, its bands built and let go.
+    const CurveModel& shape = std::get<CurveModel>(model);
+    const SurfaceCounts counts = io::outlineCounts(shape, outline);
+    io::CurveFingerprint fingerprint(shape, counts.points, counts.alpha, counts.weights, layout, format);
+    curveWarnings.emplace(shape);
+    try {
+      net = io::streamCurveSpans(shape, outline, fingerprint, {0, -1}, {}, {}, io::kStreamWindowPoints, &*curveWarnings);
+    } catch (const ModelError&) {
+      throw StartAgainWhole{};
+    }
+    requireFloatRange(net->largestCoordinate, precision);
+    layout.job = fingerprint.finish();
+  } else if (streamed && !banded) {
     // The value rules in the full parse's order (a command that is also wrong in its options
     // reports those first here: the values are read only now, with the layout the hash needs).
     const SurfaceModel& shape = std::get<SurfaceModel>(model);
@@ -566,6 +610,9 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
       const Precision stored = storedPrecisionOf(format, precision);
       layout.metadata = curve ? io::jobMetadataOf(curve->model(), args.model, modelDigest->get(), report.device,
                                                   report.computedPrecision, stored, su)
+                        : net && !isSurface ? io::jobMetadataOf(std::get<CurveModel>(model), net->alpha, net->rational,
+                                                                args.model, modelDigest->get(), report.device,
+                                                                report.computedPrecision, stored, su)
                         : net ? io::jobMetadataOf(std::get<SurfaceModel>(model), net->alpha, net->rational,
                                                   args.model, modelDigest->get(), report.device,
                                                   report.computedPrecision, stored, su, sv)
@@ -579,6 +626,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   if (!banded) identify();
   const bool gpuFloat = report.gpu && report.computedPrecision == Precision::Float;
   if (curve) printPrecisionWarnings(curve->model(), gpuFloat, args.quiet);
+  if (curveWarnings) printPrecisionWarnings(*curveWarnings, gpuFloat, args.quiet);
   if (surface) printPrecisionWarnings(*surface, gpuFloat, args.quiet);
 
   // A shard's record; a trimmed face's counts its records inside the loops, under the trimmed job.
@@ -642,40 +690,55 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
     };
     if (banded) {
       // Each band as its rows arrive: its items are the job's from (first - spanU[0]) x itemsV on.
-      const SurfaceModel& shape = std::get<SurfaceModel>(model);
-      const SurfaceCounts counts = io::outlineCounts(shape, outline);
-      io::SurfaceFingerprint fingerprint(shape, counts.alpha, counts.weights, layout, format);
-      SurfaceWarningScan warnings(shape);
       // Every band is planned as the whole net is (`report`): the device the job planned (a band on
       // the CPU is never offered the GPU), and one scale exponent (sampling/net_scale.h: a job
       // evaluates 2^k x net, k from the whole net's largest coordinate), checked against the whole
-      // net's once it has streamed.
+      // net's once it has streamed. A curve's bands are sampled at scale 1 only (a scaled curve is
+      // built again whole from its points: sampling/net_scale.h scaledCurve).
       sampling::DeviceRequest bandRequest = request;
       if (!report.gpu) bandRequest.device = sampling::DeviceKind::Cpu;
       std::optional<int> exponent;
+      auto sampleAsPlanned = [&](const auto& band, int first, int last) {
+        ++bandCount;
+        const sampling::Report planned = session.plan(band, bandRequest);
+        if (planned.gpu != report.gpu || planned.netScaleExponent != exponent.value_or(planned.netScaleExponent))
+          throw StartAgainWhole{};
+        exponent = planned.netScaleExponent;
+        sampleBand(session, band, first, last, layout, grid, fields, sink, options, bandRequest);
+      };
+      const SpanRange rows = patchRowsOf(layout, layout.firstItem, layout.itemCount);
       try {
-        net = io::streamSurfaceBands(
-            shape, outline, fingerprint, patchRowsOf(layout, layout.firstItem, layout.itemCount),
-            [&](const Surface& band, int first, int last) {
-              ++bandCount;
-              const sampling::Report planned = session.plan(band, bandRequest);
-              if (planned.gpu != report.gpu || planned.netScaleExponent != exponent.value_or(planned.netScaleExponent))
-                throw StartAgainWhole{};
-              exponent = planned.netScaleExponent;
-              sampleBand(session, band, first, last, layout, grid, fields, sink, options, bandRequest);
-            },
-            {}, io::kStreamWindowPoints, args.quiet ? nullptr : &warnings);
+        std::unique_ptr<io::NetFingerprint> fingerprint;
+        std::optional<SurfaceWarningScan> warnings;
+        if (const auto* curveShape = std::get_if<CurveModel>(&model)) {
+          const SurfaceCounts counts = io::outlineCounts(*curveShape, outline);
+          fingerprint = std::make_unique<io::CurveFingerprint>(*curveShape, counts.points, counts.alpha, counts.weights,
+                                                               layout, format);
+          if (!args.quiet) curveWarnings.emplace(*curveShape);
+          net = io::streamCurveSpans(*curveShape, outline, *fingerprint, rows, sampleAsPlanned, {},
+                                     io::kStreamWindowPoints, curveWarnings ? &*curveWarnings : nullptr);
+          if (exponent.value_or(0) != 0) throw StartAgainWhole{};
+        } else {
+          const SurfaceModel& shape = std::get<SurfaceModel>(model);
+          const SurfaceCounts counts = io::outlineCounts(shape, outline);
+          fingerprint = std::make_unique<io::SurfaceFingerprint>(shape, counts.alpha, counts.weights, layout, format);
+          if (!args.quiet) warnings.emplace(shape);
+          net = io::streamSurfaceBands(shape, outline, *fingerprint, rows, sampleAsPlanned, {}, io::kStreamWindowPoints,
+                                       warnings ? &*warnings : nullptr);
+          // The GPU hands an α-EB net with a tiny α to the CPU (rows of a shard's other bands, too).
+          if (report.gpu && sampling::gpuLimitation(shape, net->alpha.summary().min, report.computedPrecision))
+            throw StartAgainWhole{};
+        }
         requireFloatRange(net->largestCoordinate, precision);
         const int wholeExponent = report.gpu ? sampling::netScaleFor(net->largestCoordinate, report.computedPrecision)
                                              : sampling::cpuNetScaleFor(net->largestCoordinate);
         if (exponent != wholeExponent) throw StartAgainWhole{};
-        // The GPU hands an α-EB net with a tiny α to the CPU (rows of a shard's other bands, too).
-        if (report.gpu && sampling::gpuLimitation(shape, net->alpha.summary().min, report.computedPrecision))
-          throw StartAgainWhole{};
-        layout.job = fingerprint.finish();
+        layout.job = fingerprint->finish();
         if (!net->verticesShown) requireFiniteVerticesOf(args);  // outside this shard's bands
         identify();
-        printPrecisionWarnings(warnings, shape.cols, gpuFloat, args.quiet);  // they need the whole net
+        if (warnings)  // they need the whole net
+          printPrecisionWarnings(*warnings, std::get<SurfaceModel>(model).cols, gpuFloat, args.quiet);
+        if (curveWarnings) printPrecisionWarnings(*curveWarnings, gpuFloat, args.quiet);
       } catch (const StartAgainWhole&) {
         throw;
       } catch (const io::OutputWriteError&) {

@@ -223,13 +223,17 @@ void print(const std::vector<Warning>& warnings) {
 }  // namespace
 
 void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet) {
+  CurveWarningScan scan(model);
+  scan.points(model.points.data(), model.points.size());
+  scan.alphas(model.alpha.data(), model.alpha.size());
+  printPrecisionWarnings(scan, gpuFloat, quiet);
+}
+
+void printPrecisionWarnings(const CurveWarningScan& scan, bool gpuFloat, bool quiet) {
   if (quiet) return;
-  std::vector<Warning> warnings = precisionWarnings(model);
-  if (gpuFloat) {
-    const auto eachPoint = [&](auto&& f) { std::for_each(model.points.begin(), model.points.end(), f); };
-    floatWarnings(eachPoint, model.dimension, model.alpha, [](size_t k) { return "[" + std::to_string(k) + "]"; },
-                  warnings);
-  }
+  std::vector<Warning> warnings = scan.warnings();
+  if (gpuFloat)
+    floatWarnings(scan.spread(), scan.smallestAlpha(), [](size_t k) { return "[" + std::to_string(k) + "]"; }, warnings);
   print(warnings);
 }
 

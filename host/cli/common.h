@@ -87,6 +87,8 @@ void printPrecisionWarnings(const CurveModel& model, bool gpuFloat, bool quiet);
 void printPrecisionWarnings(const Surface& surface, bool gpuFloat, bool quiet);
 // The same for a net of `cols` columns seen as a stream (SurfaceWarningScan).
 void printPrecisionWarnings(const SurfaceWarningScan& scan, int cols, bool gpuFloat, bool quiet);
+// Those of a curve whose values were seen as a stream (the same as of its model).
+void printPrecisionWarnings(const CurveWarningScan& scan, bool gpuFloat, bool quiet);
 
 // With --precision float every value is rounded to fp32 (max 3.4e38): a net beyond kMaxFloatNet
 // leaves no headroom for derivatives, so it is refused (InputError on --precision, exit 2).

@@ -66,35 +66,30 @@ glm::dvec3 alphaEBVertex(const glm::dvec3& p, const glm::dvec3& node, double alp
 
 // ---- Helpers ------------------------------------------------------------------------------------
 
-std::vector<ExtendedIndex> extendedIndices(int n, bool closed, bool phantom, int count, int centre, int& offset) {
-  std::vector<ExtendedIndex> out;
+ExtendedIndex extendedIndex(int i, int n, bool closed, bool phantom, int count, int centre) {
+  (void)count;
   if (phantom) {
-    offset = 0;
-    const int size = closed ? n + 3 : n + 2;
-    out.resize(size);
-    for (int i = 0; i < size; ++i) {
-      const int k = i - 1;  // entry i is P_{i-1}
-      if (closed) {
-        out[i] = {wrap(k, n), 0, 1.0, 0.0};
-      } else if (k < 0) {
-        out[i] = {0, 1, 2.0, -1.0};  // P_{-1} = 2 P_0 - P_1
-      } else if (k >= n) {
-        out[i] = {n - 1, n - 2, 2.0, -1.0};  // P_n = 2 P_{n-1} - P_{n-2}
-      } else {
-        out[i] = {k, 0, 1.0, 0.0};
-      }
-    }
-    return out;
+    const int k = i - 1;  // entry i is P_{i-1}
+    if (closed) return {wrap(k, n), 0, 1.0, 0.0};
+    if (k < 0) return {0, 1, 2.0, -1.0};            // P_{-1} = 2 P_0 - P_1
+    if (k >= n) return {n - 1, n - 2, 2.0, -1.0};   // P_n = 2 P_{n-1} - P_{n-2}
+    return {k, 0, 1.0, 0.0};
   }
-  if (closed) {
-    offset = 0;
-    out.resize(n + count - 1);
-    for (int i = 0; i < n + count - 1; ++i) out[i] = {wrap(i - centre, n), 0, 1.0, 0.0};
-  } else {
-    offset = -centre;
-    out.resize(n);
-    for (int i = 0; i < n; ++i) out[i] = {i, 0, 1.0, 0.0};
-  }
+  if (closed) return {wrap(i - centre, n), 0, 1.0, 0.0};
+  return {i, 0, 1.0, 0.0};
+}
+
+int extendedSize(int n, bool closed, bool phantom, int count) {
+  if (phantom) return closed ? n + 3 : n + 2;
+  return closed ? n + count - 1 : n;
+}
+
+int extendedOffset(bool closed, bool phantom, int centre) { return phantom || closed ? 0 : -centre; }
+
+std::vector<ExtendedIndex> extendedIndices(int n, bool closed, bool phantom, int count, int centre, int& offset) {
+  offset = extendedOffset(closed, phantom, centre);
+  std::vector<ExtendedIndex> out(static_cast<size_t>(extendedSize(n, closed, phantom, count)));
+  for (size_t i = 0; i < out.size(); ++i) out[i] = extendedIndex(static_cast<int>(i), n, closed, phantom, count, centre);
   return out;
 }
 
@@ -120,11 +115,7 @@ Curve Curve::create(CurveModel model) {
 
   c.basis_ = makeSpanBasis(m.family);
   const int count = c.basis_.count, centre = c.basis_.centre;
-  if (c.alphaEB()) {
-    c.spans_ = {0, m.closed ? n - 1 : n - 2};
-  } else {
-    c.spans_ = m.closed ? SpanRange{0, n - 1} : SpanRange{centre, n - count + centre};
-  }
+  c.spans_ = uniformCurveSpans(m, n);
   const std::vector<ExtendedIndex> ext =
       extendedIndices(n, m.closed, c.alphaEB(), count, centre, c.spanPointOffset_);
   c.spanPoints_.resize(ext.size());
@@ -151,6 +142,78 @@ Curve Curve::create(CurveModel model) {
   return c;
 }
 
+SpanRange uniformCurveSpans(const CurveModel& m, int n) {
+  if (m.family.construction == Construction::AlphaEB) return {0, m.closed ? n - 1 : n - 2};
+  const SpanBasis basis = makeSpanBasis(m.family);
+  return m.closed ? SpanRange{0, n - 1} : SpanRange{basis.centre, n - basis.count + basis.centre};
+}
+
+std::vector<int> Curve::bandPoints(const CurveModel& m, int n, int first, int last) {
+  const SpanBasis basis = makeSpanBasis(m.family);
+  const bool phantom = m.family.construction == Construction::AlphaEB;
+  const int offset = extendedOffset(m.closed, phantom, basis.centre);
+  std::vector<int> points;
+  for (int e = first + offset; e < last + offset + basis.count; ++e) {
+    const ExtendedIndex x = extendedIndex(e, n, m.closed, phantom, basis.count, basis.centre);
+    points.push_back(x.i0);
+    if (x.w1 != 0.0) points.push_back(x.i1);
+  }
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  return points;
+}
+
+Curve Curve::bandOf(const CurveModel& whole, int n, int first, int last, const PointOf& pointOf,
+                    const AlphaOf& alphaOf) {
+  const SpanRange spans = uniformCurveSpans(whole, n);
+  const Parameterization kind = parameterizationOf(whole.family.construction, !whole.knots.empty());
+  if (kind == Parameterization::KnotVector)
+    throw std::invalid_argument("Curve band: a knot-vector curve is not split into bands");
+  if (first < spans.first || last > spans.last || first > last)
+    throw std::invalid_argument("Curve band: spans " + std::to_string(first) + ".." + std::to_string(last) +
+                                " are not spans of the curve");
+  Curve b;
+  b.parameterization_ = kind;
+  b.basis_ = makeSpanBasis(whole.family);
+  const int count = last - first + 1;
+  b.spans_ = {0, count - 1};
+  const bool phantom = b.alphaEB();
+  // Span j reads entries j + offset + r, r < basis count: the band's entries are those of its spans.
+  const int offset = extendedOffset(whole.closed, phantom, b.basis_.centre);
+  b.spanPoints_.resize(static_cast<size_t>(count + b.basis_.count - 1));
+  for (size_t i = 0; i < b.spanPoints_.size(); ++i) {
+    const ExtendedIndex x =
+        extendedIndex(first + offset + static_cast<int>(i), n, whole.closed, phantom, b.basis_.count, b.basis_.centre);
+    b.spanPoints_[i] = x.w1 == 0.0 ? *pointOf(x.i0) : x.w0 * *pointOf(x.i0) + x.w1 * *pointOf(x.i1);
+  }
+  CurveModel& m = b.model_;
+  m.family = whole.family;
+  m.dimension = whole.dimension;
+  m.closed = false;
+  if (!whole.knots.empty())  // span knots κ_s of spans first..last
+    m.knots.assign(whole.knots.begin() + (first - spans.first), whole.knots.begin() + (last - spans.first + 2));
+  b.spanKnots_ = m.knots;
+  if (!phantom) {
+    m.points = b.spanPoints_;  // plain copies of the points (what the net's scale is planned from)
+    return b;
+  }
+  // α-EB: vertices first..last+1 (the last wrapped in a closed curve), whose nodes read entries
+  // k..k+2 of the band as node_j reads j..j+2 of the whole curve (create()).
+  SpanBasis nodeBasis = b.basis_;
+  nodeBasis.count = 3;
+  for (int k = 0; k <= count; ++k) {
+    const int j = (first + k) % n;
+    m.points.push_back(*pointOf(j));
+    m.alpha.push_back(*alphaOf(j));
+    CurvePoint node;
+    evalLocalSpan(nodeBasis, &b.spanPoints_[static_cast<size_t>(k)], 0.0, 1.0, node);
+    b.nodes_.push_back(node.point);
+    b.v_.push_back(alphaEBVertex(m.points.back(), node.point, m.alpha.back(),
+                                 [j] { return "alpha[" + std::to_string(j) + "]"; }));
+  }
+  return b;
+}
+
 std::pair<double, double> Curve::parameterRange() const {
   if (knotVector()) {
     const int k = bspline_.order, n = static_cast<int>(bspline_.points.size());
@@ -166,9 +229,13 @@ double Curve::parameterOf(int span, double t) const {
     const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
     return a + t * (b - a);
   }
-  if (!spanKnots_.empty()) {
-    const int s = span - spans_.first;
-    return spanKnots_[s] + t * (spanKnots_[s + 1] - spanKnots_[s]);
+  return uniformSpanParameter(spanKnots_, spans_, span, t);
+}
+
+double uniformSpanParameter(const std::vector<double>& spanKnots, SpanRange spans, int span, double t) {
+  if (!spanKnots.empty()) {
+    const int s = span - spans.first;
+    return spanKnots[s] + t * (spanKnots[s + 1] - spanKnots[s]);
   }
   return span + t;
 }

@@ -108,6 +108,19 @@ class Curve {
   const std::vector<glm::dvec3>& alphaV() const { return v_; }
   const std::vector<double>& alphas() const { return model_.alpha; }
 
+  // A band of spans first..last (valid spans of a uniform or span-knot curve of shape `shape`, its
+  // own points not read, with `pointCount` points) built from the points pointOf(i) and α alphaOf(i)
+  // (α-EB) alone: spans 0..last-first of the band evaluate to the same bits as spans first..last of
+  // the whole curve, and its α-EB vertices are checked as create() checks them (ModelError naming
+  // the whole curve's alpha[i]). A curve streamed from its file is sampled a band at a time.
+  using PointOf = std::function<const glm::dvec3*(int index)>;
+  using AlphaOf = std::function<const double*(int index)>;
+  static Curve bandOf(const CurveModel& shape, int pointCount, int first, int last, const PointOf& pointOf,
+                      const AlphaOf& alphaOf);
+  // The point indices bandOf(shape, pointCount, first, last, ...) reads, ascending (a closed curve
+  // wraps: its first and last spans read points from the other end).
+  static std::vector<int> bandPoints(const CurveModel& shape, int pointCount, int first, int last);
+
  private:
   Curve() = default;
   CurvePoint evalSpan(int span, double t) const;  // no range checks
@@ -139,5 +152,15 @@ struct ExtendedIndex {
 // closed: mod n), entry i is P_{i-1}. phantom = false: plain rule of §1 (open: P itself, offset -c;
 // closed: entry i is P_{(i-c) mod n}, n + m - 1 entries, offset 0). `offset` receives the offset.
 std::vector<ExtendedIndex> extendedIndices(int n, bool closed, bool phantom, int count, int centre, int& offset);
+// Entry i of that sequence, its length and its offset, one at a time (a curve too long to list).
+ExtendedIndex extendedIndex(int i, int n, bool closed, bool phantom, int count, int centre);
+int extendedSize(int n, bool closed, bool phantom, int count);
+int extendedOffset(bool closed, bool phantom, int centre);
+
+// The valid spans of a uniform or span-knot curve of shape `shape` with `pointCount` points
+// (Curve::spans() of the curve it makes; not for knot vectors).
+SpanRange uniformCurveSpans(const CurveModel& shape, int pointCount);
+// The global parameter of (span, t) of such a curve: j + t, or by its span knots κ (Curve::parameterOf).
+double uniformSpanParameter(const std::vector<double>& spanKnots, SpanRange spans, int span, double t);
 
 }  // namespace shapespline

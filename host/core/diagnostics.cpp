@@ -27,12 +27,6 @@ void checkAlpha(const SmallestAlpha& smallest, const Namer& name, std::vector<Wa
                      "section 14), so about " + num(std::floor(-std::log10(smallest.value))) + " digits are lost"});
 }
 
-void checkAlpha(const std::vector<double>& alpha, const Namer& name, std::vector<Warning>& out) {
-  SmallestAlpha smallest;
-  smallest.add(alpha.data(), alpha.size());
-  checkAlpha(smallest, name, out);
-}
-
 void checkPoints(const PointSpread& spread, const Namer& name, std::vector<Warning>& out) {
   if (!spread.any) return;
   const int dims = spread.dims, axis = spread.axis;
@@ -57,14 +51,6 @@ void checkPoints(const PointSpread& spread, const Namer& name, std::vector<Warni
                            " from the origin: fewer than " +
                            num(std::max(0.0, std::floor(16 + std::log10(extent / biggest)))) +
                            " significant digits describe its shape"});
-}
-
-// `forEach(f)` calls f(k, P_k) for every point in order (a vector, or a surface's net in place).
-template <class ForEach>
-void checkPoints(ForEach&& forEach, int dims, const Namer& name, std::vector<Warning>& out) {
-  PointSpread spread{dims};
-  forEach([&](size_t, const glm::dvec3& p) { spread.add(p); });
-  checkPoints(spread, name, out);
 }
 
 // Strictly or weakly increasing knots; `field` names the array ("knots", "knots[0]").
@@ -127,11 +113,18 @@ std::vector<Warning> surfaceWarnings(const SurfaceShape& model, ForEach&& forEac
 }  // namespace
 
 std::vector<Warning> precisionWarnings(const CurveModel& model) {
+  CurveWarningScan scan(model);
+  scan.points(model.points.data(), model.points.size());
+  scan.alphas(model.alpha.data(), model.alpha.size());
+  return scan.warnings();
+}
+
+std::vector<Warning> CurveWarningScan::warnings() const {
   std::vector<Warning> out;
-  checkFamily(model.family, out);
-  checkPoints(eachOf(model.points), model.dimension, [](size_t k) { return "points[" + std::to_string(k) + "]"; }, out);
-  checkAlpha(model.alpha, [](size_t k) { return "alpha[" + std::to_string(k) + "]"; }, out);
-  checkKnots(model.knots, "knots", out);
+  checkFamily(shape_.family, out);
+  checkPoints(spread(), [](size_t k) { return "points[" + std::to_string(k) + "]"; }, out);
+  checkAlpha(smallestAlpha(), [](size_t k) { return "alpha[" + std::to_string(k) + "]"; }, out);
+  checkKnots(shape_.knots, "knots", out);
   return out;
 }
 
@@ -162,7 +155,7 @@ void SmallestAlpha::add(const double* alpha, size_t count) {
     if (!any || alpha[k] < value) value = alpha[k], where = seen, any = true;
 }
 
-std::vector<Warning> SurfaceWarningScan::warnings() const { return surfaceWarnings(shape_, points_, alpha_); }
+std::vector<Warning> SurfaceWarningScan::warnings() const { return surfaceWarnings(shape_, spread(), smallestAlpha()); }
 
 std::string formatWarning(const Warning& warning) { return "warning: " + warning.field + ": " + warning.message; }
 

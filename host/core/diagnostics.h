@@ -65,23 +65,44 @@ struct SmallestAlpha {
   void add(const double* alpha, size_t count);
 };
 
-// precisionWarnings of a surface whose points and α are seen a run at a time, each in order: the
-// same warnings the built surface gives.
-class SurfaceWarningScan {
+// The values of a net seen a run at a time, each kind in order (a stream's warnings): the points'
+// largest coordinate and extent, the smallest α. The scans below name what they find.
+class ValueScan {
  public:
-  explicit SurfaceWarningScan(const SurfaceShape& shape) : shape_(shape) {}
+  explicit ValueScan(int dims) : points_{dims} {}
   void points(const glm::dvec3* p, size_t count) {
     for (size_t k = 0; k < count; ++k) points_.add(p[k]);
   }
   void alphas(const double* alpha, size_t count) { alpha_.add(alpha, count); }
-  std::vector<Warning> warnings() const;
   const PointSpread& spread() const { return points_; }
   const SmallestAlpha& smallestAlpha() const { return alpha_; }
 
  private:
-  const SurfaceShape& shape_;
-  PointSpread points_{3};
+  PointSpread points_;
   SmallestAlpha alpha_;
+};
+
+// precisionWarnings of a curve whose points and α are seen a run at a time: the same warnings
+// precisionWarnings(model) gives (which uses it). `shape` (knots, family, dimension) is kept by
+// reference; its points and α are not read.
+class CurveWarningScan final : public ValueScan {
+ public:
+  explicit CurveWarningScan(const CurveModel& shape) : ValueScan(shape.dimension), shape_(shape) {}
+  std::vector<Warning> warnings() const;
+
+ private:
+  const CurveModel& shape_;
+};
+
+// precisionWarnings of a surface whose points and α are seen a run at a time, each in order: the
+// same warnings the built surface gives.
+class SurfaceWarningScan final : public ValueScan {
+ public:
+  explicit SurfaceWarningScan(const SurfaceShape& shape) : ValueScan(3), shape_(shape) {}
+  std::vector<Warning> warnings() const;
+
+ private:
+  const SurfaceShape& shape_;
 };
 
 // "warning: <field>: <message>"

@@ -229,17 +229,21 @@ void checkWeightsAllowed(size_t weights, size_t points, Construction c, bool kno
 
 }  // namespace
 
-void validateCurve(const CurveModel& m) {
+namespace {
+
+// validateCurve's rules in its order, for a curve of `counts` points, α and weights; the values of
+// the points, α and weights only when `values` (an outline's are streamed and checked later).
+void checkCurve(const CurveModel& m, const SurfaceCounts& counts, bool values) {
   const FamilySpec& f = m.family;
   const Construction c = f.construction;
   validateFamily(f);
 
   if (m.dimension != 2 && m.dimension != 3)
     fail("points", "dimension " + std::to_string(m.dimension), "curve points must have 2 or 3 coordinates");
-  const size_t n = m.points.size();
+  const size_t n = counts.points;
   if (n < static_cast<size_t>(minPoints(c, f.order, m.closed)))
     fail("points", std::to_string(n) + " points", minRule(c, f.order, m.closed, "curve", "points"));
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = 0; values && i < n; ++i) {
     for (int d = 0; d < m.dimension; ++d)
       if (!std::isfinite(m.points[i][d]))
         fail(idx(idx("points", i), static_cast<size_t>(d)), shortestText(m.points[i][d]), "coordinates must be finite numbers");
@@ -248,18 +252,17 @@ void validateCurve(const CurveModel& m) {
   }
 
   if (c == Construction::AlphaEB) {
-    if (m.alpha.empty()) fail("alpha", "missing", "alpha is required for alpha_eb");
-    if (m.alpha.size() != n)
-      fail("alpha", std::to_string(m.alpha.size()) + " values",
+    if (counts.alpha == 0) fail("alpha", "missing", "alpha is required for alpha_eb");
+    if (counts.alpha != n)
+      fail("alpha", std::to_string(counts.alpha) + " values",
            "alpha array length must equal the number of points (" + std::to_string(n) + ")");
-    if (!alphaValuesInRange(m.alpha.data(), m.alpha.size()))
-      for (size_t i = 0; i < n; ++i) checkAlphaValue(m.alpha[i], [&] { return idx("alpha", i); });
-  } else if (!m.alpha.empty()) {
-    fail("alpha", std::to_string(m.alpha.size()) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
+    if (values) checkCurveAlphas(m.alpha.data(), n, 0);
+  } else if (counts.alpha != 0) {
+    fail("alpha", std::to_string(counts.alpha) + " values", "alpha is only allowed for alpha_eb, not " + cname(c));
   }
 
-  checkWeightsAllowed(m.weights.size(), n, c, !m.knots.empty(), std::to_string(n));
-  for (size_t i = 0; i < m.weights.size(); ++i)
+  checkWeightsAllowed(counts.weights, n, c, !m.knots.empty(), std::to_string(n));
+  for (size_t i = 0; values && i < m.weights.size(); ++i)
     checkWeight(m.weights[i], m.points[i], [&] { return idx("weights", i); });
 
   if (m.knots.empty()) return;
@@ -283,6 +286,12 @@ void validateCurve(const CurveModel& m) {
     fail("knots", std::to_string(m.knots.size()) + " knots", "knots are not used by construction " + cname(c));
   }
 }
+
+}  // namespace
+
+void validateCurve(const CurveModel& m) { checkCurve(m, {m.points.size(), m.alpha.size(), m.weights.size()}, true); }
+
+void validateCurveShape(const CurveModel& m, const SurfaceCounts& counts) { checkCurve(m, counts, false); }
 
 // docs/format.md "Trim": closed loops of at least 3 finite (U,V) points inside the knot domain
 // (widened by the tolerance), and a finite tolerance >= 0.
@@ -365,6 +374,11 @@ void checkSurfaceAlphas(const double* alpha, size_t count, size_t first, int col
   const size_t c = static_cast<size_t>(cols);
   for (size_t k = 0; k < count; ++k)
     checkAlphaValue(alpha[k], [&] { return idx(idx("alpha", (first + k) / c), (first + k) % c); });
+}
+
+void checkCurveAlphas(const double* alpha, size_t count, size_t first) {
+  if (alphaValuesInRange(alpha, count)) return;
+  for (size_t k = 0; k < count; ++k) checkAlphaValue(alpha[k], [&] { return idx("alpha", first + k); });
 }
 
 void checkSurfaceWeights(const double* weights, const glm::dvec3* points, size_t count, size_t first, int cols) {

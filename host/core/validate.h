@@ -34,10 +34,16 @@ struct SurfaceCounts {
 // of `counts` values that need not be read (`model`'s own arrays are not looked at): a net
 // streamed from its file is checked by this, then by the value rules below a run at a time.
 void validateSurfaceShape(const SurfaceModel& model, const SurfaceCounts& counts);
+// Every rule of validateCurve but those on the values of the points, α and weights, for a curve of
+// counts.points points (its own points not read) and arrays of `counts` values: a curve streamed
+// from its files (io/streamed_bands.h streamCurveSpans checks the values).
+void validateCurveShape(const CurveModel& model, const SurfaceCounts& counts);
 // The value rules on a run of `count` points or α starting at flat index `first` of a surface
 // with `cols` columns (row-major; the error names points[i][j][c] or alpha[i][j]).
 void checkSurfaceCoordinates(const glm::dvec3* points, size_t count, size_t first, int cols);
 void checkSurfaceAlphas(const double* alpha, size_t count, size_t first, int cols);
+// The α rule on a run of a curve's α from index `first` (the error names alpha[i]).
+void checkCurveAlphas(const double* alpha, size_t count, size_t first);
 // Likewise a run of weights and their points (docs/math.md §10.8: w > 0 finite, w P finite).
 void checkSurfaceWeights(const double* weights, const glm::dvec3* points, size_t count, size_t first, int cols);
 

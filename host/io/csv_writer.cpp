@@ -22,15 +22,15 @@ class CsvWriter final : public SampleWriter {
     dim_ = layout.surface ? 3 : layout.dimension;
     // Parameters are printed in the file's precision too: an fp32 file cannot hold one beyond 3.4e38.
     if (layout.precision == Precision::Float) {
-      for (const auto* ranges : {&layout.paramU, &layout.paramV}) {
-        for (const auto& [a, b] : *ranges) {
-          for (double x : {a, b}) {
-            if (std::abs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
-              char buf[kMaxNumberChars];
-              throw DerivedValueError("global parameter " + std::string(buf, writeNumber(buf, x)) +
-                                      " exceeds the fp32 range of the output (use --precision double); "
-                                      "nothing was written");
-            }
+      const size_t rows = layout.rowCount();
+      for (size_t k = 0; k < rows + layout.paramV.size(); ++k) {
+        const auto [a, b] = k < rows ? layout.rowParameter(k) : layout.paramV[k - rows];
+        for (double x : {a, b}) {
+          if (std::abs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
+            char buf[kMaxNumberChars];
+            throw DerivedValueError("global parameter " + std::string(buf, writeNumber(buf, x)) +
+                                    " exceeds the fp32 range of the output (use --precision double); "
+                                    "nothing was written");
           }
         }
       }

@@ -32,9 +32,11 @@ const char* fileKind(mode_t mode) {
   return "not a plain file";
 }
 
+// The way out for a JSON file (a model's big arrays need not be written out in it).
 std::string tooLarge(std::uint64_t maxBytes) {
   return "input files are limited to " + std::to_string(maxBytes >> 20) + " MiB (" + std::to_string(maxBytes) +
-         " bytes)";
+         " bytes); a model's big point arrays go in .npy files beside it (\"points\": {\"npy\": \"points.npy\"}, "
+         "docs/format.md)";
 }
 
 // Control characters of the input shown as '?', so a message stays one printable line.

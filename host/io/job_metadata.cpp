@@ -605,11 +605,20 @@ JobMetadata common(const FamilySpec& f, const std::string& modelPath, std::strin
 JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string modelSha256,
                           std::string_view device, Precision computedPrecision, Precision outputPrecision,
                           int samplesU) {
+  AlphaTally alpha;
+  alpha.add(model.alpha.data(), model.alpha.size());
+  return jobMetadataOf(model, alpha, !model.weights.empty(), modelPath, std::move(modelSha256), device,
+                       computedPrecision, outputPrecision, samplesU);
+}
+
+JobMetadata jobMetadataOf(const CurveModel& shape, const AlphaTally& alpha, bool rational, const std::string& modelPath,
+                          std::string modelSha256, std::string_view device, Precision computedPrecision,
+                          Precision outputPrecision, int samplesU) {
   JobMetadata m =
-      common(model.family, modelPath, std::move(modelSha256), device, computedPrecision, outputPrecision);
+      common(shape.family, modelPath, std::move(modelSha256), device, computedPrecision, outputPrecision);
   m.surface = false;
-  m.rational = !model.weights.empty();
-  if (m.usesAlpha()) m.setAlpha(model.alpha, 0, 0);
+  m.rational = rational;
+  if (m.usesAlpha()) m.setAlpha(alpha, 0, 0);
   m.samplesU = samplesU;
   m.samplesV = 1;
   return m;

@@ -169,6 +169,11 @@ std::string modelSha256(const std::filesystem::path& modelPath, const std::vecto
 JobMetadata jobMetadataOf(const CurveModel& model, const std::string& modelPath, std::string modelSha256,
                           std::string_view device, Precision computedPrecision, Precision outputPrecision,
                           int samplesU);
+// The same for a curve of shape `shape` whose α (AlphaTally) and weights (`rational`) were read as a
+// stream (io/streamed_bands.h streamCurveSpans).
+JobMetadata jobMetadataOf(const CurveModel& shape, const AlphaTally& alpha, bool rational, const std::string& modelPath,
+                          std::string modelSha256, std::string_view device, Precision computedPrecision,
+                          Precision outputPrecision, int samplesU);
 JobMetadata jobMetadataOf(const Surface& surface, const std::string& modelPath, std::string modelSha256,
                           std::string_view device, Precision computedPrecision, Precision outputPrecision,
                           int samplesU, int samplesV);

@@ -270,7 +270,14 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
   if (doc.contains("closed")) m.closed = getBool(doc.at("closed"), "closed");
 
   const json& pts = doc.at("points");
-  if (isArrayReference(pts)) {
+  // Outline: only a curve whose points are a file is left unread, as a surface's net.
+  const bool outline = deferred(pts, files);
+  size_t n = 0;
+  if (outline) {
+    deferArray(pts, "points", files, {{0, 2}, {0, 3}}, "curve points must be an (n, 2) or (n, 3) array");
+    n = size_t(files->deferred.back().header.shape[0]);
+    m.dimension = int(files->deferred.back().header.shape[1]);
+  } else if (isArrayReference(pts)) {
     NpyArray a = referencedArray(pts, "points", files, {{0, 2}, {0, 3}}, "curve points must be an (n, 2) or (n, 3) array");
     const size_t n = size_t(a.shape[0]), d = size_t(a.shape[1]);
     m.points.assign(n, glm::dvec3(0.0));
@@ -280,30 +287,37 @@ CurveModel readCurve(const json& doc, Construction c, ModelArrays* files) {
   } else {
     readCurvePoints(pts, m);
   }
+  if (!outline) n = m.points.size();
+  const std::string perPoint = "must be an array of one number per point, shape (" + std::to_string(n) + ",)";
 
   if (doc.contains("alpha")) {
     const json& a = doc.at("alpha");
     if (auto v = scalarAlpha(a)) {
-      reserveHuge(m.alpha, m.points.size()), m.alpha.assign(m.points.size(), *v);
+      if (outline) files->uniformAlpha = *v;
+      else reserveHuge(m.alpha, n), m.alpha.assign(n, *v);
+    } else if (outline && deferred(a, files)) {
+      deferArray(a, "alpha", files, {{n}}, "alpha " + perPoint);
     } else if (isArrayReference(a)) {
-      m.alpha = referencedPerPoint(a, "alpha", files, m.points.size());
+      m.alpha = referencedPerPoint(a, "alpha", files, n);
     } else {
       if (!a.is_array()) failJson("alpha", a, "alpha must be a number or an array of one number per point");
-      if (a.size() != m.points.size())
+      if (a.size() != n)
         throw ModelError("alpha", std::to_string(a.size()) + " values",
-             "alpha array length must equal the number of points (" + std::to_string(m.points.size()) + ")");
+             "alpha array length must equal the number of points (" + std::to_string(n) + ")");
       m.alpha = getNumberArray(a, "alpha", "numbers");
     }
   }
   if (doc.contains("knots")) m.knots = getNumberArray(doc.at("knots"), "knots", "numbers");
   if (doc.contains("weights")) {
     const json& w = doc.at("weights");
-    if (isArrayReference(w)) {
-      m.weights = referencedPerPoint(w, "weights", files, m.points.size());
+    if (outline && deferred(w, files)) {
+      deferArray(w, "weights", files, {{n}}, "weights " + perPoint);
+    } else if (isArrayReference(w)) {
+      m.weights = referencedPerPoint(w, "weights", files, n);
     } else {
-      if (!w.is_array() || w.size() != m.points.size())
+      if (!w.is_array() || w.size() != n)
         throw ModelError("weights", w.is_array() ? std::to_string(w.size()) + " values" : shortDump(w),
-             "weights must be an array of one number per point (" + std::to_string(m.points.size()) + ")");
+             "weights must be an array of one number per point (" + std::to_string(n) + ")");
       m.weights = getNumberArray(w, "weights", "numbers");
     }
   }
@@ -501,6 +515,17 @@ SurfaceCounts outlineCounts(const SurfaceModel& m, const ModelArrays& arrays) {
   return counts;
 }
 
+SurfaceCounts outlineCounts(const CurveModel& m, const ModelArrays& arrays) {
+  SurfaceCounts counts{m.points.size(), m.alpha.size(), m.weights.size()};
+  for (const DeferredArray& a : arrays.deferred) {
+    if (a.key == "points") counts.points = size_t(a.header.shape[0]);
+    if (a.key == "alpha") counts.alpha = size_t(a.header.count);
+    if (a.key == "weights") counts.weights = size_t(a.header.count);
+  }
+  if (arrays.uniformAlpha) counts.alpha = counts.points;
+  return counts;
+}
+
 Model parseModel(const json& doc, ModelArrays* arrays) {
   if (!doc.is_object()) failJson("(document)", doc, "a model must be a JSON object");
 
@@ -554,7 +579,11 @@ Model parseModel(const json& doc, ModelArrays* arrays) {
     return m;
   }
   CurveModel m = readCurve(doc, c, arrays);
-  validateCurve(m);
+  if (arrays && !arrays->deferred.empty()) {
+    validateCurveShape(m, outlineCounts(m, *arrays));
+  } else {
+    validateCurve(m);
+  }
   return m;
 }
 

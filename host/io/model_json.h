@@ -64,8 +64,10 @@ struct ModelArrays {
   // of its array files: their headers are checked (the shape each key needs) and listed in
   // `deferred`, the files still go to onFile and `files`, and an α given as one number is kept in
   // `uniformAlpha` rather than once per vertex. Only the shape rules are checked (core
-  // validateSurfaceShape with outlineCounts); io/streamed_net.h reads and checks the values. Curves
-  // and surfaces with their points written out are read in full (`deferred` stays empty).
+  // validateSurfaceShape or validateCurveShape with outlineCounts); io/streamed_net.h and
+  // io/streamed_bands.h read and check the values. A curve whose points are a file is left unread
+  // the same way (its points empty, its dimension from the file). Models with their points written
+  // out are read in full (`deferred` stays empty).
   bool outline = false;
   std::vector<DeferredArray> deferred;
   std::optional<double> uniformAlpha;
@@ -73,6 +75,7 @@ struct ModelArrays {
 
 // How many points, α and weights an outline's surface has, its deferred arrays counted.
 SurfaceCounts outlineCounts(const SurfaceModel& model, const ModelArrays& arrays);
+SurfaceCounts outlineCounts(const CurveModel& model, const ModelArrays& arrays);
 
 // The rule every value of an array file follows: finite. Throws the parser's ModelError (the field
 // names the element, key[i][j]..., the value the file's `name`) for the first value that is not

@@ -60,7 +60,17 @@ std::string_view fieldName(Field field) {
 
 std::pair<int, int> SampleLayout::itemIndex(size_t item) const {
   const size_t row = item / itemsV, col = item % itemsV;
-  return {spanU[row], spanV[col]};
+  return {rowSpan(row), spanV[col]};
+}
+
+int SampleLayout::rowSpan(size_t row) const {
+  return spanRows ? spanRows->first + static_cast<int>(row) : spanU[row];
+}
+
+std::pair<double, double> SampleLayout::rowParameter(size_t row) const {
+  if (!spanRows) return paramU[row];
+  const int s = rowSpan(row);
+  return {uniformSpanParameter(spanKnots, *spanRows, s, 0.0), uniformSpanParameter(spanKnots, *spanRows, s, 1.0)};
 }
 
 namespace {
@@ -80,7 +90,7 @@ double lerpInside(const std::pair<double, double>& r, double s) {
 }  // namespace
 
 std::pair<double, double> SampleLayout::parameter(size_t item, int a, int b) const {
-  const auto& ru = paramU[item / itemsV];
+  const auto ru = rowParameter(item / itemsV);
   const auto& rv = paramV[item % itemsV];
   const double su = samplesU > 1 ? static_cast<double>(a) / (samplesU - 1) : 0.0;
   const double sv = samplesV > 1 ? static_cast<double>(b) / (samplesV - 1) : 0.0;
@@ -98,7 +108,7 @@ WeldGrid SampleLayout::weldGrid() const {
 
 std::pair<double, double> SampleLayout::texCoord(size_t item, int a, int b) const {
   const auto [u, v] = parameter(item, a, b);
-  const double u0 = paramU.front().first, u1 = paramU.back().second;
+  const double u0 = rowParameter(0).first, u1 = rowParameter(rowCount() - 1).second;
   const double v0 = paramV.front().first, v1 = paramV.back().second;
   // In [0, 1] by construction; the clamp absorbs rounding at the ends (u = u1 may give 1 + ulp).
   const double s = u1 > u0 ? std::clamp((u - u0) / (u1 - u0), 0.0, 1.0) : 0.0;
@@ -109,19 +119,19 @@ std::pair<double, double> SampleLayout::texCoord(size_t item, int a, int b) cons
 }
 
 void SampleLayout::checkDerivedValues() const {
-  auto check = [&](const std::vector<std::pair<double, double>>& ranges, const char* name) {
-    for (size_t k = 0; k < ranges.size(); ++k) {
-      const auto [a, b] = ranges[k];
+  auto check = [&](size_t count, const auto& rangeOf, const char* name) {
+    for (size_t k = 0; k < count; ++k) {
+      const auto [a, b] = rangeOf(k);
       for (double x : {a, b, b - a})
         if (!std::isfinite(x)) nonFinite(std::string(name) + " interval [" + shortestText(a) + ", " + shortestText(b) + "]", x, k);
     }
-    if (!ranges.empty() && !std::isfinite(ranges.back().second - ranges.front().first)) {
-      const double range = ranges.back().second - ranges.front().first;
+    if (count > 0 && !std::isfinite(rangeOf(count - 1).second - rangeOf(0).first)) {
+      const double range = rangeOf(count - 1).second - rangeOf(0).first;
       nonFinite(std::string(name) + " range (texture coordinates)", range, 0);
     }
   };
-  check(paramU, surface ? "U" : "u");
-  check(paramV, "V");
+  check(rowCount(), [&](size_t k) { return rowParameter(k); }, surface ? "U" : "u");
+  check(paramV.size(), [&](size_t k) { return paramV[k]; }, "V");
 }
 
 namespace {

@@ -8,6 +8,7 @@
 // SVG (curves only, 2-D projection; buffers its points, so the caller caps the count), and glTF 2.0
 // (.glb, or .gltf + OUT.bin: a welded mesh held in memory by tinygltf, so the caller caps the
 // vertex count at kMaxGltfVertices and never shards it; io/gltf_writer.cpp).
+#include <shapespline/core/curve.h>
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/job_metadata.h>
@@ -56,6 +57,11 @@ struct SampleLayout {
   std::vector<int> spanU, spanV;
   // Global parameter interval [start, end] of each item row (u) and column (v); curves: paramV = {{0,0}}.
   std::vector<std::pair<double, double>> paramU, paramV;
+  // A curve streamed from its file (millions of spans): its item rows are spans spanRows->first on,
+  // their intervals from `spanKnots` (core uniformSpanParameter), computed when asked rather than
+  // listed in spanU and paramU (left empty). Read the rows through rowSpan and rowParameter.
+  std::optional<SpanRange> spanRows;
+  std::vector<double> spanKnots;
   FieldMask fields = 0;               // fields present in every chunk
   Precision precision = Precision::Double;  // of the chunk data; PLY stores this precision
   int shardIndex = 1, shardCount = 1; // 1-based K of N (1/1 when not sharded)
@@ -79,6 +85,11 @@ struct SampleLayout {
   std::vector<glm::dvec3> controlPoints;
   bool closed = false;
   std::vector<glm::dvec3> dataPoints;
+
+  // The model span of item row `row`, and its parameter interval (the lists or spanRows).
+  int rowSpan(size_t row) const;
+  std::pair<double, double> rowParameter(size_t row) const;
+  size_t rowCount() const { return spanRows ? static_cast<size_t>(spanRows->last - spanRows->first + 1) : spanU.size(); }
 
   size_t pointsPerItem() const { return static_cast<size_t>(samplesU) * static_cast<size_t>(samplesV); }
   size_t pointCount() const { return itemCount * pointsPerItem(); }

@@ -84,11 +84,6 @@ class Fnv1a {
     u64(v.size());
     words(reinterpret_cast<const unsigned char*>(v.data()), v.size());
   }
-  void points(const std::vector<glm::dvec3>& v) {
-    static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
-    u64(v.size());
-    words(reinterpret_cast<const unsigned char*>(v.data()), 3 * v.size());
-  }
   // `count` 8-byte words as one sequence (FingerprintWords).
   void words(const unsigned char* data, size_t count) {
     FingerprintWords w;
@@ -171,23 +166,72 @@ std::optional<std::pair<uint64_t, uint64_t>> parsePair(std::string_view s, std::
 
 }  // namespace
 
-std::string jobFingerprint(const CurveModel& m, const SampleLayout& layout, OutputFormat format) {
+void NetFingerprint::alphas(const double* values, size_t count) {
+  if (phase_ == Phase::Points) {
+    Fnv1a h(afterPoints());
+    h.u64(alphaCount_);
+    hash_ = h.value();
+    words_.begin(hash_);
+    phase_ = Phase::Alpha;
+  }
+  words_.add(reinterpret_cast<const unsigned char*>(values), count);
+}
+
+void NetFingerprint::weights(const double* values, size_t count) {
+  if (phase_ != Phase::Weights) {
+    alphas(nullptr, 0);
+    Fnv1a h(withKnots(words_.end(hash_)));
+    // Rational only (weightCount > 0): other jobs keep their fingerprints.
+    if (weightCount_ > 0) h.u64(weightCount_);
+    hash_ = h.value();
+    words_.begin(hash_);
+    phase_ = Phase::Weights;
+  }
+  words_.add(reinterpret_cast<const unsigned char*>(values), count);
+}
+
+std::string NetFingerprint::finish() {
+  weights(nullptr, 0);
+  Fnv1a h(weightCount_ > 0 ? words_.end(hash_) : hash_);
+  return h.hex();
+}
+
+CurveFingerprint::CurveFingerprint(const CurveModel& m, size_t pointCount, size_t alphaCount, size_t weightCount,
+                                   const SampleLayout& layout, OutputFormat format)
+    : NetFingerprint(alphaCount, weightCount), shape_(m) {
   Fnv1a h;
   job(h, layout, format);
   h.text("curve");
   family(h, m.family);
   h.u64(m.closed ? 1 : 0);
   h.u64(static_cast<uint64_t>(m.dimension));
-  h.points(m.points);
-  h.f64s(m.alpha);
-  h.f64s(m.knots);
-  if (!m.weights.empty()) h.f64s(m.weights);  // rational only: other jobs keep their fingerprints
-  return h.hex();
+  h.u64(pointCount);
+  hash_ = h.value();
+  words_.begin(hash_);
+}
+
+void CurveFingerprint::points(const glm::dvec3* p, size_t count) {
+  static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
+  words_.add(reinterpret_cast<const unsigned char*>(p), 3 * count);
+}
+
+uint64_t CurveFingerprint::withKnots(uint64_t hash) const {
+  Fnv1a h(hash);
+  h.f64s(shape_.knots);
+  return h.value();
+}
+
+std::string jobFingerprint(const CurveModel& m, const SampleLayout& layout, OutputFormat format) {
+  CurveFingerprint f(m, m.points.size(), m.alpha.size(), m.weights.size(), layout, format);
+  f.points(m.points.data(), m.points.size());
+  f.alphas(m.alpha.data(), m.alpha.size());
+  f.weights(m.weights.data(), m.weights.size());
+  return f.finish();
 }
 
 SurfaceFingerprint::SurfaceFingerprint(const SurfaceShape& m, size_t alphaCount, size_t weightCount,
                                        const SampleLayout& layout, OutputFormat format)
-    : shape_(m), alphaCount_(alphaCount), weightCount_(weightCount) {
+    : NetFingerprint(alphaCount, weightCount), shape_(m) {
   Fnv1a h;
   job(h, layout, format);
   h.text("surface");
@@ -215,36 +259,11 @@ void SurfaceFingerprint::points(const glm::dvec3* p, size_t count) {
   }
 }
 
-void SurfaceFingerprint::alphas(const double* values, size_t count) {
-  if (phase_ == Phase::Points) {
-    Fnv1a h(hash_);
-    h.u64(alphaCount_);
-    hash_ = h.value();
-    words_.begin(hash_);
-    phase_ = Phase::Alpha;
-  }
-  words_.add(reinterpret_cast<const unsigned char*>(values), count);
-}
-
-void SurfaceFingerprint::weights(const double* values, size_t count) {
-  if (phase_ != Phase::Weights) {
-    alphas(nullptr, 0);
-    Fnv1a h(words_.end(hash_));
-    h.f64s(shape_.knotsU);
-    h.f64s(shape_.knotsV);
-    // Rational only (weightCount > 0): other jobs keep their fingerprints.
-    if (weightCount_ > 0) h.u64(weightCount_);
-    hash_ = h.value();
-    words_.begin(hash_);
-    phase_ = Phase::Weights;
-  }
-  words_.add(reinterpret_cast<const unsigned char*>(values), count);
-}
-
-std::string SurfaceFingerprint::finish() {
-  weights(nullptr, 0);
-  Fnv1a h(weightCount_ > 0 ? words_.end(hash_) : hash_);
-  return h.hex();
+uint64_t SurfaceFingerprint::withKnots(uint64_t hash) const {
+  Fnv1a h(hash);
+  h.f64s(shape_.knotsU);
+  h.f64s(shape_.knotsV);
+  return h.value();
 }
 
 std::string jobFingerprint(const Surface& surface, const SampleLayout& layout, OutputFormat format) {
@@ -434,7 +453,7 @@ RawSidecar rawSidecarOf(const SampleLayout& l, const std::string& job, bool floa
   const SpanWindow w = spanWindow(l.firstItem, l.itemCount, s.itemsV);
   s.spansUOffset = w.row0;
   s.spansVOffset = w.col0;
-  for (uint64_t r = w.row0; r < w.row1 && r < l.spanU.size(); ++r) s.spansU.push_back(l.spanU[r]);
+  for (uint64_t r = w.row0; r < w.row1 && r < l.rowCount(); ++r) s.spansU.push_back(l.rowSpan(r));
   for (uint64_t c = w.col0; c < w.col1 && c < l.spanV.size(); ++c) s.spansV.push_back(l.spanV[c]);
   s.computedDouble = l.computedPrecision == Precision::Double;
   s.device = l.device;

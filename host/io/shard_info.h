@@ -55,27 +55,60 @@ class FingerprintWords {
   int carried_ = 0;
 };
 
-// jobFingerprint(surface, ...) of a surface of shape `shape` (its own α not read) with
-// `alphaCount` α values and `weightCount` weights, from its points in model order given in runs of
-// any length, then its α likewise, then its weights, then finish(): a net read a run at a time from
-// its files has the fingerprint of the built surface. `shape` is kept by reference.
-class SurfaceFingerprint {
+// A job fingerprint taken from a net's points in model order given in runs of any length, then its
+// α likewise, then its weights, then finish(): a net read a run at a time from its files has the
+// fingerprint of the built model (the streams of io/streamed_bands.h feed either kind). The α and
+// weight phases are the same for curves and surfaces; the head and the points' words are each's.
+class NetFingerprint {
  public:
-  SurfaceFingerprint(const SurfaceShape& shape, size_t alphaCount, size_t weightCount, const SampleLayout& layout,
-                     OutputFormat format);
-  void points(const glm::dvec3* points, size_t count);
+  virtual ~NetFingerprint() = default;
+  virtual void points(const glm::dvec3* points, size_t count) = 0;
   void alphas(const double* values, size_t count);
   void weights(const double* values, size_t count);
   std::string finish();
 
- private:
-  enum class Phase { Points, Alpha, Weights };
-  const SurfaceShape& shape_;
-  size_t alphaCount_ = 0, weightCount_ = 0;
+ protected:
+  NetFingerprint(size_t alphaCount, size_t weightCount) : alphaCount_(alphaCount), weightCount_(weightCount) {}
+  // The hash once every point is in, and that hash with the model's knots.
+  virtual uint64_t afterPoints() const = 0;
+  virtual uint64_t withKnots(uint64_t hash) const = 0;
   uint64_t hash_ = 0;
   FingerprintWords words_;
-  size_t rowDone_ = 0;  // points of the current row hashed
+
+ private:
+  enum class Phase { Points, Alpha, Weights };
+  size_t alphaCount_ = 0, weightCount_ = 0;
   Phase phase_ = Phase::Points;
+};
+
+// jobFingerprint(model, ...) of a curve of shape `shape` (its own points, α and weights not read)
+// with `pointCount` points, `alphaCount` α values and `weightCount` weights. `shape` is kept by
+// reference.
+class CurveFingerprint final : public NetFingerprint {
+ public:
+  CurveFingerprint(const CurveModel& shape, size_t pointCount, size_t alphaCount, size_t weightCount,
+                   const SampleLayout& layout, OutputFormat format);
+  void points(const glm::dvec3* points, size_t count) override;
+
+ private:
+  uint64_t afterPoints() const override { return words_.end(hash_); }
+  uint64_t withKnots(uint64_t hash) const override;
+  const CurveModel& shape_;
+};
+
+// jobFingerprint(surface, ...) of a surface of shape `shape` (its own α not read) with
+// `alphaCount` α values and `weightCount` weights. `shape` is kept by reference.
+class SurfaceFingerprint final : public NetFingerprint {
+ public:
+  SurfaceFingerprint(const SurfaceShape& shape, size_t alphaCount, size_t weightCount, const SampleLayout& layout,
+                     OutputFormat format);
+  void points(const glm::dvec3* points, size_t count) override;
+
+ private:
+  uint64_t afterPoints() const override { return hash_; }  // each row ends its own words
+  uint64_t withKnots(uint64_t hash) const override;
+  const SurfaceShape& shape_;
+  size_t rowDone_ = 0;  // points of the current row hashed
 };
 
 struct ShardInfo {

@@ -9,6 +9,10 @@
 // rules are applied as the values arrive, so the first error found need not be the one the full
 // parse names first (that parse checks every file's values before any other rule): a caller that
 // must name the whole job's error runs the full parse when this throws.
+//
+// A curve whose points are a .npy file streams the same way (streamCurveSpans): its points are the
+// rows (one point each), its bands runs of spans (core Curve::bandOf).
+#include <shapespline/core/curve.h>
 #include <shapespline/core/diagnostics.h>
 #include <shapespline/core/model.h>
 #include <shapespline/core/surface.h>
@@ -40,8 +44,28 @@ bool bandsCanStream(const SurfaceModel& outline, const ModelArrays& arrays);
 // α for the precision warnings. Throws ModelError for a value that breaks a rule (not necessarily
 // the full parse's first, above) and whatever `sink` throws.
 StreamedNet streamSurfaceBands(const SurfaceModel& outline, const ModelArrays& arrays,
-                               SurfaceFingerprint& fingerprint, SpanRange rows, const BandSink& sink,
+                               NetFingerprint& fingerprint, SpanRange rows, const BandSink& sink,
                                BandSizes sizes = {}, size_t windowPoints = kStreamWindowPoints,
                                SurfaceWarningScan* warnings = nullptr);
+
+// A curve whose points (and α) are .npy files, sampled in bands of spans the same way: the band
+// machinery above with a curve's points for rows (core Curve::bandOf: the same bits as the whole
+// curve's spans). Called in order with each band that meets the spans asked for.
+using CurveBandSink = std::function<void(const Curve& band, int first, int last)>;
+
+// Whether streamCurveSpans can take this outline: uniform or span-knot families (not knot
+// vectors), no weights, its points a file.
+bool curveSpansCanStream(const CurveModel& outline, const ModelArrays& arrays);
+
+// Streams the outline's values through the value rules, `fingerprint`, the α tally and `warnings`
+// (optional: the precision warnings), and hands
+// `sink` the bands that cover spans `spans` (none when spans.first > spans.last). Bands are built
+// over every span (the rest only checked), so each α-EB vertex is checked by its band and the
+// returned verticesShown is true. Throws ModelError for a value that breaks a rule (not
+// necessarily the full parse's first: a caller that must name it runs the full parse) and
+// whatever `sink` throws.
+StreamedNet streamCurveSpans(const CurveModel& outline, const ModelArrays& arrays, NetFingerprint& fingerprint,
+                             SpanRange spans, const CurveBandSink& sink, BandSizes sizes = {},
+                             size_t windowPoints = kStreamWindowPoints, CurveWarningScan* warnings = nullptr);
 
 }  // namespace shapespline::io

@@ -168,7 +168,8 @@ TEST(InputLimits, OversizedFilesAreRefusedBeforeReading) {
   { std::ofstream o(dir / "big.json"); }
   fs::resize_file(dir / "big.json", (32u << 20) + 1);  // sparse: costs no disk
   expectShortError(runBounded("sample big.json -o out.ply --device cpu", dir.path()), "MODEL",
-                   "input files are limited to 32 MiB (33554432 bytes) (got 33554433 bytes)");
+                   "input files are limited to 32 MiB (33554432 bytes); a model's big point arrays go in .npy files beside it "
+                   "(\"points\": {\"npy\": \"points.npy\"}, docs/format.md) (got 33554433 bytes)");
   expectShortError(runBounded("eval " + quote(exampleModel("open_aeb.json")) + " --at big.json --device cpu", dir.path()),
                    "--at", "input files are limited to 32 MiB");
   expectShortError(

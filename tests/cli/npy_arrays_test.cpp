@@ -117,6 +117,61 @@ save("net_coarse.npy", coarse)
 save("alpha_coarse.npy", coarse_alpha)
 model("ref_coarse.json", points={"npy": "net_coarse.npy"}, alpha={"npy": "alpha_coarse.npy"})
 model("inline_coarse.json", points=coarse.tolist(), alpha=coarse_alpha.tolist())
+# Curves in files (tests ...Curves...), each beside the same numbers written out: α-EB open (2-D
+# points, α a file), closed (3-D), closed with α one number, a closed UBP curve, an extended
+# B-spline with span knots; and broken ones (a NaN late, α out of range, V beyond fp64, bad shapes,
+# too few points).
+mc = 40
+tc = np.linspace(0, 5, mc)
+C2 = np.stack([np.cos(tc) * (1 + 0.1 * tc), np.sin(1.3 * tc)], 1)
+C3 = np.stack([np.cos(tc), np.sin(tc), 0.05 * tc * tc], 1)
+ca = np.random.default_rng(4).uniform(0.1, 1.0, mc)
+save("c2.npy", C2)
+save("c3.npy", C3)
+save("ca.npy", ca)
+aebc = {"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": 0.25}
+ubpc = {"kind": "curve", "construction": "ubp", "order": 5, "lambda": 0.5, "closed": True}
+spans = [0.5 * s + 0.01 * s * s for s in range(mc - 2)]
+ebsc = {"kind": "curve", "construction": "extended_bspline", "degree": 4, "knots": spans}
+def curves(name, head, pts, file, alpha=None, alpha_file=None):
+    ref = dict(head, points={"npy": file})
+    written = dict(head, points=pts.tolist())
+    if alpha is not None:
+        ref["alpha"] = {"npy": alpha_file} if alpha_file else alpha
+        written["alpha"] = alpha.tolist() if alpha_file else alpha
+    json.dump(ref, open(os.path.join(d, "curve_ref_" + name + ".json"), "w"))
+    json.dump(written, open(os.path.join(d, "curve_inline_" + name + ".json"), "w"))
+curves("open", aebc, C2, "c2.npy", ca, "ca.npy")
+curves("closed", dict(aebc, closed=True), C3, "c3.npy", ca, "ca.npy")
+curves("uniform", dict(aebc, closed=True), C2, "c2.npy", 0.5)
+curves("ubp", ubpc, C3, "c3.npy")
+curves("knots", ebsc, C2, "c2.npy")
+# For the fp32 kernels: a last point 1e7 times as far (the whole curve is scaled, its first bands
+# not: the job starts again whole), and a curve fp32 resolves poorly (1e6 from the origin, α 1e-3).
+far_curve = C2.copy(); far_curve[-1] *= 1e7
+save("c_far.npy", far_curve)
+curves("far", aebc, far_curve, "c_far.npy", ca, "ca.npy")
+coarse_alpha_c = ca.copy(); coarse_alpha_c[7] = 1e-3
+save("c_coarse.npy", C2 + 1e6)
+save("ca_coarse.npy", coarse_alpha_c)
+curves("coarse", aebc, C2 + 1e6, "c_coarse.npy", coarse_alpha_c, "ca_coarse.npy")
+bad = C2.copy(); bad[30, 1] = np.nan
+save("c_nan.npy", bad)
+bad_alpha = ca.copy(); bad_alpha[12] = 1.5
+save("ca_range.npy", bad_alpha)
+save("c_big.npy", C2 * 1e300)
+save("ca_short.npy", ca[:-1])
+save("c_wide.npy", np.ones((mc, 4)))
+save("c_few.npy", C2[:1])
+def bad_curve(name, points, alpha):
+    json.dump(dict(aebc, points={"npy": points}, alpha=alpha), open(os.path.join(d, "curve_bad_" + name + ".json"), "w"))
+bad_curve("nan", "c_nan.npy", {"npy": "ca.npy"})
+bad_curve("alpha_range", "c2.npy", {"npy": "ca_range.npy"})
+bad_curve("overflow", "c_big.npy", 1e-300)
+bad_curve("alpha_shape", "c2.npy", {"npy": "ca_short.npy"})
+bad_curve("shape", "c_wide.npy", {"npy": "ca.npy"})
+bad_curve("few", "c_few.npy", 0.5)
+bad_curve("nan_alpha_shape", "c_nan.npy", {"npy": "ca_short.npy"})
 # A rational B-spline surface from files.
 save("wsurf.npy", np.random.default_rng(5).uniform(0.5, 2.0, (n, n)))
 ku = [0, 0, 0] + list(np.linspace(0.1, 0.9, n - 3)) + [1, 1, 1]
@@ -151,6 +206,14 @@ for key in src:
 print("OK")
 )PY";
 
+// The warning lines of a command's stderr.
+std::string warningLines(const std::string& err) {
+  std::string out;
+  for (size_t at = err.find("warning:"); at != std::string::npos; at = err.find("warning:", at + 1))
+    out += err.substr(at, err.find('\n', at) - at) + "\n";
+  return out;
+}
+
 class NpyArrays : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -173,6 +236,64 @@ class NpyArrays : public ::testing::Test {
                       (model.rfind("curve", 0) == 0 ? " --samples 9" : " --grid 4") + " --derivatives --device cpu -q " +
                       extra,
                   dir_.path());
+  }
+
+  // The line of `key` in a sidecar ("" when it has none).
+  std::string line(const std::string& sidecar, const std::string& key) const {
+    const std::string text = readText(dir_ / sidecar);
+    const size_t at = text.find("\"" + key + "\":");
+    return at == std::string::npos ? std::string() : text.substr(at, text.find('\n', at) - at);
+  }
+  // The sidecar without the lines that name the model file, its digest and the output itself.
+  std::string identity(const std::string& sidecar) const {
+    std::string kept, text = readText(dir_ / sidecar);
+    for (size_t at = 0; at < text.size();) {
+      const size_t end = std::min(text.find('\n', at), text.size());
+      const std::string line = text.substr(at, end - at);
+      if (line.find("\"model_file\"") == std::string::npos && line.find("\"model_sha256\"") == std::string::npos &&
+          line.find("\"source\"") == std::string::npos && line.find("\"data_file\"") == std::string::npos)
+        kept += line + "\n";
+      at = end + 1;
+    }
+    return kept;
+  }
+
+  // `ref` (its net in files, sampled in bands as it streams) and `written` (the same numbers in the
+  // JSON, built whole) sampled with `options` to `format`: the same bytes, the same identity in the
+  // sidecar (its metadata but for the model file and digest), the same precision warnings, and the
+  // summary naming the bands.
+  void expectBandsAsBuilt(const std::string& ref, const std::string& written, const std::string& format,
+                          const std::string& options) {
+    SCOPED_TRACE(ref + " to " + format);
+    const std::string a = "banded" + format, b = "built" + format;
+    const CliResult banded = runCli("sample " + quote((models() / ref).string()) + " -o " + quote((dir_ / a).string()) + options,
+                                    dir_.path());
+    const CliResult built = runCli(
+        "sample " + quote((models() / written).string()) + " -o " + quote((dir_ / b).string()) + options, dir_.path());
+    ASSERT_EQ(banded.rc, 0) << banded.err;
+    ASSERT_EQ(built.rc, 0) << built.err;
+    EXPECT_NE(banded.err.find("bands as they were sampled"), std::string::npos) << banded.err;
+    EXPECT_EQ(built.err.find("bands"), std::string::npos) << built.err;
+    EXPECT_GT(fs::file_size(dir_ / a), 1000u);
+    EXPECT_TRUE(readText(dir_ / a) == readText(dir_ / b)) << "the bands sampled other bytes";
+    EXPECT_EQ(warningLines(banded.err), warningLines(built.err));
+    if (format == ".csv") return;
+    EXPECT_EQ(identity(a + ".json"), identity(b + ".json"));
+    const std::string ma = line(a + ".json", "metadata"), mb = line(b + ".json", "metadata");
+    EXPECT_EQ(ma.substr(0, ma.find("\"model_file\"")), mb.substr(0, mb.find("\"model_file\""))) << "metadata";
+  }
+
+  // An empty shard written to empty.f64 and one that samples to one.f64: both written, the first
+  // empty, and both with the same job fingerprint and metadata.
+  void expectTheSameJob(const CliResult& empty, const CliResult& one) {
+    ASSERT_EQ(empty.rc, 0) << empty.err;
+    ASSERT_EQ(one.rc, 0) << one.err;
+    EXPECT_EQ(fs::file_size(dir_ / "empty.f64"), 0u);
+    EXPECT_GT(fs::file_size(dir_ / "one.f64"), 0u);
+    for (const char* key : {"job", "metadata"}) {
+      EXPECT_NE(line("empty.f64.json", key), "") << key;
+      EXPECT_EQ(line("empty.f64.json", key), line("one.f64.json", key)) << key;
+    }
   }
 
   ScratchDir dir_{"npy_arrays"};
@@ -329,23 +450,11 @@ TEST_F(NpyArrays, EmptyShardsCarryTheJobOfTheShardsThatSample) {
                       " --grid 4 --device cpu -q --shard " + std::to_string(k) + "/" + std::to_string(n),
                   dir_.path());
   };
-  auto line = [&](const std::string& sidecar, const std::string& key) {
-    const std::string text = readText(dir_ / sidecar);
-    const size_t at = text.find("\"" + key + "\":");
-    return at == std::string::npos ? std::string() : text.substr(at, text.find('\n', at) - at);
-  };
   // 81 patches (α-EB) or 64 (the rational B-spline) in 100 shards: shard 1 has none, shard 100 one.
   for (const char* model : {"ref.json", "ref32.json", "ref_uniform.json", "nurbs_ref.json"}) {
     SCOPED_TRACE(model);
     const CliResult empty = shard(model, 1, 100, "empty.f64"), one = shard(model, 100, 100, "one.f64");
-    ASSERT_EQ(empty.rc, 0) << empty.err;
-    ASSERT_EQ(one.rc, 0) << one.err;
-    EXPECT_EQ(fs::file_size(dir_ / "empty.f64"), 0u);
-    EXPECT_GT(fs::file_size(dir_ / "one.f64"), 0u);
-    for (const char* key : {"job", "metadata"}) {
-      EXPECT_NE(line("empty.f64.json", key), "") << key;
-      EXPECT_EQ(line("empty.f64.json", key), line("one.f64.json", key)) << key;
-    }
+    expectTheSameJob(empty, one);
   }
   // 82 shards of 81 patches: shard 1 is empty; all of them merge into the whole job's file.
   std::string files;
@@ -393,43 +502,13 @@ TEST_F(NpyArrays, EmptyShardsRefuseBadArraysAsTheWholeJob) {
 // fingerprint and metadata in the sidecar, for closed and open nets, α per vertex or one number,
 // plain families, and shards that sample; the summary says how many bands it took.
 TEST_F(NpyArrays, JobsOnTheCpuSampleTheNetInBandsAsItStreams) {
-  // The sidecar without the lines that name the model file, its digest and the output itself.
-  auto identity = [&](const std::string& sidecar) {
-    std::string kept, text = readText(dir_ / sidecar);
-    for (size_t at = 0; at < text.size();) {
-      const size_t end = std::min(text.find('\n', at), text.size());
-      const std::string line = text.substr(at, end - at);
-      if (line.find("\"model_file\"") == std::string::npos && line.find("\"model_sha256\"") == std::string::npos &&
-          line.find("\"source\"") == std::string::npos && line.find("\"data_file\"") == std::string::npos)
-        kept += line + "\n";
-      at = end + 1;
-    }
-    return kept;
-  };
   const std::pair<const char*, const char*> pairs[] = {
       {"ref.json", "inline.json"},           {"ref32.json", "inline32.json"},
       {"ref_closed.json", "inline_closed.json"}, {"ref_uniform.json", "inline_uniform.json"},
       {"ref_ubp.json", "inline_ubp.json"}};
   for (const auto& [ref, written] : pairs) {
-    for (const char* format : {".f32", ".f64", ".npy", ".csv"}) {
-      SCOPED_TRACE(std::string(ref) + " to " + format);
-      const std::string a = std::string("banded") + format, b = std::string("built") + format;
-      const CliResult banded = runCli("sample " + quote((models() / ref).string()) + " -o " +
-                                          quote((dir_ / a).string()) + " --grid 3x4 --derivatives --normals --device cpu",
-                                      dir_.path());
-      const CliResult built = runCli("sample " + quote((models() / written).string()) + " -o " +
-                                         quote((dir_ / b).string()) + " --grid 3x4 --derivatives --normals --device cpu",
-                                     dir_.path());
-      ASSERT_EQ(banded.rc, 0) << banded.err;
-      ASSERT_EQ(built.rc, 0) << built.err;
-      EXPECT_NE(banded.err.find("bands as they were sampled"), std::string::npos) << banded.err;
-      EXPECT_EQ(built.err.find("bands"), std::string::npos) << built.err;
-      EXPECT_GT(fs::file_size(dir_ / a), 1000u);
-      EXPECT_TRUE(readText(dir_ / a) == readText(dir_ / b)) << "the bands sampled other bytes";
-      if (std::string(format) != ".csv") {
-        EXPECT_EQ(identity(a + ".json"), identity(b + ".json"));
-      }
-    }
+    for (const char* format : {".f32", ".f64", ".npy", ".csv"})
+      expectBandsAsBuilt(ref, written, format, " --grid 3x4 --derivatives --normals --device cpu");
   }
   // Shards that sample stream their own rows' bands; they merge into the whole job's bytes.
   std::string files;
@@ -450,6 +529,69 @@ TEST_F(NpyArrays, JobsOnTheCpuSampleTheNetInBandsAsItStreams) {
             0);
   EXPECT_GT(fs::file_size(dir_ / "whole.f64"), 1000u);
   EXPECT_TRUE(readText(dir_ / "merged.f64") == readText(dir_ / "whole.f64"));
+}
+
+// A curve whose points (and α) are files streams the same way, in bands of spans
+// (io/streamed_bands.h streamCurveSpans): a job to a raw, .npy or CSV file samples the bytes of the
+// same curve written out, with the same identity in the sidecar (open and closed α-EB curves,
+// whose wrapped spans need the first points at the end; α one number; a closed UBP curve; span
+// knots); shards that sample merge into the whole job's bytes, and an empty shard carries the job
+// of the shards that sample.
+TEST_F(NpyArrays, CurvesInFilesSampleInBandsAsTheyStream) {
+  auto run = [&](const std::string& model, const std::string& out, const std::string& extra = "") {
+    return runCli("sample " + quote((models() / model).string()) + " -o " + quote((dir_ / out).string()) +
+                      " --samples 5 --derivatives --device cpu" + extra,
+                  dir_.path());
+  };
+  for (const char* name : {"open", "closed", "uniform", "ubp", "knots", "far", "coarse"}) {
+    const std::string ref = std::string("curve_ref_") + name + ".json", written = std::string("curve_inline_") + name + ".json";
+    for (const char* format : {".f32", ".f64", ".npy", ".csv"})
+      expectBandsAsBuilt(ref, written, format, " --samples 5 --derivatives --device cpu");
+  }
+  // Three shards of the closed curve (the first and last hold its wrapped spans) merge into the
+  // whole job's bytes; an empty shard of 100 carries the job and metadata of one that samples.
+  std::string files;
+  for (int k = 1; k <= 3; ++k) {
+    const std::string out = "part" + std::to_string(k) + ".f64";
+    const CliResult r = run("curve_ref_closed.json", out, " --shard " + std::to_string(k) + "/3");
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_NE(r.err.find("bands as they were sampled"), std::string::npos) << r.err;
+    files += " " + quote((dir_ / out).string());
+  }
+  ASSERT_EQ(runCli("merge -o " + quote((dir_ / "merged.f64").string()) + files, dir_.path()).rc, 0);
+  ASSERT_EQ(run("curve_inline_closed.json", "whole.f64").rc, 0);
+  EXPECT_GT(fs::file_size(dir_ / "whole.f64"), 1000u);
+  EXPECT_TRUE(readText(dir_ / "merged.f64") == readText(dir_ / "whole.f64"));
+  for (const char* model : {"curve_ref_closed.json", "curve_ref_uniform.json", "curve_ref_knots.json"}) {
+    SCOPED_TRACE(model);
+    const CliResult empty = run(model, "empty.f64", " --shard 1/100"), one = run(model, "one.f64", " --shard 100/100");
+    expectTheSameJob(empty, one);
+  }
+}
+
+// A curve in files that breaks a rule is refused by an empty shard and by the whole job (which
+// streams it in bands) as the job that reads it whole refuses it: the same error, exit 2, no file.
+TEST_F(NpyArrays, CurvesInFilesRefuseBadArraysAsTheWholeJob) {
+  for (const char* model : {"curve_bad_nan.json", "curve_bad_alpha_range.json", "curve_bad_overflow.json",
+                            "curve_bad_alpha_shape.json", "curve_bad_shape.json", "curve_bad_few.json",
+                            "curve_bad_nan_alpha_shape.json"}) {
+    SCOPED_TRACE(model);
+    std::string errors[3];
+    int k = 0;
+    const std::string saveModel = " --save-model " + quote((dir_ / "saved.json").string());
+    for (const std::string& extra : {std::string(" --shard 1/200"), std::string(), saveModel}) {
+      fs::remove(dir_ / "out.f32");
+      const CliResult r = runCli("sample " + quote((models() / model).string()) + " -o " +
+                                     quote((dir_ / "out.f32").string()) + " --samples 4 --device cpu -q" + extra,
+                                 dir_.path());
+      EXPECT_EQ(r.rc, 2) << extra << ": " << r.err;
+      EXPECT_FALSE(fs::exists(dir_ / "out.f32")) << extra << ": partial output";
+      errors[k++] = r.err;
+    }
+    EXPECT_NE(errors[2], "");
+    EXPECT_EQ(errors[0], errors[2]) << "an empty shard";
+    EXPECT_EQ(errors[1], errors[2]) << "the whole job";
+  }
 }
 
 // What the bands cannot settle alone starts the job again whole, whose outcome is then the job's:
@@ -519,18 +661,35 @@ TEST_F(NpyArrays, JobsOnVulkanSampleTheNetInBandsToo) {
     EXPECT_EQ(banded.err.find("bands as they were sampled") == std::string::npos, restarts) << banded.err;
     EXPECT_GT(fs::file_size(dir_ / "a.f32"), 1000u);
     EXPECT_TRUE(readText(dir_ / "a.f32") == readText(dir_ / "b.f32")) << "the bands sampled other bytes";
-    auto warnings = [](const std::string& err) {
-      std::string out;
-      for (size_t at = err.find("warning:"); at != std::string::npos; at = err.find("warning:", at + 1))
-        out += err.substr(at, err.find('\n', at) - at) + "\n";
-      return out;
-    };
-    EXPECT_EQ(warnings(banded.err), warnings(built.err));
+    EXPECT_EQ(warningLines(banded.err), warningLines(built.err));
     if (std::string(ref) == "ref_coarse.json") {
-      EXPECT_NE(warnings(banded.err).find("fp32 GPU kernels lose"), std::string::npos) << banded.err;
-      EXPECT_NE(warnings(banded.err).find("in fp32 (7 digits)"), std::string::npos) << banded.err;
+      EXPECT_NE(warningLines(banded.err).find("fp32 GPU kernels lose"), std::string::npos) << banded.err;
+      EXPECT_NE(warningLines(banded.err).find("in fp32 (7 digits)"), std::string::npos) << banded.err;
     }
   }
+}
+
+// Curves in files on the GPU (fp32 kernels): bands of spans planned as the whole curve is, the
+// bytes, identity and precision warnings of the curve written out; a curve whose whole scale
+// differs from its first bands' starts again whole.
+TEST_F(NpyArrays, CurvesInFilesSampleInBandsOnVulkanToo) {
+  REQUIRE_VULKAN();
+  const std::string options = " --samples 5 --derivatives --device vulkan --precision float --require-device";
+  for (const char* name : {"open", "closed", "uniform", "ubp", "knots", "coarse"}) {
+    const std::string ref = std::string("curve_ref_") + name + ".json", written = std::string("curve_inline_") + name + ".json";
+    expectBandsAsBuilt(ref, written, ".f32", options);
+  }
+  const CliResult coarse = runCli("sample " + quote((models() / "curve_ref_coarse.json").string()) + " -o " +
+                                      quote((dir_ / "coarse.f32").string()) + options, dir_.path());
+  EXPECT_NE(warningLines(coarse.err).find("fp32 GPU kernels lose"), std::string::npos) << coarse.err;
+  const CliResult far = runCli("sample " + quote((models() / "curve_ref_far.json").string()) + " -o " +
+                                   quote((dir_ / "far_a.f32").string()) + options, dir_.path());
+  const CliResult farBuilt = runCli("sample " + quote((models() / "curve_inline_far.json").string()) + " -o " +
+                                        quote((dir_ / "far_b.f32").string()) + options, dir_.path());
+  ASSERT_EQ(far.rc, 0) << far.err;
+  ASSERT_EQ(farBuilt.rc, 0) << farBuilt.err;
+  EXPECT_EQ(far.err.find("bands"), std::string::npos) << "the scaled curve was not started again whole: " << far.err;
+  EXPECT_TRUE(readText(dir_ / "far_a.f32") == readText(dir_ / "far_b.f32"));
 }
 
 }  // namespace

@@ -69,7 +69,8 @@ TEST(ReadInputFile, SizeIsCheckedBeforeReading) {
   const ModelError e = modelError([&] { io::readInputFile(p, "MODEL", 9); });
   EXPECT_EQ(e.field(), "MODEL");
   EXPECT_EQ(e.value(), "10 bytes");
-  EXPECT_EQ(e.rule(), "input files are limited to 0 MiB (9 bytes)");
+  EXPECT_EQ(e.rule(), "input files are limited to 0 MiB (9 bytes); a model's big point arrays go in .npy files beside it "
+                      "(\"points\": {\"npy\": \"points.npy\"}, docs/format.md)");
   EXPECT_EQ(io::readInputFile(p, "MODEL", 10), "0123456789");
   fs::remove(p);
 }

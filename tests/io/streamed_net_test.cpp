@@ -528,5 +528,147 @@ TEST_F(StreamedNet, BandsStopAtABrokenNet) {
   }
 }
 
+// ---- Curves: the same machinery, a curve's points for rows ------------------------------------------
+
+// A curve streamed from its files hands out bands of spans that evaluate to the whole curve's bits
+// (open and closed α-EB curves, whose wrapped spans read the first points at the end and the last
+// at the start; α from a file or one number; a closed UBP curve; span knots), and its stream gives
+// the built curve's fingerprint and metadata, for any band size, window and range of spans.
+TEST_F(StreamedNet, CurveBandsAreTheWholeCurvesSpans) {
+  constexpr int kN = 23;
+  std::vector<double> xy, xyz, alpha;
+  for (int i = 0; i < kN; ++i) {
+    const double t = 0.27 * i;
+    xy.insert(xy.end(), {std::cos(t) * (1.0 + 0.1 * i), std::sin(1.3 * t)});
+    xyz.insert(xyz.end(), {std::cos(t), std::sin(t), 0.05 * i * i});
+    alpha.push_back(0.2 + 0.7 * std::abs(std::sin(0.9 * i)));
+  }
+  write("c2.npy", npyBytes("(23, 2)", xy));
+  write("c3.npy", npyBytes("(23, 3)", xyz));
+  write("ca.npy", npyBytes("(23,)", alpha));
+  nlohmann::json knots = nlohmann::json::array();
+  for (int s = 0; s <= kN - 3; ++s) knots.push_back(0.5 * s + 0.01 * s * s);
+  const std::string aeb = R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "lambda": 0.25, )";
+  const std::vector<std::string> docs = {
+      aeb + R"("alpha": {"npy": "ca.npy"}, "points": {"npy": "c2.npy"}})",
+      aeb + R"("alpha": {"npy": "ca.npy"}, "closed": true, "points": {"npy": "c3.npy"}})",
+      aeb + R"("alpha": 0.3, "closed": true, "points": {"npy": "c2.npy"}})",
+      R"({"kind": "curve", "construction": "ubp", "order": 5, "lambda": 0.5, "closed": true, "points": {"npy": "c3.npy"}})",
+      R"({"kind": "curve", "construction": "extended_bspline", "degree": 4, "knots": )" + knots.dump() +
+          R"(, "points": {"npy": "c2.npy"}})",
+  };
+  for (const std::string& doc : docs) {
+    SCOPED_TRACE(doc);
+    write("m.json", doc);
+    const Curve whole = Curve::create(std::get<CurveModel>(loadModelFile(dir_ / "m.json")));
+    SampleLayout layout;
+    layout.samplesU = 4;
+    layout.fields = fieldBit(Field::Point);
+    layout.totalItems = static_cast<size_t>(whole.spans().last - whole.spans().first + 1);
+    const std::string builtFingerprint = jobFingerprint(whole.model(), layout, OutputFormat::RawF32);
+    const JobMetadata full = jobMetadataOf(whole.model(), "m.json", "", "cpu", Precision::Double, Precision::Double, 4);
+    const SpanRange all = whole.spans();
+    for (const SpanRange spans : {all, SpanRange{all.first + 2, all.last - 3}, SpanRange{all.last, all.last},
+                                  SpanRange{0, -1}}) {
+      for (const BandSizes sizes : {BandSizes{1, 1}, BandSizes{2, 1 << 20}, BandSizes{1, 2000}}) {
+        for (size_t window : {size_t{1}, size_t{7}, size_t{kStreamWindowPoints}}) {
+          const std::string what = "spans " + std::to_string(spans.first) + ".." + std::to_string(spans.last) +
+                                   ", first band " + std::to_string(sizes.firstRows) + ", window " +
+                                   std::to_string(window);
+          ModelArrays arrays;
+          arrays.folder = dir_;
+          arrays.outline = true;
+          const CurveModel outline = std::get<CurveModel>(parseModelText(doc, &arrays));
+          ASSERT_TRUE(outline.points.empty()) << "an outline read its points";
+          ASSERT_TRUE(curveSpansCanStream(outline, arrays)) << what;
+          const SurfaceCounts counts = outlineCounts(outline, arrays);
+          CurveFingerprint f(outline, counts.points, counts.alpha, counts.weights, layout, OutputFormat::RawF32);
+          int covered = spans.first;  // the bands handed out cover spans.first..covered - 1
+          const io::StreamedNet net = streamCurveSpans(
+              outline, arrays, f, spans,
+              [&](const Curve& band, int first, int last) {
+                EXPECT_LE(first, covered) << what;
+                EXPECT_TRUE(last >= spans.first && first <= spans.last) << what << ": a band outside the spans";
+                covered = std::max(covered, last + 1);
+                ASSERT_EQ(band.spans().last, last - first) << what;
+                for (int s = first; s <= last; ++s)
+                  for (double t : {0.0, 0.3, 1.0}) {
+                    const CurvePoint a = band.evaluate(s - first, t), b = whole.evaluate(s, t);
+                    EXPECT_EQ(std::memcmp(&a, &b, sizeof a), 0) << what << ": span " << s << " at " << t;
+                  }
+              },
+              sizes, window);
+          if (spans.first > spans.last) {
+            EXPECT_EQ(covered, spans.first) << what << ": a band for no spans";
+          } else {
+            EXPECT_GE(covered, spans.last + 1) << what << ": the bands cover the spans";
+          }
+          EXPECT_EQ(f.finish(), builtFingerprint) << what;
+          const JobMetadata m = jobMetadataOf(outline, net.alpha, net.rational, "m.json", "", "cpu", Precision::Double,
+                                              Precision::Double, 4);
+          EXPECT_EQ(metadataJson(m), metadataJson(full)) << what;
+          EXPECT_TRUE(net.verticesShown) << what;
+        }
+      }
+    }
+  }
+}
+
+// A broken curve stops its stream with a ModelError, whatever the window and the spans asked for
+// (an empty shard asks for none): a coordinate or α not finite, α out of (0,1], a V beyond fp64
+// (named as the full parse names it).
+TEST_F(StreamedNet, CurveStreamsStopAtABrokenCurve) {
+  constexpr int kN = 12;
+  std::vector<double> xy, alpha;
+  for (int i = 0; i < kN; ++i) {
+    xy.insert(xy.end(), {1e300 * std::cos(0.5 * i), 1e300 * std::sin(0.5 * i)});
+    alpha.push_back(0.5);
+  }
+  auto withValue = [](std::vector<double> v, size_t k, double x) {
+    v[k] = x;
+    return v;
+  };
+  const std::string doc = R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, )"
+                          R"("alpha": {"npy": "a.npy"}, "closed": true, "points": {"npy": "p.npy"}})";
+  struct Case {
+    std::string what;
+    std::vector<double> points, alpha;
+  };
+  const std::vector<Case> cases = {
+      {"the last coordinate NaN", withValue(xy, xy.size() - 1, std::numeric_limits<double>::quiet_NaN()), alpha},
+      {"alpha 0 at 5", xy, withValue(alpha, 5, 0.0)},
+      {"alpha 1.5 at 0", xy, withValue(alpha, 0, 1.5)},
+      {"alpha 1e-300 at 11 (V overflows)", xy, withValue(alpha, 11, 1e-300)},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    write("p.npy", npyBytes("(12, 2)", c.points));
+    write("a.npy", npyBytes("(12,)", c.alpha));
+    write("m.json", doc);
+    std::string expected;
+    try {
+      (void)Curve::create(std::get<CurveModel>(loadModelFile(dir_ / "m.json")));
+    } catch (const ModelError& e) {
+      expected = e.what();
+    }
+    ASSERT_NE(expected, "") << "the full parse accepts the broken curve";
+    for (size_t window : {size_t{1}, size_t{5}, size_t{64}}) {
+      ModelArrays arrays;
+      arrays.folder = dir_;
+      arrays.outline = true;
+      const CurveModel outline = std::get<CurveModel>(parseModelText(doc, &arrays));
+      CurveFingerprint f(outline, kN, kN, 0, SampleLayout{}, OutputFormat::RawF32);
+      try {
+        (void)streamCurveSpans(outline, arrays, f, {0, -1}, {}, BandSizes{1, 1}, window);
+        ADD_FAILURE() << "the stream accepted a broken curve (window " << window << ")";
+      } catch (const ModelError& e) {
+        if (c.what.find("V overflows") != std::string::npos) {
+          EXPECT_EQ(e.what(), expected) << window;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace shapespline::io

@@ -137,6 +137,17 @@ TEST(MemoryBoundRss, CpuOneSpanAtMaxSamples) {
   EXPECT_LE(m.maxRssKiB, kCpuBoundKiB);
 }
 
+// A .npy file (fp64, C order) of `shape` opened for its values, its header written; null on failure.
+std::FILE* openNpy(const fs::path& path, const std::string& shape) {
+  std::string dict = "{'descr': '<f8', 'fortran_order': False, 'shape': " + shape + ", }";
+  while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
+  dict += '\n';
+  const std::string head = std::string("\x93NUMPY\x01\x00", 8) + char(dict.size() & 0xff) + char(dict.size() >> 8) + dict;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (f) std::fwrite(head.data(), 1, head.size(), f);
+  return f;
+}
+
 // Issue 31: a big net in a .npy file is never held where it need not be. A shard with no items
 // streams the file through its rules and the job fingerprint (io/streamed_net.h); a job to a raw
 // file samples it in bands as it streams (io/streamed_bands.h), a one-item shard as the whole job.
@@ -148,14 +159,8 @@ TEST(MemoryBoundRss, ABigNetIsNotHeldWhereItStreams) {
   ScratchDir dir("mem_big_net");
   constexpr int kN = 2000;  // 96 MB of fp64 points
   {
-    std::string dict = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(kN) + ", " +
-                       std::to_string(kN) + ", 3), }";
-    while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
-    dict += '\n';
-    std::string head = std::string("\x93NUMPY\x01\x00", 8) + char(dict.size() & 0xff) + char(dict.size() >> 8) + dict;
-    std::FILE* f = std::fopen((dir / "net.npy").c_str(), "wb");
+    std::FILE* f = openNpy(dir / "net.npy", "(" + std::to_string(kN) + ", " + std::to_string(kN) + ", 3)");
     ASSERT_NE(f, nullptr);
-    std::fwrite(head.data(), 1, head.size(), f);
     std::vector<double> row(3 * kN);
     for (int i = 0; i < kN; ++i) {
       for (int j = 0; j < kN; ++j) {
@@ -191,6 +196,54 @@ TEST(MemoryBoundRss, ABigNetIsNotHeldWhereItStreams) {
               "job in bands at %ld MiB; a one-item PLY shard (built) at %ld MiB\n",
               netKiB / 1024, empty.maxRssKiB / 1024, one.maxRssKiB / 1024, whole.maxRssKiB / 1024,
               built.maxRssKiB / 1024);
+}
+
+// Issue 53: a big α-EB curve in a .npy file streams the same way, in bands of spans
+// (io/streamed_bands.h streamCurveSpans). Read whole, a curve cost about 15 times its file (the
+// points, the extended polygon, nodes, V, α, the layout's lists). An empty shard and a one-span
+// shard peak under 64 MiB, and the whole job to .f32 under 1.5 times the file plus 100 MiB (it
+// holds bands of up to 16 MiB of net and the sampler's buffers; the bound scales with the file).
+TEST(MemoryBoundRss, ABigCurveIsNotHeldWhereItStreams) {
+  ScratchDir dir("mem_big_curve");
+  constexpr size_t kN = 1'500'000;  // 24 MB of 2-D fp64 points
+  {
+    std::FILE* f = openNpy(dir / "curve.npy", "(" + std::to_string(kN) + ", 2)");
+    ASSERT_NE(f, nullptr);
+    std::vector<double> xy(2 * 4096);
+    for (size_t first = 0; first < kN; first += 4096) {
+      const size_t n = std::min<size_t>(4096, kN - first);
+      for (size_t k = 0; k < n; ++k) {
+        const double t = 1e-3 * static_cast<double>(first + k);
+        xy[2 * k] = std::cos(t) * (1.0 + 1e-3 * t), xy[2 * k + 1] = std::sin(1.3 * t) * t;
+      }
+      std::fwrite(xy.data(), sizeof(double), 2 * n, f);
+    }
+    ASSERT_EQ(std::fclose(f), 0);
+  }
+  writeText(dir / "m.json", R"({"kind": "curve", "construction": "alpha_eb", "degree": 5, "alpha": 0.5, )"
+                            R"("points": {"npy": "curve.npy"}})");
+  const long fileKiB = long(fs::file_size(dir / "curve.npy") / 1024);
+  auto run = [&](const std::string& out, const std::string& shard) {
+    std::vector<std::string> args = {"sample", "m.json", "--samples", "4", "--device", "cpu", "-q", "-o", out};
+    if (!shard.empty()) args.insert(args.end(), {"--shard", shard});
+    return runMeasured(args, dir.path());
+  };
+  // kN - 1 spans in kN - 1 shards: the last has one; in 10^9 shards the first has none.
+  const std::string last = std::to_string(kN - 1);
+  const Measured empty = run("empty.f32", "1/1000000000"), one = run("one.f32", last + "/" + last),
+                 whole = run("whole.f32", "");
+  for (const Measured* m : {&empty, &one, &whole}) ASSERT_EQ(m->rc, 0) << m->err;
+  EXPECT_EQ(fs::file_size(dir / "empty.f32"), 0u);
+  EXPECT_EQ(fs::file_size(dir / "one.f32"), 4u * 3 * 4);  // 2-D points carry z = 0
+  EXPECT_EQ(fs::file_size(dir / "whole.f32"), uint64_t{kN - 1} * 4 * 3 * 4);
+  for (const auto& [m, what] : {std::pair{&empty, "an empty shard"}, std::pair{&one, "a one-span shard"}})
+    EXPECT_LE(m->maxRssKiB, 64 * 1024) << what << " held " << m->maxRssKiB / 1024 << " MiB of a " << fileKiB / 1024
+                                       << " MiB curve";
+  EXPECT_LE(whole.maxRssKiB, fileKiB * 3 / 2 + 100 * 1024)
+      << "the whole job held " << whole.maxRssKiB / 1024 << " MiB of a " << fileKiB / 1024 << " MiB curve";
+  std::printf("[ measured ] a %ld MiB curve: an empty shard peaks at %ld MiB, a one-span shard at %ld MiB, the whole "
+              "job to .f32 at %ld MiB\n",
+              fileKiB / 1024, empty.maxRssKiB / 1024, one.maxRssKiB / 1024, whole.maxRssKiB / 1024);
 }
 
 }  // namespace
