@@ -5,22 +5,34 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstring>
-#include <fstream>
+#include <optional>
 
 namespace shapespline::io {
 
 bool isPartManifest(const std::filesystem::path& path) {
   if (path.extension() != ".json") return false;
-  // Blocks overlap by the name's length, so a name cut by a block boundary is still found.
-  std::ifstream in(path, std::ios::binary);
+  // Opened as every input is (a FIFO never blocks; a directory or device is no manifest: the model
+  // loader then says why). Blocks overlap by the name's length, so a name cut by a block boundary
+  // is still found.
+  std::optional<InputFd> file;
+  try {
+    file.emplace(path, "MODEL");
+  } catch (const std::exception&) {
+    return false;
+  }
   const size_t nameLength = std::strlen(kPartFormat);
   std::string block(size_t{1} << 20, '\0');
   size_t kept = 0;
   bool found = false;
-  while (!found && in) {
-    in.read(block.data() + kept, static_cast<std::streamsize>(block.size() - kept));
-    const size_t have = kept + static_cast<size_t>(in.gcount());
+  while (!found) {
+    const ssize_t n = ::read(file->get(), block.data() + kept, block.size() - kept);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    const size_t have = kept + static_cast<size_t>(n);
     found = std::string_view(block.data(), have).find(kPartFormat) != std::string_view::npos;
     kept = std::min(have, nameLength - 1);
     std::memmove(block.data(), block.data() + have - kept, kept);
