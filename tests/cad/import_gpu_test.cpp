@@ -17,6 +17,8 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fstream>

@@ -17,6 +17,7 @@
 
 #include <cli/cli_runner.h>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
