@@ -4,6 +4,7 @@
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/parameter_map.h>
 #include <shapespline/cad/trim_loops.h>
+#include <shapespline/cad/trim_points.h>
 #include <shapespline/core/validate.h>
 
 #include <BRepTools.hxx>
@@ -12,6 +13,8 @@
 #include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_TrimmedCurve.hxx>
 #include <Standard_Failure.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
 #include <TColStd_Array1OfReal.hxx>
 
 #include <algorithm>
@@ -59,6 +62,15 @@ void keepInsideSurface(const Handle(Geom_Surface)& surface, double bounds[4]) {
   }
 }
 
+// The distance within which OCCT holds the face's geometry: the largest of the face's tolerance and
+// its edges' (a valid shape's edges lie on the face within their own tolerance).
+double faceTolerance(const TopoDS_Face& face) {
+  double tolerance = BRep_Tool::Tolerance(face);
+  for (TopExp_Explorer edges(face, TopAbs_EDGE); edges.More(); edges.Next())
+    tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(edges.Current())));
+  return tolerance;
+}
+
 }  // namespace
 
 ConvertedFace convertFace(const TopoDS_Face& face, double relativeTolerance) {
@@ -101,10 +113,28 @@ ConvertedFace convertFace(const TopoDS_Face& face, double relativeTolerance) {
   m.knotsU = flatKnots(m.rows, s->UDegree(), [&](TColStd_Array1OfReal& k) { s->UKnotSequence(k); });
   m.knotsV = flatKnots(m.cols, s->VDegree(), [&](TColStd_Array1OfReal& k) { s->VKnotSequence(k); });
   try {
-    const ParameterMap map(out.source, out.bounds, s);
     double a0, a1, b0, b1;
     s->Bounds(a0, a1, b0, b1);
-    m.trim = faceTrimLoops(face, map, relativeTolerance * std::max(a1 - a0, b1 - b0));
+    const double trimTolerance = relativeTolerance * std::max(a1 - a0, b1 - b0);
+    try {
+      const ParameterMap map(out.source, out.bounds, s);
+      TrimPoints points(out.source, s, &map, trimTolerance);
+      m.trim = faceTrimLoops(face, points, trimTolerance);
+      out.clampedTrimPoints = points.clamped();
+    } catch (const ParameterMapError& e) {
+      // Not separable (or not exact enough for the map's check): project the face's points instead,
+      // if the B-spline is the face within the tolerance OCCT gives the face and its edges.
+      out.mapFailure = e.what();
+      const double tolerance = faceTolerance(face);
+      const double gap = surfaceGap(out.source, out.bounds, s);
+      if (gap > tolerance)
+        throw ConversionError("the parameter map failed (" + out.mapFailure + ") and the converted B-spline is " +
+                              std::to_string(gap) + " from the face, more than its tolerance " + std::to_string(tolerance));
+      TrimPoints points(out.source, s, nullptr, trimTolerance);
+      m.trim = faceTrimLoops(face, points, trimTolerance);
+      out.clampedTrimPoints = points.clamped();
+      out.projectionGap = std::max(gap, points.largestGap());
+    }
   } catch (const Standard_Failure& e) {
     throw ConversionError("Open CASCADE failed on the face's trimming loops (" + failureText(e) + ")");
   }

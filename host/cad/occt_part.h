@@ -47,6 +47,9 @@ struct ConvertedFace {
   double bounds[4] = {0, 0, 0, 0};     // the face's (u0, u1, v0, v1) on `source`
   std::string surfaceType;             // "Geom_CylindricalSurface", ...
   bool reversed = false;               // the face's normal is -(du x dv) of the model
+  int clampedTrimPoints = 0;           // trim points clamped into the knot domain (cad/trim_points.h)
+  std::string mapFailure;              // why the ParameterMap failed; empty when it held
+  double projectionGap = 0.0;          // with projected trims: the largest face-to-B-spline distance
 };
 
 struct ConvertedEdge {

@@ -74,7 +74,7 @@ ParameterMap::Axis::Axis(std::function<gp_Pnt(double)> sourcePoint, double s0, d
   }
   for (int i = 1; i < kTableNodes; ++i)
     if (!(table_[static_cast<size_t>(i)] > table_[static_cast<size_t>(i - 1)]))
-      throw ConversionError("the converted B-spline's parameter does not grow with the face's");
+      throw ParameterMapError("the converted B-spline's parameter does not grow with the face's");
 }
 
 double ParameterMap::Axis::operator()(double s) const {
@@ -86,7 +86,7 @@ double ParameterMap::Axis::operator()(double s) const {
   const gp_Pnt target = sourcePoint_(s);
   const double t = newton(target, lerp(table_[static_cast<size_t>(i)], table_[static_cast<size_t>(i + 1)], x - i));
   if (iso_->Value(t).Distance(target) > 1e3 * kMapTolerance * scale_)
-    throw ConversionError("a face point is not on its converted B-spline (the parameter map failed)");
+    throw ParameterMapError("a face point is not on its converted B-spline (the parameter map failed)");
   return t;
 }
 
@@ -146,11 +146,11 @@ ParameterMap::ParameterMap(const Handle(Geom_Surface)& source, const double boun
     const double uMiddle = 0.5 * (u0 + u1);
     v_ = Axis(along(false, uMiddle), v0, v1, bspline->UIso(u_(uMiddle)), b0, b1, scale);
   } else {
-    throw ConversionError("every boundary of the face is degenerate");
+    throw ParameterMapError("every boundary of the face is degenerate");
   }
   const double worst = deviation([&](double u) { return u_(u); }, [&](double v) { return v_(v); });
   if (worst > kMapTolerance * scale)
-    throw ConversionError("the converted B-spline does not keep the face's parameter lines (deviation " +
+    throw ParameterMapError("the converted B-spline does not keep the face's parameter lines (deviation " +
                           std::to_string(worst / scale) + " of the size)");
 }
 

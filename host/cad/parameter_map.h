@@ -6,7 +6,9 @@
 // own). Each direction is found by projecting the face's points along one reference iso-line onto
 // the B-spline's matching iso-curve (a table of 33 nodes, each the nearest of 513 points refined by
 // Newton; a query starts Newton from the table's interpolation), and the map is checked at a 9 x 9 grid of the face: a conversion that does
-// not keep the parameter lines is a ConversionError.
+// not keep the parameter lines is a ParameterMapError.
+#include <shapespline/cad/occt_part.h>
+
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
@@ -17,6 +19,13 @@
 #include <vector>
 
 namespace shapespline::cad {
+
+// The map does not hold for this face (the conversion is not separable, or not exact enough): the
+// face's trims are then projected instead (cad/trim_points.h).
+class ParameterMapError : public ConversionError {
+ public:
+  using ConversionError::ConversionError;
+};
 
 class ParameterMap {
  public:

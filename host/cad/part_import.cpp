@@ -71,6 +71,9 @@ ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions
       entry["reversed"] = converted.reversed;
       entry["bounds"] = {converted.bounds[0], converted.bounds[1], converted.bounds[2], converted.bounds[3]};
       entry["loops"] = converted.model.trim.loops.size();
+      if (converted.clampedTrimPoints > 0) entry["clamped_trim_points"] = converted.clampedTrimPoints;
+      if (!converted.mapFailure.empty())
+        entry["projected"] = {{"why", converted.mapFailure}, {"gap", converted.projectionGap}};
       ++summary.faces;
     } catch (const ConversionError& e) {
       skip(entry, "face", i, e, summary.facesSkipped);

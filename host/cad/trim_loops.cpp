@@ -22,8 +22,8 @@ constexpr int kMaxDepth = 24;
 
 class EdgeFlattener {
  public:
-  EdgeFlattener(const Handle(Geom2d_Curve)& curve, const ParameterMap& map, double tolerance)
-      : curve_(curve), map_(map), tolerance_(tolerance) {}
+  EdgeFlattener(const TopoDS_Edge& edge, const Handle(Geom2d_Curve)& curve, TrimPoints& points, double tolerance)
+      : edge_(edge), curve_(curve), points_(points), tolerance_(tolerance) {}
 
   // Appends the points after `from` up to and including `to` (the caller holds the first point).
   void append(double from, double to, std::vector<glm::dvec2>& out) const {
@@ -37,7 +37,7 @@ class EdgeFlattener {
   }
   glm::dvec2 at(double t) const {
     const gp_Pnt2d p = curve_->Value(t);
-    return map_(p.X(), p.Y());
+    return points_(edge_, p.X(), p.Y());
   }
 
  private:
@@ -55,12 +55,13 @@ class EdgeFlattener {
     subdivide(tm, m, tb, b, depth + 1, out);
   }
 
+  const TopoDS_Edge& edge_;
   Handle(Geom2d_Curve) curve_;
-  const ParameterMap& map_;
+  TrimPoints& points_;
   double tolerance_;
 };
 
-std::vector<glm::dvec2> wireLoop(const TopoDS_Wire& wire, const TopoDS_Face& face, const ParameterMap& map,
+std::vector<glm::dvec2> wireLoop(const TopoDS_Wire& wire, const TopoDS_Face& face, TrimPoints& points,
                                  double tolerance) {
   std::vector<glm::dvec2> loop;
   for (BRepTools_WireExplorer edges(wire, face); edges.More(); edges.Next()) {
@@ -69,7 +70,7 @@ std::vector<glm::dvec2> wireLoop(const TopoDS_Wire& wire, const TopoDS_Face& fac
     const Handle(Geom2d_Curve) curve = BRep_Tool::CurveOnSurface(edge, face, first, last);
     if (curve.IsNull()) throw ConversionError("an edge of the face has no curve on its surface (p-curve)");
     const bool reversed = edge.Orientation() == TopAbs_REVERSED;
-    const EdgeFlattener flattener(curve, map, tolerance);
+    const EdgeFlattener flattener(edge, curve, points, tolerance);
     if (loop.empty()) loop.push_back(flattener.at(reversed ? last : first));
     flattener.append(reversed ? last : first, reversed ? first : last, loop);
   }
@@ -89,7 +90,7 @@ double signedArea(const std::vector<glm::dvec2>& loop) {
   return 0.5 * twice;
 }
 
-TrimLoops faceTrimLoops(const TopoDS_Face& face, const ParameterMap& map, double tolerance) {
+TrimLoops faceTrimLoops(const TopoDS_Face& face, TrimPoints& points, double tolerance) {
   const TopoDS_Face forward = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
   const TopoDS_Wire outer = BRepTools::OuterWire(forward);
   TrimLoops trim;
@@ -97,7 +98,7 @@ TrimLoops faceTrimLoops(const TopoDS_Face& face, const ParameterMap& map, double
   std::vector<std::vector<glm::dvec2>> holes;
   for (TopExp_Explorer wires(forward, TopAbs_WIRE); wires.More(); wires.Next()) {
     const TopoDS_Wire& wire = TopoDS::Wire(wires.Current());
-    std::vector<glm::dvec2> loop = wireLoop(wire, forward, map, tolerance);
+    std::vector<glm::dvec2> loop = wireLoop(wire, forward, points, tolerance);
     if (loop.size() < 3) throw ConversionError("a wire of the face gives fewer than 3 trim points");
     const bool isOuter = wire.IsSame(outer);
     if ((signedArea(loop) > 0.0) != isOuter) std::reverse(loop.begin(), loop.end());

@@ -1,10 +1,10 @@
 #pragma once
 // A face's wires as closed polylines in its B-spline's parameters (docs/format.md "Trim"): each
 // edge's curve on the face (its p-curve), taken in the wire's order and the edge's orientation,
-// mapped through the ParameterMap and subdivided until every piece is within `tolerance` of the
+// taken to the model's parameters by TrimPoints (the ParameterMap, or the projection) and subdivided until every piece is within `tolerance` of the
 // mapped p-curve (checked at the middle and quarter points). The outer wire becomes the first loop,
 // counter-clockwise; the others clockwise.
-#include <shapespline/cad/parameter_map.h>
+#include <shapespline/cad/trim_points.h>
 #include <shapespline/core/model.h>
 
 #include <TopoDS_Face.hxx>
@@ -14,6 +14,6 @@ namespace shapespline::cad {
 // The enclosed area of a closed polyline, positive when counter-clockwise (shoelace).
 double signedArea(const std::vector<glm::dvec2>& loop);
 
-TrimLoops faceTrimLoops(const TopoDS_Face& face, const ParameterMap& map, double tolerance);
+TrimLoops faceTrimLoops(const TopoDS_Face& face, TrimPoints& points, double tolerance);
 
 }  // namespace shapespline::cad
