@@ -23,6 +23,7 @@ struct BasisArgs {
   int degree = 0, order = 0, samples = 101;
   double lambda = 0.0;
   GivenOptions given;
+  bool quiet = false;
 };
 
 struct Table {
@@ -207,6 +208,7 @@ void registerBasis(CLI::App& app) {
   sub->add_option("--samples", a->samples, "rows, t = i/(N-1) (default 101)");
   sub->add_option("-o,--output", a->out, "CSV file (default: stdout)");
   sub->add_option("--svg", a->svg, "SVG plot of the functions and their derivatives");
+  addQuietFlag(sub, a->quiet, "accepted for uniformity: basis prints its table and no notices");
   sub->footer(kExitCodeHelp);
   sub->callback([a, sub] {
     a->given = givenOptions(*sub);

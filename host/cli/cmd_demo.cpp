@@ -49,6 +49,7 @@ std::string surface(const std::string& lambda) {
 
 struct DemoArgs {
   std::string dir = "shapespline-demo", device = "cpu";
+  bool quiet = false;
 };
 
 void writeDemo(const DemoArgs& a);
@@ -161,6 +162,7 @@ void writeDemo(const DemoArgs& a) {
     }
   }
 
+  if (a.quiet) return;
   std::printf("shapespline demo wrote %zu files:\n", written.size());
   for (const auto& w : written) std::printf("  %s\n", w.c_str());
   if (sheetMissing.empty()) {
@@ -179,6 +181,7 @@ void registerDemo(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("demo", "Write example models, their samples (OBJ, SVG) and a rendered contact sheet (PNG) into ./shapespline-demo/.");
   sub->add_option("--dir", a->dir, "output folder (default ./shapespline-demo)");
   sub->add_option("--device", a->device, "cpu (default), auto or vulkan (as in sample)");
+  addQuietFlag(sub, a->quiet, "no list of the files and no notice (the files are written all the same)");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runDemo(*a); });
 }

@@ -179,7 +179,7 @@ void registerEval(CLI::App& app) {
   sub->add_option("--precision", args->precision, "float or double (default double)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
-  sub->add_flag("-q,--quiet", args->quiet, "no notices and no warnings");
+  addQuietFlag(sub, args->quiet, "no notices and no warnings");
   sub->footer(kExitCodeHelp);
   sub->callback([args] { runEval(*args); });
 }

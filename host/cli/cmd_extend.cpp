@@ -17,6 +17,7 @@ namespace {
 struct ExtendArgs {
   std::string model, out, u, svg;
   std::vector<std::string> to, toCurve;
+  bool quiet = false;
 };
 
 std::vector<glm::dvec3> readTargetCurve(const std::string& path, size_t index) {
@@ -75,9 +76,11 @@ void runExtend(const ExtendArgs& a) {
     ext.dimension = dim;
     validateCurve(ext);
     out.write(io::toJson(ext).dump(2) + "\n");
-    std::printf("extended %zu -> %zu points; target parameters:", cm.points.size(), ext.points.size());
-    for (double u : r.u) std::printf(" %s", number17(u).c_str());
-    std::printf("\n");
+    if (!a.quiet) {
+      std::printf("extended %zu -> %zu points; target parameters:", cm.points.size(), ext.points.size());
+      for (double u : r.u) std::printf(" %s", number17(u).c_str());
+      std::printf("\n");
+    }
     if (svg) svg->write(curveSvg(Curve::create(ext), targets, "extended B-spline curve"));
   } else {
     const SurfaceModel& sm = std::get<SurfaceModel>(m);
@@ -102,9 +105,11 @@ void runExtend(const ExtendArgs& a) {
     const SurfaceModel ext = extendedModel(sm, r);
     validateSurface(ext);
     out.write(io::toJson(ext).dump(2) + "\n");
-    std::printf("extended %d -> %d rows; target parameters:", sm.rows, ext.rows);
-    for (double u : r.u) std::printf(" %s", number17(u).c_str());
-    std::printf("\n");
+    if (!a.quiet) {
+      std::printf("extended %d -> %d rows; target parameters:", sm.rows, ext.rows);
+      for (double u : r.u) std::printf(" %s", number17(u).c_str());
+      std::printf("\n");
+    }
   }
   io::flushStdout();  // stdout failed: exit 3 and no file
   outputs.commit();
@@ -121,6 +126,7 @@ void registerExtend(CLI::App& app) {
   sub->add_option("--u", a->u, "explicit target parameters u1,...,um (default: chord length)");
   sub->add_option("-o,--output", a->out, "extended model file")->required();
   sub->add_option("--svg", a->svg, "curves: plot the extended curve with its control polygon and the targets");
+  addQuietFlag(sub, a->quiet, "no summary line (the extended model is the output)");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runExtend(*a); });
 }

@@ -17,6 +17,7 @@ struct GbFitArgs {
   std::string model, through, out, svg;
   int span = 0;
   bool spanGiven = false;
+  bool quiet = false;
 };
 
 void runGbFit(const GbFitArgs& a) {
@@ -71,6 +72,7 @@ void registerGbFit(CLI::App& app) {
   sub->add_option("--through", a->through, "target X,Y")->required();
   sub->add_option("-o,--output", a->out, "write the modified model");
   sub->add_option("--svg", a->svg, "plot the modified curve, its control polygon and the target");
+  addQuietFlag(sub, a->quiet, "accepted for uniformity: gb-fit prints its result and no notices");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runGbFit(*a); });
 }

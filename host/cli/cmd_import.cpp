@@ -105,7 +105,7 @@ void registerImport(CLI::App& app) {
   sub->add_option("--trim-tolerance", a->trimTolerance,
                   "largest deviation of a trim polyline from the face's edges, as a fraction of the face's parameter "
                   "domain (default 1e-5)");
-  sub->add_flag("-q,--quiet", a->quiet,
+  addQuietFlag(sub, a->quiet,
                 "no summary and no warnings (faces and edges that did not convert stay listed in part.json)");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runImport(*a); });

@@ -13,6 +13,7 @@ namespace {
 struct MergeArgs {
   std::string out;
   std::vector<std::string> inputs;
+  bool quiet = false;
 };
 
 void runMerge(const MergeArgs& a) {
@@ -38,6 +39,7 @@ void registerMerge(CLI::App& app) {
                   "SHARD.shard.json, where present, is verified first")
       ->required();
   sub->add_option("-o,--output", a->out, "merged file (.obj .ply .csv .f32 .f64)")->required();
+  addQuietFlag(sub, a->quiet, "accepted for uniformity: merge prints only errors");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runMerge(*a); });
 }

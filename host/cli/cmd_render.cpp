@@ -377,7 +377,7 @@ void registerRender(CLI::App& app) {
   sub->add_flag("--distance", args->distance,
                 "surfaces: with --sweep of two values, the surface at the second coloured by its distance from the first");
   sub->add_option("--title", args->title, "a title over the picture (over each tile of a --sweep)");
-  sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
+  addQuietFlag(sub, args->quiet, "no notices on stderr");
   sub->footer(kExitCodeHelp);
   sub->callback([args, sub] {
     args->given = givenOptions(*sub);

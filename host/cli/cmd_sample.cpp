@@ -1023,7 +1023,7 @@ void registerSample(CLI::App& app) {
                 "(.npy, .f32, .f64, .csv, .ply) with each sample's (U, V)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
-  sub->add_flag("-q,--quiet", args->quiet, "no notices and no progress bar");
+  addQuietFlag(sub, args->quiet, "no notices and no progress bar");
   sub->add_flag("--fail-fast", args->failFast,
                 "several models: stop at the first that fails (else each failure is reported, the rest written, exit 1)");
   sub->add_option("--save-model", args->saveModel,

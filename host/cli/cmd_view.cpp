@@ -88,7 +88,7 @@ void registerView(CLI::App& app) {
   sub->add_option("--screenshot-dir", args->screenshotDir, "folder of the script's screenshots")->capture_default_str();
   sub->add_flag("--validation", args->validation,
                 "enable VK_LAYER_KHRONOS_validation and fail (exit 3) on any message (also SHAPESPLINE_VALIDATION=1)");
-  sub->add_flag("-q,--quiet", args->quiet, "no notices on stderr");
+  addQuietFlag(sub, args->quiet, "no notices on stderr");
   sub->footer(kExitCodeHelp);
   sub->callback([args, sub] {
     args->screenshotDirGiven = sub->count("--screenshot-dir") > 0;

@@ -135,6 +135,10 @@ std::string beyondRangeRule(Precision precision) {
                "knot intervals h); nothing was written";
 }
 
+void addQuietFlag(CLI::App* sub, bool& quiet, const std::string& silences) {
+  sub->add_flag("-q,--quiet", quiet, silences);
+}
+
 GivenOptions givenOptions(const CLI::App& sub) {
   GivenOptions given;
   for (const CLI::Option* o : sub.get_options()) {

@@ -42,6 +42,10 @@ GivenOptions givenOptions(const CLI::App& sub);
 // InputError (exit 2) naming `option` and its value when it was given: "does not apply to <what>".
 void refuseOption(const GivenOptions& given, const std::string& option, const std::string& what);
 
+// -q/--quiet, which every subcommand takes so that a script may pass it to each alike; `silences`
+// says what it silences in this one (help text).
+void addQuietFlag(CLI::App* sub, bool& quiet, const std::string& silences);
+
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...). Arrays it references are read from its folder, or from
 // anywhere with `allowOutsideArrays` (--allow-outside-arrays). Each array file is also added to

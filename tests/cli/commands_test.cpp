@@ -131,6 +131,29 @@ TEST(CliExtend, CurvePassesThroughTargets) {
   EXPECT_TRUE(std::filesystem::exists(dir / "ext.svg"));
 }
 
+// -q is a flag of every subcommand, so that a script may pass it to each alike; where a command
+// prints a summary or a listing beside its output files, -q silences it.
+TEST(CliQuiet, EverySubcommandTakesItAndItSilencesSummaries) {
+  ScratchDir dir("quiet");
+  for (const char* command : {"sample", "eval", "basis", "gb-fit", "extend", "import", "info", "demo", "merge", "render",
+                              "view"}) {
+    const CliResult help = runCli(std::string(command) + " --help", dir.path());
+    EXPECT_EQ(help.rc, 0) << command << ": " << help.err;
+    EXPECT_NE(help.out.find("-q,--quiet"), std::string::npos) << command << " has no -q:\n" << help.out;
+  }
+  const CliResult extend = runCli("extend -q " + quote(examplesDir() + "/clamped_bspline.json") +
+                                      " --to 10,4 --to 12,2 -o " + quote((dir / "ext.json").string()),
+                                  dir.path());
+  ASSERT_EQ(extend.rc, 0) << extend.err;
+  EXPECT_EQ(extend.out, "");
+  EXPECT_TRUE(std::filesystem::exists(dir / "ext.json"));
+  const CliResult demo = runCli("demo -q --dir " + quote((dir / "demo").string()), dir.path());
+  ASSERT_EQ(demo.rc, 0) << demo.err;
+  EXPECT_EQ(demo.out, "");
+  EXPECT_EQ(demo.err, "");
+  EXPECT_TRUE(std::filesystem::exists(dir / "demo" / "butterfly_aeb.json"));
+}
+
 TEST(CliExtend, SurfaceWithTargetCurve) {
   ScratchDir dir("extend_surface");
   const CliResult r = runCli("extend " + quote(examplesDir() + "/bspline_surface.json") + " --to-curve " +
