@@ -50,9 +50,11 @@ int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span,
   double ndu[kMaxBasisCount][kMaxBasisCount];
   double left[kMaxBasisCount], right[kMaxBasisCount];
   for (int j = 1; j <= p; ++j) {
-    left[j] = std::ldexp(t - knots[span + 1 - j], e);  // exact: differences of nearby knots, then 2^e
-    right[j] = std::ldexp(knots[span + j] - t, e);
+    left[j] = t - knots[span + 1 - j];  // exact: differences of nearby knots, then 2^e
+    right[j] = knots[span + j] - t;
   }
+  if (e != 0)  // ldexp by 0 changes no bit, and costs a call per knot
+    for (int j = 1; j <= p; ++j) left[j] = std::ldexp(left[j], e), right[j] = std::ldexp(right[j], e);
   pm::bsplineTriangle(p, left, right, ndu);
   const int n = std::min(derivs, p);
   pm::bsplineDerivatives(p, n, ndu, out);
@@ -163,6 +165,115 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
     result.dvv = ldexp3(result.dvv, 2 * ev);
   }
   return result;
+}
+
+// ---- The list kernel's pieces ------------------------------------------------------------------
+
+int findKnotSpanFrom(int hint, int order, std::span<const double> knots, int pointCount, double t) {
+  // Strictly inside the domain, the span is the largest j with t_j <= t; a hint with
+  // t_hint <= t < t_{hint+1} is that j. The ends keep findKnotSpan's own rules.
+  if (hint >= order - 1 && hint < pointCount && t > knots[order - 1] && t < knots[pointCount] && knots[hint] <= t &&
+      t < knots[hint + 1])
+    return hint;
+  return findKnotSpan(order, knots, pointCount, t);
+}
+
+namespace {
+
+// The basis of (span, t) with derivatives 0..derivs (derivs <= 1), from the cache when it holds it.
+const KnotBasisCache& cachedBasis(KnotBasisCache& c, int order, std::span<const double> knots, int span, double t,
+                                  int derivs) {
+  if (c.span == span && c.t == t && c.derivs == derivs) return c;
+  double all[kMaxBasisCount][kMaxBasisCount];
+  c.exponent = bsplineBasisDerivsScaled(order, knots, span, t, derivs, all);
+  for (int d = 0; d <= derivs; ++d)
+    for (int r = 0; r < order; ++r) c.basis[d][r] = all[d][r];
+  c.span = span, c.t = t, c.derivs = derivs;
+  return c;
+}
+
+// evalBSplineSurface's sums, in its order, for the point (and with D its first partials).
+template <bool D>
+BSplineSurfaceFirst surfaceFirst(const BSplineSurfaceData& surface, double u, double v, KnotBasisCache& cacheU,
+                                 KnotBasisCache& cacheV) {
+  const int ku = surface.orderU, kv = surface.orderV;
+  const int spanU = findKnotSpanFrom(cacheU.span, ku, surface.knotsU, surface.rows, u);
+  const int spanV = findKnotSpanFrom(cacheV.span, kv, surface.knotsV, surface.cols, v);
+  u = std::clamp(u, surface.knotsU[ku - 1], surface.knotsU[surface.rows]);
+  v = std::clamp(v, surface.knotsV[kv - 1], surface.knotsV[surface.cols]);
+  const KnotBasisCache& bu = cachedBasis(cacheU, ku, surface.knotsU, spanU, u, D ? 1 : 0);
+  const KnotBasisCache& bv = cachedBasis(cacheV, kv, surface.knotsV, spanV, v, D ? 1 : 0);
+  const int firstU = spanU - ku + 1, firstV = spanV - kv + 1;
+  const bool rational = !surface.weights.empty();
+  BSplineSurfaceFirst result;
+  double w0 = 0.0, wu = 0.0, wv = 0.0;
+  for (int r = 0; r < ku; ++r) {
+    glm::dvec3 row0(0.0), row1(0.0);
+    double rw0 = 0.0, rw1 = 0.0;
+    const size_t rowStart = static_cast<size_t>(firstU + r) * surface.cols + firstV;
+    const glm::dvec3* rowPoints = &surface.points[rowStart];
+    if (rational) {
+      for (int s = 0; s < kv; ++s) {
+        const double ws = surface.weights[rowStart + s];
+        const glm::dvec3 p = ws * rowPoints[s];
+        row0 += bv.basis[0][s] * p;
+        rw0 += bv.basis[0][s] * ws;
+        if constexpr (D) row1 += bv.basis[1][s] * p, rw1 += bv.basis[1][s] * ws;
+      }
+      w0 += bu.basis[0][r] * rw0;
+      if constexpr (D) wu += bu.basis[1][r] * rw0, wv += bu.basis[0][r] * rw1;
+    } else {
+      for (int s = 0; s < kv; ++s) {
+        row0 += bv.basis[0][s] * rowPoints[s];
+        if constexpr (D) row1 += bv.basis[1][s] * rowPoints[s];
+      }
+    }
+    if constexpr (D) pm::accumulateTensorRowFirst(result.point, result.du, result.dv, bu.basis[0][r], bu.basis[1][r], row0, row1);
+    else result.point += bu.basis[0][r] * row0;
+  }
+  if constexpr (D) {
+    if (rational) pm::rationalSurfaceFirst(result.point, result.du, result.dv, w0, wu, wv);
+    if (bu.exponent != 0) result.du = ldexp3(result.du, bu.exponent);
+    if (bv.exponent != 0) result.dv = ldexp3(result.dv, bv.exponent);
+  } else if (rational) {
+    pm::rationalPoint(result.point, w0);
+  }
+  return result;
+}
+
+}  // namespace
+
+BSplineCurveFirst evalBSplineCurveFirst(const BSplineCurveData& curve, double t, bool derivatives,
+                                        KnotBasisCache& cache) {
+  const int count = static_cast<int>(curve.points.size());
+  const int span = findKnotSpanFrom(cache.span, curve.order, curve.knots, count, t);
+  t = std::clamp(t, curve.knots[curve.order - 1], curve.knots[count]);
+  const int derivs = derivatives ? 1 : 0;
+  const KnotBasisCache& b = cachedBasis(cache, curve.order, curve.knots, span, t, derivs);
+  BSplineCurveFirst result;
+  const int first = span - curve.order + 1;
+  const bool rational = !curve.weights.empty();
+  double w0 = 0.0, w1 = 0.0;
+  for (int r = 0; r < curve.order; ++r) {
+    const double wr = rational ? curve.weights[static_cast<size_t>(first + r)] : 1.0;
+    const glm::dvec3 p = rational ? wr * curve.points[first + r] : curve.points[first + r];
+    result.point += b.basis[0][r] * p;
+    w0 += b.basis[0][r] * wr;
+    if (derivatives) result.d1 += b.basis[1][r] * p, w1 += b.basis[1][r] * wr;
+  }
+  if (!derivatives) {
+    if (rational) pm::rationalPoint(result.point, w0);
+    return result;
+  }
+  if (rational) pm::rationalCurveFirst(result.point, result.d1, w0, w1);
+  if (b.exponent != 0) result.d1 = ldexp3(result.d1, b.exponent);
+  return result;
+}
+
+BSplineSurfaceFirst evalBSplineSurfaceFirst(const BSplineSurfaceData& surface, double u, double v, bool derivatives,
+                                            KnotBasisCache& cacheU, KnotBasisCache& cacheV) {
+  return derivatives ? surfaceFirst<true>(surface, u, v, cacheU, cacheV)
+                     : surfaceFirst<false>(surface, u, v, cacheU, cacheV);
 }
 
 namespace {
