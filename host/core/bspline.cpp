@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace shapespline {
@@ -40,27 +41,60 @@ glm::dvec3 ldexp3(const glm::dvec3& v, int e) { return {std::ldexp(v.x, e), std:
 
 }  // namespace
 
-int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
-                             double out[kMaxBasisCount][kMaxBasisCount]) {
+namespace {
+
+// bsplineBasisDerivsScaled for degree P known at compile time: point_math.h's loops unroll, the
+// arithmetic and its order stay the same (so do the bits), and the list kernel's per-point basis
+// costs about half.
+template <int P>
+[[gnu::flatten]] int basisDerivsScaled(std::span<const double> knots, int span, double t, int derivs,
+                      double out[kMaxBasisCount][kMaxBasisCount]) {
   // The NURBS Book A2.3 with p = order-1. Every divisor is a difference of knots that brackets the
   // non-empty span [t_span, t_{span+1}], so it is positive.
-  const int p = order - 1;
-  const double width = knots[span + p] - knots[span + 1 - p];
-  const int e = width > 0.0 && std::ilogb(width) < kMinKnotWidthExponent ? -std::ilogb(width) : 0;
+  const double width = knots[span + P] - knots[span + 1 - P];
+  // ilogb(width) < kMinKnotWidthExponent, without the call for ordinary widths.
+  static_assert(kMinKnotWidthExponent == -500);
+  const int e = width > 0.0 && width < 0x1p-500 ? -std::ilogb(width) : 0;
   double ndu[kMaxBasisCount][kMaxBasisCount];
   double left[kMaxBasisCount], right[kMaxBasisCount];
-  for (int j = 1; j <= p; ++j) {
+  for (int j = 1; j <= P; ++j) {
     left[j] = t - knots[span + 1 - j];  // exact: differences of nearby knots, then 2^e
     right[j] = knots[span + j] - t;
   }
   if (e != 0)  // ldexp by 0 changes no bit, and costs a call per knot
-    for (int j = 1; j <= p; ++j) left[j] = std::ldexp(left[j], e), right[j] = std::ldexp(right[j], e);
-  pm::bsplineTriangle(p, left, right, ndu);
-  const int n = std::min(derivs, p);
-  pm::bsplineDerivatives(p, n, ndu, out);
+    for (int j = 1; j <= P; ++j) left[j] = std::ldexp(left[j], e), right[j] = std::ldexp(right[j], e);
+  pm::bsplineTriangle(P, left, right, ndu);
+  const int n = std::min(derivs, P);
+  if (n == 0) {
+    for (int r = 0; r <= P; ++r) out[0][r] = ndu[r][P];  // bsplineDerivatives' row 0
+  } else if (n == 1) {
+    pm::bsplineDerivatives(P, 1, ndu, out);
+  } else {
+    pm::bsplineDerivatives(P, n, ndu, out);
+  }
   for (int k = n + 1; k <= derivs; ++k)
-    for (int j = 0; j <= p; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
+    for (int j = 0; j <= P; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
   return e;
+}
+
+}  // namespace
+
+int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
+                             double out[kMaxBasisCount][kMaxBasisCount]) {
+  static_assert(kMaxBasisCount == 10, "one case per degree 0..9");
+  switch (order - 1) {
+    case 0: return basisDerivsScaled<0>(knots, span, t, derivs, out);
+    case 1: return basisDerivsScaled<1>(knots, span, t, derivs, out);
+    case 2: return basisDerivsScaled<2>(knots, span, t, derivs, out);
+    case 3: return basisDerivsScaled<3>(knots, span, t, derivs, out);
+    case 4: return basisDerivsScaled<4>(knots, span, t, derivs, out);
+    case 5: return basisDerivsScaled<5>(knots, span, t, derivs, out);
+    case 6: return basisDerivsScaled<6>(knots, span, t, derivs, out);
+    case 7: return basisDerivsScaled<7>(knots, span, t, derivs, out);
+    case 8: return basisDerivsScaled<8>(knots, span, t, derivs, out);
+    case 9: return basisDerivsScaled<9>(knots, span, t, derivs, out);
+    default: throw std::invalid_argument("B-spline order must be 1..10, got " + std::to_string(order));
+  }
 }
 
 void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
