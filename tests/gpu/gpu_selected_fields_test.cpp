@@ -17,8 +17,11 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace shapespline::test {
 namespace {

@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,9 @@ TEST(ListFieldsSession, CpuListsHaveTheFullListsBitsAtEveryScale) {
     const auto lean = session.evaluate(s, cpu, q, ListFields::FirstDerivatives);
     const auto point = session.evaluate(s, cpu, q, ListFields::Point);
     EXPECT_EQ(lean.report.netScaleExponent, full.report.netScaleExponent);
-    if (scale > 1.0) EXPECT_NE(full.report.netScaleExponent, 0);
+    if (scale > 1.0) {
+      EXPECT_NE(full.report.netScaleExponent, 0);
+    }
     ASSERT_EQ(lean.points.size(), q.size());
     for (size_t k = 0; k < q.size(); ++k) {
       EXPECT_TRUE(sameBits(lean.points[k].point, full.points[k].point)) << "query " << k;
