@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 # compiling each installed header on its own against the install prefix).
 set(SHAPESPLINE_PUBLIC_HEADERS
     core/bspline.h core/curve.h core/diagnostics.h core/extension.h core/family.h core/gb_tools.h
-    core/grid_sampler.h core/model.h core/sample_grid.h core/span_basis.h core/surface.h
+    core/grid_sampler.h core/list_eval.h core/model.h core/sample_grid.h core/span_basis.h core/surface.h
     core/tess_topology.h core/validate.h
     io/atomic_file.h io/job_metadata.h io/model_json.h io/npy_array.h io/png_writer.h io/sample_writer.h
     io/svg_writer.h

@@ -187,9 +187,11 @@ class Curve(_Model):
         chunk_points points (default: 2^15 on the CPU, 4 MiB planes on the GPU) exist at once."""
     def evaluate(self, params: Optional[ArrayLike] = None, *, span: Optional[ArrayLike] = None,
                  t: Optional[ArrayLike] = None, device: Device = "auto", precision: PrecisionName = "double",
-                 require: bool = False, report: bool = False) -> Any:
+                 require: bool = False, report: bool = False,
+                 fields: Optional[Union[str, Sequence[str]]] = None) -> Any:
         """evaluate(u) at global parameters, or evaluate(span=..., t=...) at local ones: dict point,
-        d1, d2, each (n, 3). A sample outside the model raises ValueError naming params[i]."""
+        d1, d2, each (n, 3). A sample outside the model raises ValueError naming params[i]. fields:
+        only those (and the point); 'point' and 'd1' alone run the lean list kernel."""
     def set_alpha(self, value: Union[float, ArrayLike], index: Optional[int] = None) -> None:
         """alpha of vertex `index`, or of every vertex (a scalar or one value per point)."""
     def set_control_point(self, index: int, point: ArrayLike) -> None:
@@ -265,9 +267,11 @@ class Surface(_Model):
         """As Curve.sample_chunks."""
     def evaluate(self, params: Optional[ArrayLike] = None, *, patch: Optional[ArrayLike] = None,
                  uv: Optional[ArrayLike] = None, device: Device = "auto", precision: PrecisionName = "double",
-                 require: bool = False, report: bool = False) -> Any:
+                 require: bool = False, report: bool = False,
+                 fields: Optional[Union[str, Sequence[str]]] = None) -> Any:
         """evaluate((n, 2) global (U, V)) or evaluate(patch=(n, 2), uv=(n, 2)): dict point, du, dv,
-        duu, duv, dvv, normal, each (n, 3); partials w.r.t. the local patch parameters."""
+        duu, duv, dvv, normal, each (n, 3); partials w.r.t. the local patch parameters. fields: only
+        those (and the point); 'point', 'du' and 'dv' alone run the lean list kernel."""
     def tessellate(self, rate: int = 8, *, device: Device = "auto", precision: PrecisionName = "float",
                    require: bool = False, report: bool = False) -> Any:
         """Watertight triangle mesh at `rate` segments per patch side (uniform constructions):

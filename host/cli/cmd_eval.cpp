@@ -15,12 +15,14 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <tuple>
 
 namespace shapespline::cli {
 namespace {
 
 struct EvalArgs {
-  std::string model, at, device = "auto", precision = "double";
+  std::string model, at, device = "auto", precision = "double", fields;
   bool quiet = false, requireDevice = false;
 };
 
@@ -66,16 +68,31 @@ Result evaluated(const json& at, Run&& run) {
   }
 }
 
+// The list kernel when the fields asked for are the point and first derivatives at most
+// (core/list_eval.h, the same bits); every field otherwise.
+std::optional<ListFields> leanFields(FieldMask fields, FieldMask firstOrder) {
+  if (fields & ~(fieldBit(Field::Point) | firstOrder)) return std::nullopt;
+  return fields & firstOrder ? ListFields::FirstDerivatives : ListFields::Point;
+}
+
 std::string evalCurve(sampling::Session& session, const Curve& curve, const json& at,
-                      const sampling::DeviceRequest& request) {
+                      const sampling::DeviceRequest& request, FieldMask fields) {
   const Precision p = request.precision;
   const int dim = curve.dimension();
   const std::vector<io::CurveSample> queries = io::parseCurveSamples(at, curve, "--at");
   std::vector<sampling::CurveQuery> list;
   list.reserve(queries.size());
   for (const auto& q : queries) list.push_back({q.global, q.span, q.t, q.u});
-  auto result = evaluated<sampling::ListResult<CurvePoint>>(at, [&] { return session.evaluate(curve, request, list); });
-  std::vector<CurvePoint>& points = result.points;
+  std::vector<CurvePoint> points;
+  if (const auto lean = leanFields(fields, fieldBit(Field::D1))) {
+    auto result =
+        evaluated<sampling::ListResult<CurveFirst>>(at, [&] { return session.evaluate(curve, request, list, *lean); });
+    points.reserve(result.points.size());
+    for (const CurveFirst& f : result.points) points.push_back({f.point, f.d1, glm::dvec3(0.0)});
+  } else {
+    points = evaluated<sampling::ListResult<CurvePoint>>(at, [&] { return session.evaluate(curve, request, list); }).points;
+  }
+  auto wanted = [&](Field f) { return (fields & fieldBit(f)) != 0; };
   std::string out = "{\"samples\": [";
   if (nanFaultInjected() && !points.empty()) points[0].point.x = std::nan("");
   for (size_t i = 0; i < queries.size(); ++i) {
@@ -83,19 +100,20 @@ std::string evalCurve(sampling::Session& session, const Curve& curve, const json
     const CurvePoint& cp = points[i];
     // Checked after rounding: an fp64 value beyond 3.4e38 becomes inf in fp32.
     requireInRange(rounded(cp.point, p), "point", p);
-    requireInRange(rounded(cp.d1, p), "d1", p);
-    requireInRange(rounded(cp.d2, p), "d2", p);
+    if (wanted(Field::D1)) requireInRange(rounded(cp.d1, p), "d1", p);
+    if (wanted(Field::D2)) requireInRange(rounded(cp.d2, p), "d2", p);
     const std::string head = q.global ? "\"u\": " + numberText(q.u, Precision::Double)
                                       : "\"span\": " + std::to_string(q.span) + ", \"t\": " + numberText(q.t, Precision::Double) +
                                             ", \"u\": " + numberText(finiteParameter(curve.parameterOf(q.span, q.t), "u"), Precision::Double);
     out += std::string(i ? ",\n  " : "\n  ") + "{" + head + ", \"point\": " + vectorText(cp.point, dim, p) +
-           ", \"d1\": " + vectorText(cp.d1, dim, p) + ", \"d2\": " + vectorText(cp.d2, dim, p) + "}";
+           (wanted(Field::D1) ? ", \"d1\": " + vectorText(cp.d1, dim, p) : std::string()) +
+           (wanted(Field::D2) ? ", \"d2\": " + vectorText(cp.d2, dim, p) : std::string()) + "}";
   }
   return out + "\n]}\n";
 }
 
 std::string evalSurface(sampling::Session& session, const Surface& surface, const json& at,
-                        const sampling::DeviceRequest& request) {
+                        const sampling::DeviceRequest& request, FieldMask fields) {
   const Precision p = request.precision;
   std::vector<std::array<double, 4>> queries;
   std::vector<sampling::SurfaceQuery> list;
@@ -103,8 +121,17 @@ std::string evalSurface(sampling::Session& session, const Surface& surface, cons
     queries.push_back({static_cast<double>(q.patchU), static_cast<double>(q.patchV), q.u, q.v});
     list.push_back({false, q.patchU, q.patchV, q.u, q.v});
   }
-  auto result = evaluated<sampling::ListResult<SurfacePoint>>(at, [&] { return session.evaluate(surface, request, list); });
-  std::vector<SurfacePoint>& points = result.points;
+  std::vector<SurfacePoint> points;
+  if (const auto lean = leanFields(fields, fieldBit(Field::Du) | fieldBit(Field::Dv))) {
+    auto result = evaluated<sampling::ListResult<SurfaceFirst>>(
+        at, [&] { return session.evaluate(surface, request, list, *lean); });
+    points.resize(result.points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+      points[i].point = result.points[i].point, points[i].du = result.points[i].du, points[i].dv = result.points[i].dv;
+  } else {
+    points = evaluated<sampling::ListResult<SurfacePoint>>(at, [&] { return session.evaluate(surface, request, list); }).points;
+  }
+  auto wanted = [&](Field f) { return (fields & fieldBit(f)) != 0; };
   const auto& m = surface.model();
   auto global = [&](int idx, double local, const std::vector<double>& knots) {
     return surface.usesKnotVector()
@@ -117,11 +144,16 @@ std::string evalSurface(sampling::Session& session, const Surface& surface, cons
     const double u = queries[i][2], v = queries[i][3];
     if (nanFaultInjected() && i == 0) points[0].point.x = std::nan("");
     const SurfacePoint& sp = points[i];
-    const std::pair<const char*, const glm::dvec3*> fields[] = {{"point", &sp.point}, {"du", &sp.du},
-                                                                 {"dv", &sp.dv},       {"duu", &sp.duu},
-                                                                 {"duv", &sp.duv},     {"dvv", &sp.dvv},
-                                                                 {"normal", &sp.normal}};
-    for (const auto& [name, x] : fields) requireInRange(rounded(*x, p), name, p);
+    const std::tuple<Field, const char*, const glm::dvec3*> values[] = {
+        {Field::Point, "point", &sp.point}, {Field::Du, "du", &sp.du},     {Field::Dv, "dv", &sp.dv},
+        {Field::Duu, "duu", &sp.duu},       {Field::Duv, "duv", &sp.duv}, {Field::Dvv, "dvv", &sp.dvv},
+        {Field::Normal, "normal", &sp.normal}};
+    std::string written;
+    for (const auto& [field, name, x] : values) {
+      if (!wanted(field)) continue;
+      requireInRange(rounded(*x, p), name, p);
+      if (field != Field::Normal) written += std::string(", \"") + name + "\": " + vectorText(*x, 3, p);
+    }
     // du and dv scaled by powers of two (exact) first, so that cross and lengths neither overflow
     // for huge nets nor underflow for tiny ones; the normal and the sine test are scale-free.
     const glm::dvec3 du = unitScaled(sp.du), dv = unitScaled(sp.dv);
@@ -131,11 +163,11 @@ std::string evalSurface(sampling::Session& session, const Surface& surface, cons
     const std::string normal = defined ? vectorText(glm::normalize(cross), 3, p) : "null";
     out += std::string(i ? ",\n  " : "\n  ") + "{\"patch\": [" + std::to_string(pi) + ", " + std::to_string(pj) +
            "], \"uv\": [" + numberText(u, Precision::Double) + ", " + numberText(v, Precision::Double) + "], \"UV\": [" + numberText(finiteParameter(global(pi, u, m.knotsU), "UV"), Precision::Double) +
-           ", " + numberText(finiteParameter(global(pj, v, m.knotsV), "UV"), Precision::Double) + "], \"point\": " + vectorText(sp.point, 3, p) +
-           ", \"du\": " + vectorText(sp.du, 3, p) + ", \"dv\": " + vectorText(sp.dv, 3, p) +
-           ", \"duu\": " + vectorText(sp.duu, 3, p) + ", \"duv\": " + vectorText(sp.duv, 3, p) +
-           ", \"dvv\": " + vectorText(sp.dvv, 3, p) + ", \"normal\": " + normal +
-           (defined ? std::string() : ", \"render_normal\": " + vectorText(sp.normal, 3, p)) + "}";
+           ", " + numberText(finiteParameter(global(pj, v, m.knotsV), "UV"), Precision::Double) + "]" + written +
+           (wanted(Field::Normal) ? ", \"normal\": " + normal +
+                                        (defined ? std::string() : ", \"render_normal\": " + vectorText(sp.normal, 3, p))
+                                  : std::string()) +
+           "}";
   }
   return out + "\n]}\n";
 }
@@ -152,13 +184,15 @@ void runEval(const EvalArgs& args) {
     const sampling::Report plan = session.plan(curve, request);
     printNotices(plan, args.quiet);
     printPrecisionWarnings(curve.model(), plan.gpu && plan.computedPrecision == Precision::Float, args.quiet);
-    text = evalCurve(session, curve, at, request);
+    text = evalCurve(session, curve, at, request,
+                     args.fields.empty() ? kCurveFields : parseFields(args.fields, false, false));
   } else {
     const Surface surface = Surface::create(std::get<SurfaceModel>(std::move(model)));
     const sampling::Report plan = session.plan(surface, request);
     printNotices(plan, args.quiet);
     printPrecisionWarnings(surface, plan.gpu && plan.computedPrecision == Precision::Float, args.quiet);
-    text = evalSurface(session, surface, at, request);
+    text = evalSurface(session, surface, at, request,
+                       args.fields.empty() ? kSurfaceFields : parseFields(args.fields, true, false));
   }
   io::writeStdout(text);
   io::flushStdout();
@@ -179,6 +213,10 @@ void registerEval(CLI::App& app) {
   sub->add_option("--precision", args->precision, "float or double (default double)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
+  sub->add_option("--fields", args->fields,
+                  "the fields to print, comma-separated (default: all): point, du, dv, duu, duv, dvv, normal "
+                  "(surfaces), point, d1, d2 (curves); the point is always printed. The point and first "
+                  "derivatives alone run the lean list kernel");
   addQuietFlag(sub, args->quiet, "no notices and no warnings");
   sub->footer(kExitCodeHelp);
   sub->callback([args] { runEval(*args); });

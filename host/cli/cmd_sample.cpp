@@ -142,32 +142,6 @@ void requireFinite(const GridChunk& c, size_t firstPoint, size_t pointCount, boo
   }
 }
 
-// --fields a,b,...: sampled fields by name (io::fieldName); the point is always written.
-FieldMask parseFields(const std::string& text, bool surface, bool withFlags) {
-  if (withFlags) throw InputError("--fields", text, "give either --fields or --derivatives/--normals");
-  const FieldMask allowed = surface ? kSurfaceFields : kCurveFields;
-  FieldMask mask = fieldBit(Field::Point);
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = text.find(',', pos);
-    const std::string name = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    int found = -1;
-    for (int f = 0; f < kFieldCount; ++f) {
-      if (io::fieldName(static_cast<Field>(f)) == name) found = f;
-    }
-    if (found < 0 || !(allowed & fieldBit(static_cast<Field>(found)))) {
-      throw InputError("--fields", text,
-                       std::string("expected a comma-separated list of ") +
-                           (surface ? "point, du, dv, duu, duv, dvv, normal (surfaces)" : "point, d1, d2 (curves)") +
-                           "; '" + name + "' is not one");
-    }
-    mask |= fieldBit(static_cast<Field>(found));
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  return mask;
-}
-
 // SHAPESPLINE_FAULT=nan: the checks and the writer see a copy of the job's first slice (its first
 // `points` points) with a NaN in its first value.
 GridChunk withInjectedNan(const GridChunk& c, size_t points, std::vector<double>& d, std::vector<float>& f) {

@@ -3,6 +3,7 @@
 #include <shapespline/core/diagnostics.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/number_text.h>
+#include <shapespline/io/sample_writer.h>
 #include <shapespline/sampling/net_scale.h>
 
 #include <unistd.h>
@@ -396,6 +397,31 @@ void writeModelFile(const io::Model& model, const std::string& path, const std::
   out.write(io::toJson(model).dump(2));
   out.write("\n");
   out.commit();
+}
+
+FieldMask parseFields(const std::string& text, bool surface, bool withFlags) {
+  if (withFlags) throw InputError("--fields", text, "give either --fields or --derivatives/--normals");
+  const FieldMask allowed = surface ? kSurfaceFields : kCurveFields;
+  FieldMask mask = fieldBit(Field::Point);
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = text.find(',', pos);
+    const std::string name = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    int found = -1;
+    for (int f = 0; f < kFieldCount; ++f) {
+      if (io::fieldName(static_cast<Field>(f)) == name) found = f;
+    }
+    if (found < 0 || !(allowed & fieldBit(static_cast<Field>(found)))) {
+      throw InputError("--fields", text,
+                       std::string("expected a comma-separated list of ") +
+                           (surface ? "point, du, dv, duu, duv, dvv, normal (surfaces)" : "point, d1, d2 (curves)") +
+                           "; '" + name + "' is not one");
+    }
+    mask |= fieldBit(static_cast<Field>(found));
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  return mask;
 }
 
 }  // namespace shapespline::cli

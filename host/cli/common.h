@@ -67,6 +67,10 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& fie
 std::pair<int, int> parseImageSize(const std::string& text, const std::string& field, int minSide);
 
 // --device auto|vulkan|cpu ("gpu" = vulkan), --precision float|double, --require-device.
+// --fields a,b,...: fields by name (io::fieldName), of a surface or a curve; the point is always in
+// the mask. `withFlags`: --derivatives/--normals were given too (sample), which is refused.
+FieldMask parseFields(const std::string& text, bool surface, bool withFlags);
+
 sampling::DeviceKind parseDevice(const std::string& text);
 Precision parsePrecision(const std::string& text);
 sampling::DeviceRequest parseDeviceRequest(const std::string& device, const std::string& precision, bool require);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace shapespline {
@@ -40,25 +41,60 @@ glm::dvec3 ldexp3(const glm::dvec3& v, int e) { return {std::ldexp(v.x, e), std:
 
 }  // namespace
 
-int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
-                             double out[kMaxBasisCount][kMaxBasisCount]) {
+namespace {
+
+// bsplineBasisDerivsScaled for degree P known at compile time: point_math.h's loops unroll, the
+// arithmetic and its order stay the same (so do the bits), and the list kernel's per-point basis
+// costs about half.
+template <int P>
+[[gnu::flatten]] int basisDerivsScaled(std::span<const double> knots, int span, double t, int derivs,
+                      double out[kMaxBasisCount][kMaxBasisCount]) {
   // The NURBS Book A2.3 with p = order-1. Every divisor is a difference of knots that brackets the
   // non-empty span [t_span, t_{span+1}], so it is positive.
-  const int p = order - 1;
-  const double width = knots[span + p] - knots[span + 1 - p];
-  const int e = width > 0.0 && std::ilogb(width) < kMinKnotWidthExponent ? -std::ilogb(width) : 0;
+  const double width = knots[span + P] - knots[span + 1 - P];
+  // ilogb(width) < kMinKnotWidthExponent, without the call for ordinary widths.
+  static_assert(kMinKnotWidthExponent == -500);
+  const int e = width > 0.0 && width < 0x1p-500 ? -std::ilogb(width) : 0;
   double ndu[kMaxBasisCount][kMaxBasisCount];
   double left[kMaxBasisCount], right[kMaxBasisCount];
-  for (int j = 1; j <= p; ++j) {
-    left[j] = std::ldexp(t - knots[span + 1 - j], e);  // exact: differences of nearby knots, then 2^e
-    right[j] = std::ldexp(knots[span + j] - t, e);
+  for (int j = 1; j <= P; ++j) {
+    left[j] = t - knots[span + 1 - j];  // exact: differences of nearby knots, then 2^e
+    right[j] = knots[span + j] - t;
   }
-  pm::bsplineTriangle(p, left, right, ndu);
-  const int n = std::min(derivs, p);
-  pm::bsplineDerivatives(p, n, ndu, out);
+  if (e != 0)  // ldexp by 0 changes no bit, and costs a call per knot
+    for (int j = 1; j <= P; ++j) left[j] = std::ldexp(left[j], e), right[j] = std::ldexp(right[j], e);
+  pm::bsplineTriangle(P, left, right, ndu);
+  const int n = std::min(derivs, P);
+  if (n == 0) {
+    for (int r = 0; r <= P; ++r) out[0][r] = ndu[r][P];  // bsplineDerivatives' row 0
+  } else if (n == 1) {
+    pm::bsplineDerivatives(P, 1, ndu, out);
+  } else {
+    pm::bsplineDerivatives(P, n, ndu, out);
+  }
   for (int k = n + 1; k <= derivs; ++k)
-    for (int j = 0; j <= p; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
+    for (int j = 0; j <= P; ++j) out[k][j] = 0.0;  // degree p: higher derivatives vanish
   return e;
+}
+
+}  // namespace
+
+int bsplineBasisDerivsScaled(int order, std::span<const double> knots, int span, double t, int derivs,
+                             double out[kMaxBasisCount][kMaxBasisCount]) {
+  static_assert(kMaxBasisCount == 10, "one case per degree 0..9");
+  switch (order - 1) {
+    case 0: return basisDerivsScaled<0>(knots, span, t, derivs, out);
+    case 1: return basisDerivsScaled<1>(knots, span, t, derivs, out);
+    case 2: return basisDerivsScaled<2>(knots, span, t, derivs, out);
+    case 3: return basisDerivsScaled<3>(knots, span, t, derivs, out);
+    case 4: return basisDerivsScaled<4>(knots, span, t, derivs, out);
+    case 5: return basisDerivsScaled<5>(knots, span, t, derivs, out);
+    case 6: return basisDerivsScaled<6>(knots, span, t, derivs, out);
+    case 7: return basisDerivsScaled<7>(knots, span, t, derivs, out);
+    case 8: return basisDerivsScaled<8>(knots, span, t, derivs, out);
+    case 9: return basisDerivsScaled<9>(knots, span, t, derivs, out);
+    default: throw std::invalid_argument("B-spline order must be 1..10, got " + std::to_string(order));
+  }
 }
 
 void bsplineBasisAllDerivs(int order, std::span<const double> knots, int span, double t, int derivs,
@@ -163,6 +199,116 @@ BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double
     result.dvv = ldexp3(result.dvv, 2 * ev);
   }
   return result;
+}
+
+// ---- The list kernel's pieces ------------------------------------------------------------------
+
+int findKnotSpanFrom(int hint, int order, std::span<const double> knots, int pointCount, double t) {
+  // Strictly inside the domain, the span is the largest j with t_j <= t; a hint with
+  // t_hint <= t < t_{hint+1} is that j. The ends keep findKnotSpan's own rules.
+  if (hint >= order - 1 && hint < pointCount && t > knots[order - 1] && t < knots[pointCount] && knots[hint] <= t &&
+      t < knots[hint + 1])
+    return hint;
+  return findKnotSpan(order, knots, pointCount, t);
+}
+
+namespace {
+
+// The basis of (span, t) with derivatives 0..derivs (derivs <= 1), from the cache when it holds it.
+const KnotBasisCache& cachedBasis(KnotBasisCache& c, int order, std::span<const double> knots, int span, double t,
+                                  int derivs) {
+  if (c.span == span && c.t == t && c.derivs == derivs) return c;
+  double all[kMaxBasisCount][kMaxBasisCount];
+  c.exponent = bsplineBasisDerivsScaled(order, knots, span, t, derivs, all);
+  for (int d = 0; d <= derivs; ++d)
+    for (int r = 0; r < order; ++r) c.basis[d][r] = all[d][r];
+  c.span = span, c.t = t, c.derivs = derivs;
+  return c;
+}
+
+// evalBSplineSurface's sums, in its order, for the point (and with D its first partials).
+// Flattened (its basis, lookups and quotient inlined): a fifth more points a second on low-order faces.
+template <bool D>
+[[gnu::flatten]] BSplineSurfaceFirst surfaceFirst(const BSplineSurfaceData& surface, double u, double v, KnotBasisCache& cacheU,
+                                 KnotBasisCache& cacheV) {
+  const int ku = surface.orderU, kv = surface.orderV;
+  const int spanU = findKnotSpanFrom(cacheU.span, ku, surface.knotsU, surface.rows, u);
+  const int spanV = findKnotSpanFrom(cacheV.span, kv, surface.knotsV, surface.cols, v);
+  u = std::clamp(u, surface.knotsU[ku - 1], surface.knotsU[surface.rows]);
+  v = std::clamp(v, surface.knotsV[kv - 1], surface.knotsV[surface.cols]);
+  const KnotBasisCache& bu = cachedBasis(cacheU, ku, surface.knotsU, spanU, u, D ? 1 : 0);
+  const KnotBasisCache& bv = cachedBasis(cacheV, kv, surface.knotsV, spanV, v, D ? 1 : 0);
+  const int firstU = spanU - ku + 1, firstV = spanV - kv + 1;
+  const bool rational = !surface.weights.empty();
+  BSplineSurfaceFirst result;
+  double w0 = 0.0, wu = 0.0, wv = 0.0;
+  for (int r = 0; r < ku; ++r) {
+    glm::dvec3 row0(0.0), row1(0.0);
+    double rw0 = 0.0, rw1 = 0.0;
+    const size_t rowStart = static_cast<size_t>(firstU + r) * surface.cols + firstV;
+    const glm::dvec3* rowPoints = &surface.points[rowStart];
+    if (rational) {
+      for (int s = 0; s < kv; ++s) {
+        const double ws = surface.weights[rowStart + s];
+        const glm::dvec3 p = ws * rowPoints[s];
+        row0 += bv.basis[0][s] * p;
+        rw0 += bv.basis[0][s] * ws;
+        if constexpr (D) row1 += bv.basis[1][s] * p, rw1 += bv.basis[1][s] * ws;
+      }
+      w0 += bu.basis[0][r] * rw0;
+      if constexpr (D) wu += bu.basis[1][r] * rw0, wv += bu.basis[0][r] * rw1;
+    } else {
+      for (int s = 0; s < kv; ++s) {
+        row0 += bv.basis[0][s] * rowPoints[s];
+        if constexpr (D) row1 += bv.basis[1][s] * rowPoints[s];
+      }
+    }
+    if constexpr (D) pm::accumulateTensorRowFirst(result.point, result.du, result.dv, bu.basis[0][r], bu.basis[1][r], row0, row1);
+    else result.point += bu.basis[0][r] * row0;
+  }
+  if constexpr (D) {
+    if (rational) pm::rationalSurfaceFirst(result.point, result.du, result.dv, w0, wu, wv);
+    if (bu.exponent != 0) result.du = ldexp3(result.du, bu.exponent);
+    if (bv.exponent != 0) result.dv = ldexp3(result.dv, bv.exponent);
+  } else if (rational) {
+    pm::rationalPoint(result.point, w0);
+  }
+  return result;
+}
+
+}  // namespace
+
+BSplineCurveFirst evalBSplineCurveFirst(const BSplineCurveData& curve, double t, bool derivatives,
+                                        KnotBasisCache& cache) {
+  const int count = static_cast<int>(curve.points.size());
+  const int span = findKnotSpanFrom(cache.span, curve.order, curve.knots, count, t);
+  t = std::clamp(t, curve.knots[curve.order - 1], curve.knots[count]);
+  const int derivs = derivatives ? 1 : 0;
+  const KnotBasisCache& b = cachedBasis(cache, curve.order, curve.knots, span, t, derivs);
+  BSplineCurveFirst result;
+  const int first = span - curve.order + 1;
+  const bool rational = !curve.weights.empty();
+  double w0 = 0.0, w1 = 0.0;
+  for (int r = 0; r < curve.order; ++r) {
+    const double wr = rational ? curve.weights[static_cast<size_t>(first + r)] : 1.0;
+    const glm::dvec3 p = rational ? wr * curve.points[first + r] : curve.points[first + r];
+    result.point += b.basis[0][r] * p;
+    w0 += b.basis[0][r] * wr;
+    if (derivatives) result.d1 += b.basis[1][r] * p, w1 += b.basis[1][r] * wr;
+  }
+  if (!derivatives) {
+    if (rational) pm::rationalPoint(result.point, w0);
+    return result;
+  }
+  if (rational) pm::rationalCurveFirst(result.point, result.d1, w0, w1);
+  if (b.exponent != 0) result.d1 = ldexp3(result.d1, b.exponent);
+  return result;
+}
+
+BSplineSurfaceFirst evalBSplineSurfaceFirst(const BSplineSurfaceData& surface, double u, double v, bool derivatives,
+                                            KnotBasisCache& cacheU, KnotBasisCache& cacheV) {
+  return derivatives ? surfaceFirst<true>(surface, u, v, cacheU, cacheV)
+                     : surfaceFirst<false>(surface, u, v, cacheU, cacheV);
 }
 
 namespace {

@@ -47,6 +47,36 @@ struct BSplineSurfacePoint {
 };
 BSplineSurfacePoint evalBSplineSurface(const BSplineSurfaceData& surface, double u, double v);
 
+// ---- The list kernel's pieces (core/list_eval.h): only the point, or the point and first
+// derivatives, bit for bit those of evalBSplineCurve / evalBSplineSurface -------------------------
+
+// findKnotSpan, trying `hint` first (the span of the list's previous parameter in this direction):
+// a list sorted or grouped by parameter finds its span without the binary search. The same result
+// as findKnotSpan for every hint (-1: none).
+int findKnotSpanFrom(int hint, int order, std::span<const double> knots, int pointCount, double t);
+
+// One direction's basis (values, and first derivatives when derivs is 1) at the last parameter a
+// list asked for, reused when the next asks for the same span and parameter: on a list laid out in
+// rows of one u, the u basis is computed once a row.
+struct KnotBasisCache {
+  int span = -1, derivs = -1, exponent = 0;
+  double t = 0.0;
+  double basis[2][kMaxBasisCount] = {};
+};
+
+struct BSplineCurveFirst {
+  glm::dvec3 point{0.0}, d1{0.0};
+};
+struct BSplineSurfaceFirst {
+  glm::dvec3 point{0.0}, du{0.0}, dv{0.0};
+};
+// evalBSplineCurve's point and d1 (derivatives false: the point alone, d1 left 0), the same bits.
+BSplineCurveFirst evalBSplineCurveFirst(const BSplineCurveData& curve, double t, bool derivatives,
+                                        KnotBasisCache& cache);
+// evalBSplineSurface's point, du and dv (derivatives false: the point alone), the same bits.
+BSplineSurfaceFirst evalBSplineSurfaceFirst(const BSplineSurfaceData& surface, double u, double v, bool derivatives,
+                                            KnotBasisCache& cacheU, KnotBasisCache& cacheV);
+
 // Additions (extension module and its tests).
 
 // bsplineBasisAllDerivs on knot differences scaled by 2^e, returning e (0 unless the knots the span

@@ -267,7 +267,7 @@ CurvePoint Curve::evalSpan(int span, double t) const {
   return out;
 }
 
-CurvePoint Curve::evaluate(int span, double t) const {
+void Curve::checkSpanQuery(int span, double t) const {
   if (span < spans_.first || span > spans_.last) throwSpan(span, spans_);
   checkLocal("t", t);
   if (knotVector()) {
@@ -275,16 +275,50 @@ CurvePoint Curve::evaluate(int span, double t) const {
     if (!(b > a))
       throw std::out_of_range("span " + std::to_string(span) + " is the empty knot interval [" + preciseText(a) + ", " +
                               preciseText(b) + "]");
+  }
+}
+
+void Curve::checkGlobalQuery(double u) const {
+  const auto [lo, hi] = parameterRange();
+  if (!(u >= lo && u <= hi))
+    throw std::out_of_range("u = " + preciseText(u) + " outside the parameter range [" + preciseText(lo) + ", " + preciseText(hi) + "]");
+}
+
+CurvePoint Curve::evaluate(int span, double t) const {
+  checkSpanQuery(span, t);
+  if (knotVector()) {
+    const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
     const BSplineCurvePoint p = evalBSplineCurve(bspline_, a + t * (b - a));
     return {p.point, p.d1, p.d2};
   }
   return evalSpan(span, t);
 }
 
+CurveFirst Curve::evaluateFirst(int span, double t, bool derivatives, KnotBasisCache& cache) const {
+  checkSpanQuery(span, t);
+  if (knotVector()) {
+    const double a = bspline_.knots[span], b = bspline_.knots[span + 1];
+    const BSplineCurveFirst p = evalBSplineCurveFirst(bspline_, a + t * (b - a), derivatives, cache);
+    return {p.point, p.d1};
+  }
+  const CurvePoint p = evalSpan(span, t);
+  return {p.point, derivatives ? p.d1 : glm::dvec3(0.0)};
+}
+
+CurveFirst Curve::evaluateFirstAt(double u, bool derivatives, KnotBasisCache& cache) const {
+  checkGlobalQuery(u);
+  if (knotVector()) {
+    const BSplineCurveFirst p = evalBSplineCurveFirst(bspline_, u, derivatives, cache);
+    return {p.point, p.d1};
+  }
+  double t = 0.0;
+  const int span = spanAt(u, t);
+  const CurvePoint p = evalSpan(span, t);
+  return {p.point, derivatives ? p.d1 : glm::dvec3(0.0)};
+}
+
 CurvePoint Curve::evaluateAt(double u) const {
-  const auto [lo, hi] = parameterRange();
-  if (!(u >= lo && u <= hi))
-    throw std::out_of_range("u = " + preciseText(u) + " outside the parameter range [" + preciseText(lo) + ", " + preciseText(hi) + "]");
+  checkGlobalQuery(u);
   if (knotVector()) {
     // At the knot parameter itself, not a + t (b - a): evalBSplineCurve finds the span of spanAt.
     const BSplineCurvePoint p = evalBSplineCurve(bspline_, u);

@@ -31,6 +31,11 @@ struct CurvePoint {
   glm::dvec3 point{0.0}, d1{0.0}, d2{0.0};
 };
 
+// The point and first derivative alone (the list kernel, core/list_eval.h): CurvePoint's bits.
+struct CurveFirst {
+  glm::dvec3 point{0.0}, d1{0.0};
+};
+
 // Inclusive span index range [first, last] (docs/math.md §1 / §4.1).
 struct SpanRange {
   int first = 0, last = -1;
@@ -86,6 +91,12 @@ class Curve {
   // Global u in parameterRange(). At an interior joint the span to the right is used, except at
   // u_max. Throws std::out_of_range outside the range.
   CurvePoint evaluateAt(double u) const;
+  // The list kernel (core/list_eval.h): evaluate() / evaluateAt() without d2 (knot-vector
+  // B-splines: not computed; other families compute their span's d2 and drop it), the point alone
+  // when `derivatives` is false; the same bits and range checks. `cache` carries the knot interval
+  // from one query of a list to the next.
+  CurveFirst evaluateFirst(int span, double t, bool derivatives, KnotBasisCache& cache) const;
+  CurveFirst evaluateFirstAt(double u, bool derivatives, KnotBasisCache& cache) const;
   // The span of global u and the local t in it, as evaluateAt picks them (u is clamped into the
   // range, no check): uniform and span-knot spans, or the non-empty knot interval of
   // core/bspline.h findKnotSpan. The one lookup that CPU and GPU parameter lists share.
@@ -124,6 +135,9 @@ class Curve {
  private:
   Curve() = default;
   CurvePoint evalSpan(int span, double t) const;  // no range checks
+  // The range checks of evaluate() and evaluateAt() (std::out_of_range).
+  void checkSpanQuery(int span, double t) const;
+  void checkGlobalQuery(double u) const;
 
   CurveModel model_;
   SpanBasis basis_;

@@ -117,13 +117,18 @@ PM_FN void accumulate3(PM_INOUT(REAL) s0, PM_INOUT(REAL) s1, PM_INOUT(REAL) s2, 
 
 // Row r of a tensor patch (docs/math.md §6): the row contracted along v gives s0 = Σ_s B_s P, s1 with
 // B_s', s2 with B_s''; weighted with B_r, B_r', B_r'' (bu, du, ddu) it adds to the six partials.
+// The point and first partials alone (the list kernel).
+PM_FN void accumulateTensorRowFirst(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(REAL3) v, REAL bu, REAL du,
+                                    REAL3 s0, REAL3 s1) {
+  p += bu * s0;
+  u += du * s0;
+  v += bu * s1;
+}
 PM_FN void accumulateTensorRow(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(REAL3) v, PM_INOUT(REAL3) uu,
                                PM_INOUT(REAL3) uv, PM_INOUT(REAL3) vv, REAL bu, REAL du, REAL ddu, REAL3 s0,
                                REAL3 s1, REAL3 s2) {
-  p += bu * s0;
-  u += du * s0;
+  accumulateTensorRowFirst(p, u, v, bu, du, s0, s1);
   uu += ddu * s0;
-  v += bu * s1;
   uv += du * s1;
   vv += bu * s2;
 }
@@ -134,23 +139,37 @@ PM_FN void accumulateTensorRow(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(RE
 // point and its derivatives: C = A / W, C' = (A' - W' C) / W, C'' = (A'' - 2 W' C' - W'' C) / W.
 // One reciprocal instead of three vector divisions (the divisions were most of a rational sample's
 // cost).
-PM_FN void rationalCurve(PM_INOUT(REAL3) c0, PM_INOUT(REAL3) c1, PM_INOUT(REAL3) c2, REAL w0, REAL w1, REAL w2) {
+// The point alone (the list kernel, core/list_eval.h): C = A / W; returns 1 / W.
+PM_FN REAL rationalPoint(PM_INOUT(REAL3) c0, REAL w0) {
   REAL r = REAL(1) / w0;
   c0 = c0 * r;
+  return r;
+}
+// C and C' alone; returns 1 / W.
+PM_FN REAL rationalCurveFirst(PM_INOUT(REAL3) c0, PM_INOUT(REAL3) c1, REAL w0, REAL w1) {
+  REAL r = rationalPoint(c0, w0);
   c1 = (c1 - w1 * c0) * r;
+  return r;
+}
+PM_FN void rationalCurve(PM_INOUT(REAL3) c0, PM_INOUT(REAL3) c1, PM_INOUT(REAL3) c2, REAL w0, REAL w1, REAL w2) {
+  REAL r = rationalCurveFirst(c0, c1, w0, w1);
   c2 = (c2 - REAL(2) * w1 * c1 - w2 * c0) * r;
 }
 
+// S, S_u and S_v alone (the list kernel); returns 1 / W.
+PM_FN REAL rationalSurfaceFirst(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(REAL3) v, REAL w, REAL wu, REAL wv) {
+  REAL r = rationalPoint(p, w);
+  u = (u - wu * p) * r;
+  v = (v - wv * p) * r;
+  return r;
+}
 // The same for a surface's six homogeneous partials and those of W: S = A / W,
 // S_u = (A_u - W_u S) / W (v likewise), S_uu = (A_uu - 2 W_u S_u - W_uu S) / W (vv likewise),
 // S_uv = (A_uv - W_u S_v - W_v S_u - W_uv S) / W.
 PM_FN void rationalSurface(PM_INOUT(REAL3) p, PM_INOUT(REAL3) u, PM_INOUT(REAL3) v, PM_INOUT(REAL3) uu,
                            PM_INOUT(REAL3) uv, PM_INOUT(REAL3) vv, REAL w, REAL wu, REAL wv, REAL wuu, REAL wuv,
                            REAL wvv) {
-  REAL r = REAL(1) / w;
-  p = p * r;
-  u = (u - wu * p) * r;
-  v = (v - wv * p) * r;
+  REAL r = rationalSurfaceFirst(p, u, v, w, wu, wv);
   uu = (uu - REAL(2) * wu * u - wuu * p) * r;
   uv = (uv - wu * v - wv * u - wuv * p) * r;
   vv = (vv - REAL(2) * wv * v - wvv * p) * r;

@@ -56,6 +56,27 @@ void evalTensorPatch(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3*
   out = d;
 }
 
+SurfaceFirst evalTensorPatchFirst(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3* net, int stride, double u,
+                                  double v, bool derivatives) {
+  double b0[kMaxBasisCount], b1[kMaxBasisCount], c0[kMaxBasisCount], c1[kMaxBasisCount];
+  evalSpanBasis(bu, u, b0, derivatives ? b1 : nullptr, nullptr);
+  evalSpanBasis(bv, v, c0, derivatives ? c1 : nullptr, nullptr);
+  SurfaceFirst d;
+  for (int r = 0; r < bu.count; ++r) {
+    // evalTensorPatch's sums, in its order, less the second partials.
+    glm::dvec3 row0(0.0), row1(0.0);
+    const glm::dvec3* p = net + static_cast<ptrdiff_t>(r) * stride;
+    if (derivatives) {
+      for (int s = 0; s < bv.count; ++s) row0 += c0[s] * p[s], row1 += c1[s] * p[s];
+      pm::accumulateTensorRowFirst(d.point, d.du, d.dv, b0[r], b1[r], row0, row1);
+    } else {
+      for (int s = 0; s < bv.count; ++s) row0 += c0[s] * p[s];
+      d.point += b0[r] * row0;
+    }
+  }
+  return d;
+}
+
 void evalAlphaEBPatch(const SpanBasis& basis, const glm::dvec3* net, int stride, const glm::dvec3 V[4],
                       const double alpha[4], double u, double v, PatchDerivs& out, PatchDerivs* base) {
   PatchDerivs c;
@@ -559,7 +580,7 @@ SurfacePoint Surface::evalWithNormal(int i, int j, double u, double v) const {
   return out;
 }
 
-SurfacePoint Surface::evaluate(int i, int j, double u, double v) const {
+void Surface::checkPatchQuery(int i, int j, double u, double v) const {
   if (i < patches_.u.first || i > patches_.u.last || j < patches_.v.first || j > patches_.v.last)
     throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
                             ") outside the valid patch range " + rangeText(patches_.u) + " x " +
@@ -571,19 +592,57 @@ SurfacePoint Surface::evaluate(int i, int j, double u, double v) const {
       throw std::out_of_range("patch (" + std::to_string(i) + ", " + std::to_string(j) +
                               ") is an empty knot interval");
   }
+}
+
+SurfacePoint Surface::evaluate(int i, int j, double u, double v) const {
+  checkPatchQuery(i, j, u, v);
   return evalWithNormal(i, j, u, v);
 }
 
-SurfacePoint Surface::evaluateAt(double U, double V) const {
+void Surface::checkGlobalQuery(double U, double V) const {
   const auto [ulo, uhi] = parameterRangeU();
   const auto [vlo, vhi] = parameterRangeV();
   if (!(U >= ulo && U <= uhi) || !(V >= vlo && V <= vhi))
     throw std::out_of_range("(U, V) = (" + preciseText(U) + ", " + preciseText(V) + ") outside the parameter range [" + preciseText(ulo) +
                             ", " + preciseText(uhi) + "] x [" + preciseText(vlo) + ", " + preciseText(vhi) + "]");
+}
+
+SurfacePoint Surface::evaluateAt(double U, double V) const {
+  checkGlobalQuery(U, V);
   int i = 0, j = 0;
   double u = 0.0, v = 0.0;
   patchAt(U, V, i, j, u, v);
   return evalWithNormal(i, j, u, v);
+}
+
+SurfaceFirst Surface::evalFirst(int i, int j, double u, double v, bool derivatives, SurfaceListCache& cache) const {
+  if (knotVector()) {
+    // The knot parameter as evalPatch forms it, so that the span and bits are evalPatch's.
+    const double u0 = bspline_.knotsU[i], u1 = bspline_.knotsU[i + 1];
+    const double v0 = bspline_.knotsV[j], v1 = bspline_.knotsV[j + 1];
+    const BSplineSurfaceFirst p = evalBSplineSurfaceFirst(bspline_, u0 + u * (u1 - u0), v0 + v * (v1 - v0),
+                                                          derivatives, cache.u, cache.v);
+    return {p.point, p.du, p.dv};
+  }
+  const glm::dvec3* net = &net_[static_cast<size_t>(i + offU_) * netCols_ + (j + offV_)];
+  if (!alphaEB()) return evalTensorPatchFirst(basisU_, basisV_, net, netCols_, u, v, derivatives);
+  // α-EB: the blend's weights read the base partials, so both are computed (§5.3).
+  PatchDerivs q, c;
+  evalPatch(i, j, u, v, q, c);
+  return derivatives ? SurfaceFirst{q.p, q.u, q.v} : SurfaceFirst{q.p, glm::dvec3(0.0), glm::dvec3(0.0)};
+}
+
+SurfaceFirst Surface::evaluateFirst(int i, int j, double u, double v, bool derivatives, SurfaceListCache& cache) const {
+  checkPatchQuery(i, j, u, v);
+  return evalFirst(i, j, u, v, derivatives, cache);
+}
+
+SurfaceFirst Surface::evaluateFirstAt(double U, double V, bool derivatives, SurfaceListCache& cache) const {
+  checkGlobalQuery(U, V);
+  int i = 0, j = 0;
+  double u = 0.0, v = 0.0;
+  patchAtFrom(U, V, cache.u.span, cache.v.span, i, j, u, v);
+  return evalFirst(i, j, u, v, derivatives, cache);
 }
 
 glm::dvec3 Surface::limitNormal(int i, int j, int cornerU, int cornerV) const {
@@ -602,9 +661,13 @@ glm::dvec3 Surface::limitNormal(int i, int j, int cornerU, int cornerV) const {
 }
 
 void Surface::patchAt(double U, double V, int& i, int& j, double& u, double& v) const {
+  patchAtFrom(U, V, -1, -1, i, j, u, v);
+}
+
+void Surface::patchAtFrom(double U, double V, int hintU, int hintV, int& i, int& j, double& u, double& v) const {
   if (knotVector()) {
-    i = findKnotSpan(bspline_.orderU, bspline_.knotsU, bspline_.rows, U);
-    j = findKnotSpan(bspline_.orderV, bspline_.knotsV, bspline_.cols, V);
+    i = findKnotSpanFrom(hintU, bspline_.orderU, bspline_.knotsU, bspline_.rows, U);
+    j = findKnotSpanFrom(hintV, bspline_.orderV, bspline_.knotsV, bspline_.cols, V);
     u = std::clamp((U - bspline_.knotsU[i]) / (bspline_.knotsU[i + 1] - bspline_.knotsU[i]), 0.0, 1.0);
     v = std::clamp((V - bspline_.knotsV[j]) / (bspline_.knotsV[j + 1] - bspline_.knotsV[j]), 0.0, 1.0);
     return;

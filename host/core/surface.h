@@ -39,6 +39,17 @@ struct SurfacePoint {
   NormalRule normalRule = NormalRule::Regular;
 };
 
+// The point and first partials alone: what the list kernel (core/list_eval.h) computes when asked
+// for no second partials and no normal. The same bits as SurfacePoint's fields.
+struct SurfaceFirst {
+  glm::dvec3 point{0.0}, du{0.0}, dv{0.0};
+};
+// What one list evaluation keeps from one query to the next: each direction's knot interval and
+// basis (knot-vector B-splines), so that a list sorted or grouped by parameter skips the lookups.
+struct SurfaceListCache {
+  KnotBasisCache u, v;
+};
+
 // Inclusive patch index ranges per direction (docs/math.md §5.1, §6).
 struct PatchRange {
   SpanRange u, v;
@@ -53,6 +64,10 @@ struct PatchDerivs {
 };
 void evalTensorPatch(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3* net, int stride, double u,
                      double v, PatchDerivs& out);
+
+// evalTensorPatch's point and first partials alone, the same bits (derivatives false: the point).
+SurfaceFirst evalTensorPatchFirst(const SpanBasis& bu, const SpanBasis& bv, const glm::dvec3* net, int stride, double u,
+                                  double v, bool derivatives);
 
 // One α-EB patch (docs/math.md §5.2, §5.3): net = first of the 4x4 extended points P_{i-1.., j-1..},
 // corners in the order (i,j), (i,j+1), (i+1,j), (i+1,j+1) for V and alpha. `base` (optional)
@@ -160,6 +175,12 @@ class Surface {
   // core/bspline.h findKnotSpan. The one lookup that CPU and GPU parameter lists share.
   void patchAt(double U, double V, int& i, int& j, double& u, double& v) const;
 
+  // The list kernel (core/list_eval.h): evaluate() / evaluateAt() without the second partials and
+  // the normal, the point alone when `derivatives` is false (du, dv left 0); the same bits and the
+  // same range checks. `cache` carries the knot intervals from one query of a list to the next.
+  SurfaceFirst evaluateFirst(int i, int j, double u, double v, bool derivatives, SurfaceListCache& cache) const;
+  SurfaceFirst evaluateFirstAt(double U, double V, bool derivatives, SurfaceListCache& cache) const;
+
   // The patches of rows first..last (patch indices in u) as a surface of their own, open in u:
   // its patch (i, j) is patch (first + i, j) here and evaluates to the same bits (the same net
   // rows, V, α and bases, copied). The GPU path samples a net too large for one device buffer in
@@ -224,6 +245,14 @@ class Surface {
   // Point and partials without normal; `base` gets C for α-EB (= the result for plain surfaces).
   void evalPatch(int i, int j, double u, double v, PatchDerivs& out, PatchDerivs& base) const;
   SurfacePoint evalWithNormal(int i, int j, double u, double v) const;
+  // evalPatch's point and first partials alone (derivatives false: the point; α-EB computes the
+  // partials anyway, as its blend weights read the base partials).
+  SurfaceFirst evalFirst(int i, int j, double u, double v, bool derivatives, SurfaceListCache& cache) const;
+  // The range checks of evaluate() and evaluateAt() (std::out_of_range).
+  void checkPatchQuery(int i, int j, double u, double v) const;
+  void checkGlobalQuery(double U, double V) const;
+  // patchAt, trying the knot intervals hintU, hintV first (core/bspline.h findKnotSpanFrom).
+  void patchAtFrom(double U, double V, int hintU, int hintV, int& i, int& j, double& u, double& v) const;
   bool cornerLimit(int i, int j, int cu, int cv, glm::dvec3& n) const;
 
   SurfaceShape model_;

@@ -9,10 +9,10 @@ namespace shapespline::gpu {
 namespace {
 
 std::vector<CurvePoint> runCurveList(KernelSet& k, GpuCurve& curve, const std::vector<layout::ListSampleD>& s,
-                                     size_t maxPlaneBytes) {
-  const auto planes = curve.knotVector() ? runList(k, curve, Kernel::BSplineCurveEval, false, kCurveFields,
+                                     FieldMask fields, size_t maxPlaneBytes) {
+  const auto planes = curve.knotVector() ? runList(k, curve, Kernel::BSplineCurveEval, false, fields,
                                                    knotPush(curve, 1, 1), s, maxPlaneBytes)
-                                         : runList(k, curve, Kernel::CurveEval, false, kCurveFields,
+                                         : runList(k, curve, Kernel::CurveEval, false, fields,
                                                    curvePush(curve), s, maxPlaneBytes);
   std::vector<CurvePoint> out(s.size());
   for (size_t i = 0; i < out.size(); ++i) {
@@ -48,14 +48,17 @@ void CurveEvaluator::evaluateGrid(GpuCurve& curve, const GridSpec& grid, FieldMa
   runGrid(*kernels_, *planes_, curve, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 
-std::vector<CurvePoint> CurveEvaluator::evaluateList(GpuCurve& curve, std::span<const CurveSample> samples) {
+std::vector<CurvePoint> CurveEvaluator::evaluateList(GpuCurve& curve, std::span<const CurveSample> samples,
+                                                     FieldMask fields) {
   checkPrecision(*kernels_, curve);
-  return runCurveList(*kernels_, curve, curveListSamples(curve, samples), options_.maxPlaneBytes);
+  return runCurveList(*kernels_, curve, curveListSamples(curve, samples), listFields(fields, kCurveFields),
+                      options_.maxPlaneBytes);
 }
 
-std::vector<CurvePoint> CurveEvaluator::evaluateListAt(GpuCurve& curve, std::span<const double> u) {
+std::vector<CurvePoint> CurveEvaluator::evaluateListAt(GpuCurve& curve, std::span<const double> u, FieldMask fields) {
   checkPrecision(*kernels_, curve);
-  return runCurveList(*kernels_, curve, curveListSamplesAt(curve, u), options_.maxPlaneBytes);
+  return runCurveList(*kernels_, curve, curveListSamplesAt(curve, u), listFields(fields, kCurveFields),
+                      options_.maxPlaneBytes);
 }
 
 }  // namespace shapespline::gpu

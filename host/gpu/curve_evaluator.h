@@ -35,9 +35,12 @@ class CurveEvaluator {
   // Point, d1, d2 at arbitrary (span, t). Knot-vector B-splines: span = knot interval, t local in
   // it, derivatives w.r.t. the knot parameter; as Curve::evaluate (an interior knot at t = 1 is
   // evaluated on the next non-empty interval).
-  std::vector<CurvePoint> evaluateList(GpuCurve& curve, std::span<const CurveSample> samples);
+  // `fields` ⊆ {Point, D1, D2}: only those are computed and written (the kernel's OUTPUT_MASK; what
+  // feeds no asked field is dead code after specialization); the others come back 0.
+  std::vector<CurvePoint> evaluateList(GpuCurve& curve, std::span<const CurveSample> samples,
+                                       FieldMask fields = kCurveFields);
   // Point, d1, d2 at global parameters u (GpuCurve::parameterRange(); as Curve::evaluateAt).
-  std::vector<CurvePoint> evaluateListAt(GpuCurve& curve, std::span<const double> u);
+  std::vector<CurvePoint> evaluateListAt(GpuCurve& curve, std::span<const double> u, FieldMask fields = kCurveFields);
 
  private:
   std::unique_ptr<KernelSet> kernels_;

@@ -129,4 +129,11 @@ void readReals(const std::byte* src, Precision p, size_t n, double* out) {
   }
 }
 
+FieldMask listFields(FieldMask asked, FieldMask all) {
+  if (asked == 0 || (asked & ~all) != 0)
+    throw std::invalid_argument("a list evaluation's fields must be a non-empty subset of the model's (mask " +
+                                std::to_string(asked) + ", allowed " + std::to_string(all) + ")");
+  return asked;
+}
+
 }  // namespace shapespline::gpu

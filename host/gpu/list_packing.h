@@ -28,6 +28,8 @@ std::vector<SurfaceSample> surfaceSamplesAt(const GpuSurface& surface, std::span
 std::vector<std::byte> packListSamples(const std::vector<layout::ListSampleD>& samples, Precision p);
 // n REAL values at src into doubles.
 void readReals(const std::byte* src, Precision p, size_t n, double* out);
+// A list job's fields: `asked` within `all`, never empty (std::invalid_argument otherwise).
+FieldMask listFields(FieldMask asked, FieldMask all);
 // Point i of a read-back plane (3 doubles a point); 0 for an empty plane.
 inline glm::dvec3 planePoint(const std::vector<double>& plane, size_t i) {
   return plane.empty() ? glm::dvec3(0.0) : glm::dvec3(plane[3 * i], plane[3 * i + 1], plane[3 * i + 2]);

@@ -36,14 +36,16 @@ void SurfaceEvaluator::evaluateGrid(GpuSurface& surface, const GridSpec& grid, F
   runGrid(*kernels_, *planes_, surface, job, grid, fields, consumer, options_.maxPlaneBytes);
 }
 
-std::vector<SurfacePoint> SurfaceEvaluator::evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples) {
+std::vector<SurfacePoint> SurfaceEvaluator::evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples,
+                                                         FieldMask fields) {
   checkPrecision(*kernels_, surface);
+  fields = listFields(fields, kSurfaceFields);
   const std::vector<layout::ListSampleD> s = surfaceListSamples(surface, samples);
   const auto planes =
       surface.knotVector()
-          ? runList(*kernels_, surface, Kernel::BSplineSurfaceEval, true, kSurfaceFields,
+          ? runList(*kernels_, surface, Kernel::BSplineSurfaceEval, true, fields,
                     knotPush(surface, uint32_t(surface.gridItemsV()), surface.netCols()), s, options_.maxPlaneBytes)
-          : runList(*kernels_, surface, Kernel::SurfaceEval, true, kSurfaceFields, surfacePush(surface), s,
+          : runList(*kernels_, surface, Kernel::SurfaceEval, true, fields, surfacePush(surface), s,
                     options_.maxPlaneBytes);
   std::vector<SurfacePoint> out(samples.size());
   for (size_t i = 0; i < out.size(); ++i) {
@@ -59,9 +61,10 @@ std::vector<SurfacePoint> SurfaceEvaluator::evaluateList(GpuSurface& surface, st
 }
 
 std::vector<SurfacePoint> SurfaceEvaluator::evaluateListAt(GpuSurface& surface,
-                                                           std::span<const std::pair<double, double>> uv) {
+                                                           std::span<const std::pair<double, double>> uv,
+                                                           FieldMask fields) {
   const std::vector<SurfaceSample> local = surfaceSamplesAt(surface, uv);
-  return evaluateList(surface, local);
+  return evaluateList(surface, local, fields);
 }
 
 }  // namespace shapespline::gpu

@@ -34,9 +34,14 @@ class SurfaceEvaluator {
   void evaluateGrid(GpuSurface& surface, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer);
   // Every field at arbitrary (patch, u, v); normalRule is not reported (always Regular).
   // Knot-vector B-splines: (i, j) = knot interval pair, as Surface::evaluate.
-  std::vector<SurfacePoint> evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples);
+  // `fields` ⊆ kSurfaceFields: only those are computed and written (the kernel's OUTPUT_MASK: no
+  // normal unless asked, and what feeds no asked field is dead code after specialization); the
+  // others come back 0.
+  std::vector<SurfacePoint> evaluateList(GpuSurface& surface, std::span<const SurfaceSample> samples,
+                                         FieldMask fields = kSurfaceFields);
   // Every field at global (U, V) (as Surface::evaluateAt).
-  std::vector<SurfacePoint> evaluateListAt(GpuSurface& surface, std::span<const std::pair<double, double>> uv);
+  std::vector<SurfacePoint> evaluateListAt(GpuSurface& surface, std::span<const std::pair<double, double>> uv,
+                                           FieldMask fields = kSurfaceFields);
 
  private:
   std::unique_ptr<KernelSet> kernels_;

@@ -70,6 +70,16 @@ void unscale(std::vector<SurfacePoint>& points, int k) {
   }
 }
 
+void unscale(std::vector<CurveFirst>& points, int k) {
+  if (k == 0) return;
+  for (auto& p : points) p.point = ldexp3(p.point, -k), p.d1 = ldexp3(p.d1, -k);
+}
+
+void unscale(std::vector<SurfaceFirst>& points, int k) {
+  if (k == 0) return;
+  for (auto& p : points) p.point = ldexp3(p.point, -k), p.du = ldexp3(p.du, -k), p.dv = ldexp3(p.dv, -k);
+}
+
 void ChunkUnscaler::operator()(const GridChunk& chunk, const ChunkConsumer& consumer) {
   if (k_ == 0) return consumer(chunk);
   GridChunk out = chunk;

@@ -40,6 +40,8 @@ Surface scaledSurface(const Surface& surface, int k);
 // Results of the scaled net multiplied by 2^-k (normals untouched: unit vectors).
 void unscale(std::vector<CurvePoint>& points, int k);
 void unscale(std::vector<SurfacePoint>& points, int k);
+void unscale(std::vector<CurveFirst>& points, int k);
+void unscale(std::vector<SurfaceFirst>& points, int k);
 
 // Hands each chunk of the scaled net's grid to `consumer` with every field but the normal
 // multiplied by 2^-k (k = 0: the chunk itself). Keeps one buffer per field between chunks.

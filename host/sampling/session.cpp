@@ -113,7 +113,12 @@ struct Gpu<Curve> {
   using Mirror = gpu::GpuCurve;
   using Evaluator = gpu::CurveEvaluator;
   using Point = CurvePoint;
+  using First = CurveFirst;
   using Query = CurveQuery;
+  static FieldMask mask(ListFields f) {
+    return fieldBit(Field::Point) | (f == ListFields::FirstDerivatives ? fieldBit(Field::D1) : 0u);
+  }
+  static CurveFirst first(const CurvePoint& p) { return {p.point, p.d1}; }
   static gpu::CurveSample local(const CurveQuery& q) { return {q.span, q.t}; }
   static double global(const CurveQuery& q) { return q.u; }
   static CurvePoint cpu(const Curve& c, const CurveQuery& q) { return q.global ? c.evaluateAt(q.u) : c.evaluate(q.span, q.t); }
@@ -123,7 +128,13 @@ struct Gpu<Surface> {
   using Mirror = gpu::GpuSurface;
   using Evaluator = gpu::SurfaceEvaluator;
   using Point = SurfacePoint;
+  using First = SurfaceFirst;
   using Query = SurfaceQuery;
+  static FieldMask mask(ListFields f) {
+    return fieldBit(Field::Point) |
+           (f == ListFields::FirstDerivatives ? fieldBit(Field::Du) | fieldBit(Field::Dv) : 0u);
+  }
+  static SurfaceFirst first(const SurfacePoint& p) { return {p.point, p.du, p.dv}; }
   static gpu::SurfaceSample local(const SurfaceQuery& q) { return {q.i, q.j, q.u, q.v}; }
   static std::pair<double, double> global(const SurfaceQuery& q) { return {q.u, q.v}; }
   static SurfacePoint cpu(const Surface& s, const SurfaceQuery& q) {
@@ -383,7 +394,8 @@ void sampleOnGpuInBands(const std::shared_ptr<vk::Context>& ctx, gpu::SurfaceEva
 template <class Model>
 std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model,
                                                       const Report& r,
-                                                      std::span<const typename Gpu<Model>::Query> queries) {
+                                                      std::span<const typename Gpu<Model>::Query> queries,
+                                                      FieldMask fields = 0) {
   using G = Gpu<Model>;
   std::vector<decltype(G::local(queries[0]))> local;
   std::vector<decltype(G::global(queries[0]))> global;
@@ -393,8 +405,9 @@ std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     typename G::Evaluator evaluator(ctx, r.computedPrecision);
     typename G::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
-    if (!local.empty()) atLocal = evaluator.evaluateList(mirror, local);
-    if (!global.empty()) atGlobal = evaluator.evaluateListAt(mirror, global);
+    const FieldMask asked = fields ? fields : (std::is_same_v<Model, Curve> ? kCurveFields : kSurfaceFields);
+    if (!local.empty()) atLocal = evaluator.evaluateList(mirror, local, asked);
+    if (!global.empty()) atGlobal = evaluator.evaluateListAt(mirror, global, asked);
     return 0;
   });
   for (size_t i = 0, l = 0, g = 0; i < queries.size(); ++i) {
@@ -420,7 +433,40 @@ std::vector<typename Gpu<Model>::Point> evaluateOnCpuFor(const Model& model, con
   return out;
 }
 
+// The lean list (core/list_eval.h) on the CPU, or the list kernels with only those fields written.
+template <class Model>
+std::vector<typename Gpu<Model>::First> evaluateFirstOnCpu(const Model& model, const Report& r,
+                                                           std::span<const typename Gpu<Model>::Query> queries,
+                                                           ListFields fields) {
+  const auto scaled = scaledOrNot(model, r.netScaleExponent);
+  std::vector<typename Gpu<Model>::First> out(queries.size());
+  evaluateList(pick(scaled, model), queries, fields, out);
+  unscale(out, r.netScaleExponent);
+  return out;
+}
+
+template <class Model>
+std::vector<typename Gpu<Model>::First> evaluateFirstOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model,
+                                                           const Report& r,
+                                                           std::span<const typename Gpu<Model>::Query> queries,
+                                                           ListFields fields) {
+  using G = Gpu<Model>;
+  const std::vector<typename G::Point> all = evaluateOnGpu(ctx, model, r, queries, G::mask(fields));
+  std::vector<typename G::First> out(all.size());
+  for (size_t i = 0; i < all.size(); ++i) out[i] = G::first(all[i]);
+  return out;
+}
+
 }  // namespace
+
+std::vector<CurveFirst> evaluateOnCpu(const Curve& curve, const Report& report, std::span<const CurveQuery> queries,
+                                      ListFields fields) {
+  return evaluateFirstOnCpu(curve, report, queries, fields);
+}
+std::vector<SurfaceFirst> evaluateOnCpu(const Surface& surface, const Report& report,
+                                        std::span<const SurfaceQuery> queries, ListFields fields) {
+  return evaluateFirstOnCpu(surface, report, queries, fields);
+}
 
 void sampleOnCpu(const Curve& curve, const Report& report, const GridSpec& grid, FieldMask fields,
                  const ChunkConsumer& consumer, const GridOptions& options) {
@@ -481,6 +527,24 @@ Report Session::sampleGrid(const Curve& curve, const DeviceRequest& request, con
 Report Session::sampleGrid(const Surface& surface, const DeviceRequest& request, const GridSpec& grid, FieldMask fields,
                            const ChunkConsumer& consumer, const GridOptions& options) {
   return sampleGridFor(surface, request, grid, fields, consumer, options);
+}
+template <class Model, class Query>
+auto Session::evaluateFirstFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries,
+                               ListFields fields) {
+  ListResult<typename Gpu<Model>::First> result{{}, planFor(model, request)};
+  if (queries.empty()) return result;
+  result.points = result.report.gpu ? evaluateFirstOnGpu(ctx_, model, result.report, queries, fields)
+                                    : evaluateFirstOnCpu(model, result.report, queries, fields);
+  return result;
+}
+
+ListResult<CurveFirst> Session::evaluate(const Curve& curve, const DeviceRequest& request,
+                                         std::span<const CurveQuery> queries, ListFields fields) {
+  return evaluateFirstFor(curve, request, queries, fields);
+}
+ListResult<SurfaceFirst> Session::evaluate(const Surface& surface, const DeviceRequest& request,
+                                           std::span<const SurfaceQuery> queries, ListFields fields) {
+  return evaluateFirstFor(surface, request, queries, fields);
 }
 ListResult<CurvePoint> Session::evaluate(const Curve& curve, const DeviceRequest& request,
                                          std::span<const CurveQuery> queries) {

@@ -13,6 +13,7 @@
 //  * Errors: every Vulkan failure becomes DeviceError with a hint what to change.
 // The Vulkan context is created on first GPU use and lives as long as the session.
 #include <shapespline/core/curve.h>
+#include <shapespline/core/list_eval.h>
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/sampling/report.h>
@@ -58,28 +59,10 @@ struct GridOptions {
   std::array<double*, kFieldCount> jobPlanes{};
 };
 
-// One sample of a list: local (span, t) / (patch i, j, u, v) or, with `global`, the global
-// parameter u (curves; t unused) / (U, V) = (u, v) (surfaces; i, j unused).
-struct CurveQuery {
-  bool global = false;
-  int span = 0;
-  double t = 0.0, u = 0.0;
-};
-struct SurfaceQuery {
-  bool global = false;
-  int i = 0, j = 0;
-  double u = 0.0, v = 0.0;
-};
-
-// A sample outside the model's parameter range: index() is its position in the list.
-class QueryRangeError : public std::out_of_range {
- public:
-  QueryRangeError(size_t index, const std::string& what) : std::out_of_range(what), index_(index) {}
-  size_t index() const noexcept { return index_; }
-
- private:
-  size_t index_;
-};
+// One sample of a list, and the error naming a sample outside the model: core/list_eval.h.
+using shapespline::CurveQuery;
+using shapespline::QueryRangeError;
+using shapespline::SurfaceQuery;
 
 template <class Point>
 struct ListResult {
@@ -97,6 +80,11 @@ void sampleOnCpu(const Surface& surface, const Report& report, const GridSpec& g
 std::vector<CurvePoint> evaluateOnCpu(const Curve& curve, const Report& report, std::span<const CurveQuery> queries);
 std::vector<SurfacePoint> evaluateOnCpu(const Surface& surface, const Report& report,
                                         std::span<const SurfaceQuery> queries);
+// The same, computing only `fields` (core/list_eval.h, the lean list kernel).
+std::vector<CurveFirst> evaluateOnCpu(const Curve& curve, const Report& report, std::span<const CurveQuery> queries,
+                                      ListFields fields);
+std::vector<SurfaceFirst> evaluateOnCpu(const Surface& surface, const Report& report,
+                                        std::span<const SurfaceQuery> queries, ListFields fields);
 
 class Session {
  public:
@@ -129,6 +117,13 @@ class Session {
   ListResult<CurvePoint> evaluate(const Curve& curve, const DeviceRequest& request, std::span<const CurveQuery> queries);
   ListResult<SurfacePoint> evaluate(const Surface& surface, const DeviceRequest& request,
                                     std::span<const SurfaceQuery> queries);
+  // Only the point, or the point and first derivatives, at each query: on the CPU the lean list
+  // kernel (core/list_eval.h; the same bits as the fields of evaluate() above), on the GPU the list
+  // kernels with those fields alone written. Throws QueryRangeError (CPU path).
+  ListResult<CurveFirst> evaluate(const Curve& curve, const DeviceRequest& request, std::span<const CurveQuery> queries,
+                                  ListFields fields);
+  ListResult<SurfaceFirst> evaluate(const Surface& surface, const DeviceRequest& request,
+                                    std::span<const SurfaceQuery> queries, ListFields fields);
 
   // The Vulkan context once a plan or job on the GPU path created it (nullptr before that and when
   // there is no device). A front end that keeps device-side models between jobs (the Python
@@ -167,6 +162,9 @@ class Session {
                        const ChunkConsumer& consumer, const GridOptions& options);
   template <class Model, class Query>
   auto evaluateFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries);
+  template <class Model, class Query>
+  auto evaluateFirstFor(const Model& model, const DeviceRequest& request, std::span<const Query> queries,
+                        ListFields fields);
   // The context, created on first call (or by prepare()); nullptr (and noDevice_ set) when there
   // is no device.
   const std::shared_ptr<vk::Context>& context(Precision precision);

@@ -106,24 +106,26 @@ void Handle<Surface>::checkQueries(std::span<const sampling::SurfaceQuery> queri
 
 // Local and global queries go to evaluateList / evaluateListAt and are put back in order.
 template <>
-std::vector<CurvePoint> Handle<Curve>::gpuPoints(Resident& res, std::span<const sampling::CurveQuery> queries) {
+std::vector<CurvePoint> Handle<Curve>::gpuPoints(Resident& res, std::span<const sampling::CurveQuery> queries,
+                                                 FieldMask fields) {
   std::vector<gpu::CurveSample> local;
   std::vector<double> global;
   for (const auto& q : queries) q.global ? global.push_back(q.u) : local.push_back({q.span, q.t});
   std::vector<CurvePoint> atLocal, atGlobal, out(queries.size());
-  if (!local.empty()) atLocal = res.evaluator->evaluateList(*res.mirror, local);
-  if (!global.empty()) atGlobal = res.evaluator->evaluateListAt(*res.mirror, global);
+  if (!local.empty()) atLocal = res.evaluator->evaluateList(*res.mirror, local, fields);
+  if (!global.empty()) atGlobal = res.evaluator->evaluateListAt(*res.mirror, global, fields);
   for (size_t i = 0, l = 0, g = 0; i < queries.size(); ++i) out[i] = queries[i].global ? atGlobal[g++] : atLocal[l++];
   return out;
 }
 template <>
-std::vector<SurfacePoint> Handle<Surface>::gpuPoints(Resident& res, std::span<const sampling::SurfaceQuery> queries) {
+std::vector<SurfacePoint> Handle<Surface>::gpuPoints(Resident& res, std::span<const sampling::SurfaceQuery> queries,
+                                                     FieldMask fields) {
   std::vector<gpu::SurfaceSample> local;
   std::vector<std::pair<double, double>> global;
   for (const auto& q : queries) q.global ? global.push_back({q.u, q.v}) : local.push_back({q.i, q.j, q.u, q.v});
   std::vector<SurfacePoint> atLocal, atGlobal, out(queries.size());
-  if (!local.empty()) atLocal = res.evaluator->evaluateList(*res.mirror, local);
-  if (!global.empty()) atGlobal = res.evaluator->evaluateListAt(*res.mirror, global);
+  if (!local.empty()) atLocal = res.evaluator->evaluateList(*res.mirror, local, fields);
+  if (!global.empty()) atGlobal = res.evaluator->evaluateListAt(*res.mirror, global, fields);
   for (size_t i = 0, l = 0, g = 0; i < queries.size(); ++i) out[i] = queries[i].global ? atGlobal[g++] : atLocal[l++];
   return out;
 }

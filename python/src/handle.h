@@ -47,7 +47,9 @@ struct Kind<Curve> {
   using Point = CurvePoint;
   using Query = sampling::CurveQuery;
   using ModelData = CurveModel;
+  static constexpr FieldMask kAll = kCurveFields, kFirstOrder = fieldBit(Field::D1);
   static ModelData dataOf(const Curve& c) { return c.model(); }
+  static Point pointOf(const CurveFirst& f) { return {f.point, f.d1, glm::dvec3(0.0)}; }
 };
 template <>
 struct Kind<Surface> {
@@ -56,7 +58,13 @@ struct Kind<Surface> {
   using Point = SurfacePoint;
   using Query = sampling::SurfaceQuery;
   using ModelData = SurfaceModel;
+  static constexpr FieldMask kAll = kSurfaceFields, kFirstOrder = fieldBit(Field::Du) | fieldBit(Field::Dv);
   static ModelData dataOf(const Surface& s) { return s.toModel(); }
+  static Point pointOf(const SurfaceFirst& f) {
+    Point p;
+    p.point = f.point, p.du = f.du, p.dv = f.dv, p.normal = glm::dvec3(0.0);
+    return p;
+  }
 };
 
 // Upload counters of a handle: those of its current mirror of one precision, and how many mirrors
@@ -134,16 +142,26 @@ class Handle {
     return r;
   }
 
-  // Every field at each query; CPU: Curve/Surface::evaluate(At), GPU: the mirror's list kernels.
+  // `fields` (within K::kAll) at each query, the others 0; CPU: Curve/Surface::evaluate(At), or
+  // the lean list kernel (core/list_eval.h) when the fields are the point and first derivatives at
+  // most; GPU: the mirror's list kernels writing those fields alone.
   sampling::ListResult<typename K::Point> evaluate(const sampling::DeviceRequest& request,
-                                                   std::span<const typename K::Query> queries) {
+                                                   std::span<const typename K::Query> queries,
+                                                   FieldMask fields = K::kAll) {
     sampling::ListResult<typename K::Point> out;
     {
       std::shared_lock lock(mutex_);
       out.report = python::plan(*model_, request);
       checkQueries(queries);
       if (!out.report.gpu) {
-        out.points = sampling::evaluateOnCpu(*model_, out.report, queries);
+        if (fields & ~(fieldBit(Field::Point) | K::kFirstOrder)) {
+          out.points = sampling::evaluateOnCpu(*model_, out.report, queries);
+          return out;
+        }
+        const auto lean = sampling::evaluateOnCpu(*model_, out.report, queries,
+                                                  fields & K::kFirstOrder ? ListFields::FirstDerivatives : ListFields::Point);
+        out.points.reserve(lean.size());
+        for (const auto& f : lean) out.points.push_back(K::pointOf(f));
         return out;
       }
     }
@@ -151,13 +169,13 @@ class Handle {
     out.report = python::plan(*model_, request);
     if (!out.report.gpu) {
       lock.unlock();
-      return evaluate(request, queries);
+      return evaluate(request, queries, fields);
     }
     checkQueries(queries);
     if (queries.empty()) return out;
     try {
       Resident& res = resident(out.report, 0);
-      out.points = gpuPoints(res, queries);
+      out.points = gpuPoints(res, queries, fields);
     } catch (const vk::VulkanError&) {
       rethrowDeviceError();
     }
@@ -273,7 +291,8 @@ class Handle {
 
   // Queries outside the model are refused before any device work (QueryRangeError names the index).
   void checkQueries(std::span<const typename K::Query> queries) const;
-  std::vector<typename K::Point> gpuPoints(Resident& res, std::span<const typename K::Query> queries);
+  std::vector<typename K::Point> gpuPoints(Resident& res, std::span<const typename K::Query> queries,
+                                           FieldMask fields);
 
   mutable std::shared_mutex mutex_;
   std::shared_ptr<const Model> model_;  // never null; replaced whole by change()
@@ -286,9 +305,11 @@ void Handle<Curve>::checkQueries(std::span<const sampling::CurveQuery> queries) 
 template <>
 void Handle<Surface>::checkQueries(std::span<const sampling::SurfaceQuery> queries) const;
 template <>
-std::vector<CurvePoint> Handle<Curve>::gpuPoints(Resident& res, std::span<const sampling::CurveQuery> queries);
+std::vector<CurvePoint> Handle<Curve>::gpuPoints(Resident& res, std::span<const sampling::CurveQuery> queries,
+                                                 FieldMask fields);
 template <>
-std::vector<SurfacePoint> Handle<Surface>::gpuPoints(Resident& res, std::span<const sampling::SurfaceQuery> queries);
+std::vector<SurfacePoint> Handle<Surface>::gpuPoints(Resident& res, std::span<const sampling::SurfaceQuery> queries,
+                                                     FieldMask fields);
 
 using CurveHandle = Handle<Curve>;
 using SurfaceHandle = Handle<Surface>;

@@ -469,10 +469,14 @@ py::list sampleMany(py::sequence models, py::object grid, py::object fields, con
 // ---- Lists -------------------------------------------------------------------------------------
 
 template <class Model, class Point>
-py::dict pointDict(const std::vector<Point>& pts, Precision precision) {
+py::dict pointDict(const std::vector<Point>& pts, Precision precision, FieldMask fields = ~FieldMask{0}) {
   py::dict out;
   std::vector<glm::dvec3> v(pts.size());
   auto put = [&](const char* name, glm::dvec3 Point::*member) {
+    bool asked = false;
+    for (const auto& f : kCurveFields) asked |= !std::strcmp(f.name, name) && (fields & fieldBit(f.field));
+    for (const auto& f : kSurfaceFields) asked |= !std::strcmp(f.name, name) && (fields & fieldBit(f.field));
+    if (!asked) return;
     for (size_t i = 0; i < pts.size(); ++i) v[i] = pts[i].*member;
     out[name] = points3(v, precision);
   };
@@ -505,7 +509,8 @@ DArray asArray(py::handle h, const char* name) {
 }
 
 py::object curveEvaluate(CurveHandle& h, py::object params, py::object span, py::object t, const std::string& device,
-                         const std::string& precision, bool require, bool withReport) {
+                         const std::string& precision, bool require, bool withReport, py::object fields) {
+  const FieldMask mask = fields.is_none() ? shapespline::kCurveFields : parseFields<Curve>(fields) | fieldBit(Field::Point);
   const sampling::DeviceRequest request = deviceRequest(device, precision, require);
   std::vector<sampling::CurveQuery> q;
   if (!params.is_none()) {
@@ -530,15 +535,18 @@ py::object curveEvaluate(CurveHandle& h, py::object params, py::object span, py:
   sampling::ListResult<CurvePoint> r;
   {
     py::gil_scoped_release release;
-    r = h.evaluate(request, q);
+    r = h.evaluate(request, q, mask);
   }
-  py::dict out = pointDict<Curve>(r.points, request.precision);
+  py::dict out = pointDict<Curve>(r.points, request.precision, mask);
   if (withReport) return py::make_tuple(out, reportObject(r.report));
   return out;
 }
 
 py::object surfaceEvaluate(SurfaceHandle& h, py::object params, py::object patch, py::object uv,
-                           const std::string& device, const std::string& precision, bool require, bool withReport) {
+                           const std::string& device, const std::string& precision, bool require, bool withReport,
+                           py::object fields) {
+  const FieldMask mask =
+      fields.is_none() ? shapespline::kSurfaceFields : parseFields<Surface>(fields) | fieldBit(Field::Point);
   const sampling::DeviceRequest request = deviceRequest(device, precision, require);
   std::vector<sampling::SurfaceQuery> q;
   auto pairs = [](py::object o, const char* name) {
@@ -566,9 +574,9 @@ py::object surfaceEvaluate(SurfaceHandle& h, py::object params, py::object patch
   sampling::ListResult<SurfacePoint> r;
   {
     py::gil_scoped_release release;
-    r = h.evaluate(request, q);
+    r = h.evaluate(request, q, mask);
   }
-  py::dict out = pointDict<Surface>(r.points, request.precision);
+  py::dict out = pointDict<Surface>(r.points, request.precision, mask);
   if (withReport) return py::make_tuple(out, reportObject(r.report));
   return out;
 }
@@ -914,9 +922,10 @@ PYBIND11_MODULE(shapespline, m) {
           "field), produced by a thread in bounded memory.")
       .def("evaluate", &curveEvaluate, py::arg("params") = py::none(), py::kw_only(), py::arg("span") = py::none(),
            py::arg("t") = py::none(), py::arg("device") = "auto", py::arg("precision") = "double",
-           py::arg("require") = false, py::arg("report") = false,
+           py::arg("require") = false, py::arg("report") = false, py::arg("fields") = py::none(),
            "evaluate(u) or evaluate(span=..., t=...) -> dict point, d1, d2 of shape (n, 3); derivatives w.r.t. the "
-           "global parameter.")
+           "global parameter. fields: a name or names (the point is always in); 'point' and 'd1' alone run the "
+           "lean list kernel.")
       .def(
           "set_alpha",
           [](CurveHandle& h, py::object value, py::object index) {
@@ -1046,9 +1055,10 @@ PYBIND11_MODULE(shapespline, m) {
           "Iterator of chunk dicts, as Curve.sample_chunks.")
       .def("evaluate", &surfaceEvaluate, py::arg("params") = py::none(), py::kw_only(), py::arg("patch") = py::none(),
            py::arg("uv") = py::none(), py::arg("device") = "auto", py::arg("precision") = "double",
-           py::arg("require") = false, py::arg("report") = false,
+           py::arg("require") = false, py::arg("report") = false, py::arg("fields") = py::none(),
            "evaluate((n, 2) global (U, V)) or evaluate(patch=(n, 2), uv=(n, 2)) -> dict point, du, dv, duu, duv, dvv, "
-           "normal of shape (n, 3).")
+           "normal of shape (n, 3). fields: a name or names (the point is always in); 'point', 'du' and 'dv' alone "
+           "run the lean list kernel.")
       .def("tessellate", &tessellate, py::arg("rate") = 8, py::kw_only(), py::arg("device") = "auto",
            py::arg("precision") = "float", py::arg("require") = false, py::arg("report") = false,
            "Watertight triangle mesh: (vertices (V, 8) float32 [x y z nx ny nz U V], indices (T, 3) uint32).")

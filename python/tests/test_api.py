@@ -90,6 +90,24 @@ def test_evaluate_global_and_local_agree():
     assert np.allclose(np.linalg.norm(e["normal"], axis=1), 1.0)
 
 
+def test_evaluate_fields_are_the_full_evaluations_own():
+    s = model("nurbs_torus.json")
+    uv = np.random.default_rng(5).random((200, 2))
+    full = s.evaluate(uv, device="cpu")
+    lean = s.evaluate(uv, device="cpu", fields=["du", "dv"])  # the lean list kernel
+    assert sorted(lean) == ["du", "dv", "point"]
+    for k in lean:
+        assert np.array_equal(lean[k], full[k]), k
+    assert sorted(s.evaluate(uv, device="cpu", fields="point")) == ["point"]
+    assert sorted(s.evaluate(uv, device="cpu", fields=["normal"])) == ["normal", "point"]
+    c = model("clamped_bspline.json")
+    u = np.linspace(0.0, 1.0, 33)
+    cf, cl = c.evaluate(u, device="cpu"), c.evaluate(u, device="cpu", fields="d1")
+    assert sorted(cl) == ["d1", "point"] and np.array_equal(cl["d1"], cf["d1"])
+    with pytest.raises(ValueError, match="fields"):
+        s.evaluate(uv, device="cpu", fields=["d1"])
+
+
 def test_basis_tables_partition_of_unity():
     t = np.linspace(0, 1, 21)
     for fam, kw in [("xuwang", {"degree": 5, "lambda_": -3}), ("gb", {"lambda_": 2}), ("ubp", {"order": 6, "lambda_": -3}),
