@@ -609,8 +609,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
     want = jobs::shardRecordOf(layout, format);
     if (trimShard) {
       trimShard->job = io::trimmedJobFingerprint(layout.job, surface->model().trim);
-      want.job = trimShard->job;
-      want.vertices = trimShard->records;
+      want = jobs::trimmedShardRecordOf(layout, format, *trimShard, layout.pointCount());
     }
   }
   // Resume: a shard whose record and files verify is left as it is.

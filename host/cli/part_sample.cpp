@@ -119,15 +119,7 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
                                        report.device, report.computedPrecision, job.storedPrecision, job.samplesU,
                                        job.samplesV);
     first.metadata.modelFile = args.model;
-    want = jobs::shardRecordOf(first, job.format);
-    want.job = shard.job;
-    want.shardIndex = shard.index;
-    want.shardCount = shard.count;
-    want.firstItem = shard.firstItem;
-    want.itemCount = shard.items;
-    want.totalItems = shard.totalItems;
-    want.points = points;
-    want.vertices = shard.records;
+    want = jobs::trimmedShardRecordOf(first, job.format, shard, points);
     if (jobs::shardAlreadyDone(want, job.format, {args.out, sidecar ? sidecar->target().string() : "", "sidecar"},
                                args.quiet))
       return false;

@@ -61,6 +61,20 @@ ShardRecord shardRecordOf(const io::SampleLayout& layout, io::OutputFormat forma
   return r;
 }
 
+ShardRecord trimmedShardRecordOf(const io::SampleLayout& layout, io::OutputFormat format, const io::TrimmedShard& shard,
+                                 uint64_t points) {
+  ShardRecord r = shardRecordOf(layout, format);
+  r.job = shard.job;
+  r.shardIndex = shard.index;
+  r.shardCount = shard.count;
+  r.firstItem = shard.firstItem;
+  r.itemCount = shard.items;
+  r.totalItems = shard.totalItems;
+  r.points = points;
+  r.vertices = shard.records;
+  return r;
+}
+
 namespace {
 
 fs::path folderOf(const std::string& path) {

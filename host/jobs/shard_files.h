@@ -5,6 +5,7 @@
 // shard record of every shard that has one verified (mergeInputs).
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/io/trimmed_points.h>
 #include <shapespline/jobs/shard_record.h>
 
 #include <string>
@@ -32,6 +33,12 @@ struct ShardFileList {
 // The record of a grid job's shard, without its files (a trimmed job's is this with its own job,
 // items and records: cli/part_sample.cpp, cli/cmd_sample.cpp).
 ShardRecord shardRecordOf(const io::SampleLayout& layout, io::OutputFormat format);
+
+// The record of a trimmed job's shard (a face with --trim, a part): the grid job's of `layout` (its
+// format, grid and metadata) under the trimmed job's fingerprint, shard and items, holding the
+// shard's records, its `points` the grid samples of its items.
+ShardRecord trimmedShardRecordOf(const io::SampleLayout& layout, io::OutputFormat format, const io::TrimmedShard& shard,
+                                 uint64_t points);
 
 // True when OUT.shard.json exists, is the record `want` (job fingerprint, shard, items, counts,
 // metadata: for raw/.npy/CSV shards but for device and computed precision, which merge allows to
