@@ -490,7 +490,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   }
   // A trimmed face's shards balance the samples inside its loops (io::balancedTrimmedShard).
   std::optional<io::TrimmedShard> trimShard;
-  if (args.trim) {
+  if (args.trim && !args.shard.empty()) {
     layout.firstItem = 0;
     layout.itemCount = layout.totalItems;
     trimShard = io::balancedTrimmedShard(io::samplesInsideByItem(layout, surface->model().trim), shardK, shardN);
@@ -606,11 +606,9 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   // A shard's record; a trimmed face's counts its records inside the loops, under the trimmed job.
   jobs::ShardRecord want;
   if (record && !banded) {
-    want = jobs::shardRecordOf(layout, format);
-    if (trimShard) {
-      trimShard->job = io::trimmedJobFingerprint(layout.job, surface->model().trim);
-      want = jobs::trimmedShardRecordOf(layout, format, *trimShard, layout.pointCount());
-    }
+    if (trimShard) trimShard->job = io::trimmedJobFingerprint(layout.job, surface->model().trim);
+    want = trimShard ? jobs::trimmedShardRecordOf(layout, format, *trimShard, layout.pointCount())
+                     : jobs::shardRecordOf(layout, format);
   }
   // Resume: a shard whose record and files verify is left as it is.
   if (record && !banded &&

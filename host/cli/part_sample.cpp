@@ -1,7 +1,7 @@
 // `sample PART/part.json --grid N -o CLOUD`: every converted face of a part that `shapespline
 // import` wrote, each trimmed by its loops, into one point cloud whose records carry the face's id
 // (docs/cad.md "Sampling a part"). The count of every face's kept samples is known before any is
-// sampled (io::samplesInside), so the one file's header is written first and memory stays bounded.
+// sampled (io::samplesInsideByItem), so the one file's header is written first and memory stays bounded.
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
 #include <shapespline/core/surface.h>
@@ -52,7 +52,8 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
   outputs.reads(manifestPath, "MODEL");
 
   // Every face is read, built and counted first: the shard's cut balances the records of the whole
-  // part, and the job's fingerprint covers every face.
+  // part, and a shard's job fingerprint covers every face (hashed only for a shard).
+  const bool sharded = !args.shard.empty();
   std::vector<PartFace> faces;
   std::vector<uint64_t> keptByItem;  // the part's items, face after face
   std::vector<std::pair<int, std::string>> faceJobs;
@@ -81,13 +82,14 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
     const std::vector<uint64_t> kept = io::samplesInsideByItem(layout, trim);
     keptByItem.insert(keptByItem.end(), kept.begin(), kept.end());
     gridPoints += layout.pointCount();
-    faceJobs.emplace_back(face.id, io::trimmedJobFingerprint(io::jobFingerprint(*face.surface, layout, job.format), trim));
+    if (sharded)
+      faceJobs.emplace_back(face.id, io::trimmedJobFingerprint(io::jobFingerprint(*face.surface, layout, job.format), trim));
   }
   if (faces.empty()) throw InputError("MODEL", args.model, "the part has no converted face to sample");
 
   // This shard's run of the part's items (all of them unsharded), cut into each face's own range.
   io::TrimmedShard shard = io::balancedTrimmedShard(keptByItem, job.shardK, job.shardN);
-  shard.job = io::partJobFingerprint(faceJobs);
+  if (sharded) shard.job = io::partJobFingerprint(faceJobs);
   shard.index = job.shardK;
   shard.count = job.shardN;
   uint64_t faceStart = 0, points = 0;
@@ -104,18 +106,19 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* sidecar = nullptr;
   if (io::hasLayoutSidecar(job.format)) sidecar = &outputs.add(args.out + ".json", "-o");
-  io::AtomicFile* record = args.shard.empty() ? nullptr : &outputs.add(jobs::shardRecordPath(args.out), "-o");
+  io::AtomicFile* record = sharded ? &outputs.add(jobs::shardRecordPath(args.out), "-o") : nullptr;
   std::optional<sampling::Session> own;
   sampling::Session& session = shared ? *shared : own.emplace();
   const sampling::Report report = session.plan(*faces.front().surface, job.request);
   printNotices(report, args.quiet);
+  const std::string manifestSha256 = io::sha256OfFile(manifestPath);
 
   // The shard record: the part's job and items, its records, the manifest as the model (the rest of
   // the metadata is the first face's, whose grid and precisions the whole part shares).
   jobs::ShardRecord want;
   if (record) {
     io::SampleLayout first = faces.front().layout;
-    first.metadata = io::jobMetadataOf(*faces.front().surface, manifestPath.string(), io::sha256OfFile(manifestPath),
+    first.metadata = io::jobMetadataOf(*faces.front().surface, manifestPath.string(), manifestSha256,
                                        report.device, report.computedPrecision, job.storedPrecision, job.samplesU,
                                        job.samplesV);
     first.metadata.modelFile = args.model;
@@ -128,7 +131,7 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
   io::TrimmedPointWriter writer(job.format, out, sidecar);
   if (record) writer.setShard(shard);
   const nlohmann::json part = {{"manifest", manifestPath.filename().string()},
-                               {"manifest_sha256", io::sha256OfFile(manifestPath)},
+                               {"manifest_sha256", manifestSha256},
                                {"faces", faces.size()},
                                {"faces_skipped_at_import", manifest.skipped},
                                {"device", report.device}};

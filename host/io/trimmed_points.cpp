@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 #include <stdexcept>
 
 namespace shapespline::io {
@@ -40,38 +41,32 @@ bool trimmedShardFormat(OutputFormat f) { return trimmedPointFormat(f) && f != O
 
 namespace {
 
-// The samples inside of each of the layout's items, handed to `add(item, count)`.
-template <class Add>
-void countInside(const SampleLayout& layout, const TrimClassifier& classifier, Add&& add) {
+// The samples inside `classifier`'s loops of each of the layout's items, in item order.
+std::vector<uint64_t> insideByItem(const SampleLayout& layout, const TrimClassifier& classifier) {
   layout.checkDerivedValues();
   const auto sv = static_cast<size_t>(layout.samplesV);
+  std::vector<uint64_t> kept;
+  kept.reserve(layout.itemCount);
   for (size_t item = layout.firstItem; item < layout.firstItem + layout.itemCount; ++item) {
     uint64_t inside = 0;
     for (size_t p = 0; p < layout.pointsPerItem(); ++p) {
       const auto [u, v] = layout.parameter(item, static_cast<int>(p / sv), static_cast<int>(p % sv));
       inside += classifier.inside({u, v});
     }
-    add(item, inside);
+    kept.push_back(inside);
   }
+  return kept;
 }
 
 uint64_t countInside(const SampleLayout& layout, const TrimClassifier& classifier) {
-  uint64_t total = 0;
-  countInside(layout, classifier, [&](size_t, uint64_t n) { total += n; });
-  return total;
+  const std::vector<uint64_t> kept = insideByItem(layout, classifier);
+  return std::accumulate(kept.begin(), kept.end(), uint64_t{0});
 }
 
 }  // namespace
 
-uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim) {
-  return countInside(layout, TrimClassifier(trim));
-}
-
 std::vector<uint64_t> samplesInsideByItem(const SampleLayout& layout, const TrimLoops& trim) {
-  std::vector<uint64_t> kept;
-  kept.reserve(layout.itemCount);
-  countInside(layout, TrimClassifier(trim), [&](size_t, uint64_t n) { kept.push_back(n); });
-  return kept;
+  return insideByItem(layout, TrimClassifier(trim));
 }
 
 nlohmann::json TrimmedShard::toJson() const {

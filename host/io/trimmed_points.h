@@ -26,9 +26,8 @@ bool trimmedPointFormat(OutputFormat format);
 // The formats a trimmed job shards to: those that carry the shard's identity (not CSV).
 bool trimmedShardFormat(OutputFormat format);
 
-// The samples of a job's grid inside `trim` (what begin() counts, without sampling anything).
-uint64_t samplesInside(const SampleLayout& layout, const TrimLoops& trim);
-// The same for each of the layout's items, in item order.
+// The samples of each of a job's items inside `trim`, in item order (what begin() counts, without
+// sampling anything).
 std::vector<uint64_t> samplesInsideByItem(const SampleLayout& layout, const TrimLoops& trim);
 
 // One shard of a trimmed job (docs/cluster.md "Trimmed faces and parts"): a run of the job's items
@@ -60,7 +59,7 @@ class TrimmedPointWriter final : public SampleWriter {
   // One face: `sidecar` is the OUT.json of .f32/.f64/.npy (may be null for .npy).
   TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar, const TrimLoops& trim);
   // A whole part (`sample part.json`): every record also carries its face's id (a `face` column).
-  // beginPart() writes the header for `total` records (the sum of samplesInside over the faces);
+  // beginPart() writes the header for `total` records (the sum of samplesInsideByItem over the faces);
   // then each face's job is nextFace() and its chunks; finish() after the last.
   TrimmedPointWriter(OutputFormat format, AtomicFile& out, AtomicFile* sidecar);
   // `part`: what the header comments and the sidecar say of the part instead of one model's job

@@ -922,8 +922,9 @@ class SidecarReader {
   const Where& w_;
 };
 
-// `float64`: the dtype the data file's extension implies (nullopt for .npy, whose header says it).
-RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
+// A sidecar's JSON object (grid and trimmed sidecars alike): at most kMaxSidecarBytes, nested at
+// most kMaxSidecarDepth deep, or MergeError.
+nlohmann::json readSidecarJson(const Where& w) {
   ShardFile f(w);
   if (f.size() > kMaxSidecarBytes) {
     refuse(w, "sidecar is larger than " + std::to_string(kMaxSidecarBytes >> 20) + " MiB");
@@ -934,11 +935,15 @@ RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
   if (!jsonDepthWithin(text, kMaxSidecarDepth)) {
     refuse(w, "sidecar nests deeper than " + std::to_string(kMaxSidecarDepth) + " levels (not a shapespline sidecar)");
   }
-  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  text.clear();
-  text.shrink_to_fit();
+  nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (doc.is_discarded()) refuse(w, "sidecar is not valid JSON");
   if (!doc.is_object()) refuse(w, "sidecar is not a JSON object");
+  return doc;
+}
+
+// `float64`: the dtype the data file's extension implies (nullopt for .npy, whose header says it).
+RawSidecar readSidecar(const Where& w, std::optional<bool> float64) {
+  const nlohmann::json doc = readSidecarJson(w);
   const SidecarReader r(doc, w);
   if (r.str("format") != "shapespline-raw") refuse(w, "sidecar \"format\" is not \"shapespline-raw\"");
   const uint64_t version = r.u64("format_version", 1, 1000);
@@ -1135,19 +1140,6 @@ MergeResult mergeRaw(const std::vector<std::string>& shards, bool npy, std::opti
 constexpr std::string_view kTrimmedSidecarFormat = "shapespline-trimmed-points";
 constexpr std::string_view kTrimmedPlyComment = "comment shapespline trimmed point cloud";
 
-// A shard's JSON text of at most kMaxSidecarBytes: its object, or MergeError naming `what`.
-nlohmann::json readShardJson(const Where& w, const std::string& what) {
-  ShardFile f(w);
-  if (f.size() > kMaxSidecarBytes) refuse(w, what + " is larger than " + std::to_string(kMaxSidecarBytes >> 20) + " MiB");
-  std::string text(static_cast<size_t>(f.size()), '\0');
-  f.readExact(text.data(), text.size());
-  f.expectEnd();
-  if (!jsonDepthWithin(text, kMaxSidecarDepth)) refuse(w, what + " nests deeper than " + std::to_string(kMaxSidecarDepth) + " levels");
-  nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded() || !doc.is_object()) refuse(w, what + " is not a JSON object");
-  return doc;
-}
-
 // What one trimmed shard holds: its identity, the whole job's header or sidecar without it, and
 // where its records lie.
 struct TrimmedPart {
@@ -1193,7 +1185,7 @@ TrimmedPart readTrimmedPly(ShardFile& f) {
       continue;
     }
     if (startsWith(line, "property ")) {
-      const std::string t = line.substr(9, line.find(' ', 9) == std::string::npos ? std::string::npos : line.find(' ', 9) - 9);
+      const std::string t = line.substr(9, line.find(' ', 9) - 9);  // npos - 9 still reads to the end
       if ((t != "float" && t != "double") || (!type.empty() && t != type)) refuse(w, "has a property that is not float or double, or mixes them");
       type = t;
       p.recordBytes += t == "float" ? 4 : 8;
@@ -1212,7 +1204,7 @@ TrimmedPart readTrimmedPly(ShardFile& f) {
 // A trimmed raw or .npy shard's sidecar (SHARD.json) and, for .npy, its header checked against it.
 TrimmedPart readTrimmedRaw(ShardFile& data, const Where& sideWhere, bool npy, std::optional<bool> float64) {
   TrimmedPart p;
-  nlohmann::json doc = readShardJson(sideWhere, "sidecar");
+  nlohmann::json doc = readSidecarJson(sideWhere);
   if (doc.value("format", "") != kTrimmedSidecarFormat) refuse(sideWhere, "sidecar is not a trimmed point cloud's");
   if (!doc.contains("shard")) refuse(sideWhere, "sidecar has no \"shard\" (not a shard: sample it with --shard)");
   p.shard = trimmedShardOf(doc["shard"], sideWhere);
@@ -1322,7 +1314,7 @@ bool isTrimmedShard(const std::string& shard, OutputFormat format) {
   if (format != OutputFormat::Npy && format != OutputFormat::RawF32 && format != OutputFormat::RawF64) return false;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(shard + ".json", ec)) return false;
-  return readShardJson({shardField(1), shard + ".json"}, "sidecar").value("format", "") == kTrimmedSidecarFormat;
+  return readSidecarJson({shardField(1), shard + ".json"}).value("format", "") == kTrimmedSidecarFormat;
 }
 
 }  // namespace
