@@ -68,13 +68,6 @@ Result evaluated(const json& at, Run&& run) {
   }
 }
 
-// The list kernel when the fields asked for are the point and first derivatives at most
-// (core/list_eval.h, the same bits); every field otherwise.
-std::optional<ListFields> leanFields(FieldMask fields, FieldMask firstOrder) {
-  if (fields & ~(fieldBit(Field::Point) | firstOrder)) return std::nullopt;
-  return fields & firstOrder ? ListFields::FirstDerivatives : ListFields::Point;
-}
-
 std::string evalCurve(sampling::Session& session, const Curve& curve, const json& at,
                       const sampling::DeviceRequest& request, FieldMask fields) {
   const Precision p = request.precision;
@@ -84,11 +77,12 @@ std::string evalCurve(sampling::Session& session, const Curve& curve, const json
   list.reserve(queries.size());
   for (const auto& q : queries) list.push_back({q.global, q.span, q.t, q.u});
   std::vector<CurvePoint> points;
-  if (const auto lean = leanFields(fields, fieldBit(Field::D1))) {
+  // The list kernel when the fields allow (core/list_eval.h, the same bits); every field otherwise.
+  if (const auto lean = listFieldsFor(fields, false)) {
     auto result =
         evaluated<sampling::ListResult<CurveFirst>>(at, [&] { return session.evaluate(curve, request, list, *lean); });
     points.reserve(result.points.size());
-    for (const CurveFirst& f : result.points) points.push_back({f.point, f.d1, glm::dvec3(0.0)});
+    for (const CurveFirst& f : result.points) points.push_back(pointOf(f));
   } else {
     points = evaluated<sampling::ListResult<CurvePoint>>(at, [&] { return session.evaluate(curve, request, list); }).points;
   }
@@ -122,12 +116,11 @@ std::string evalSurface(sampling::Session& session, const Surface& surface, cons
     list.push_back({false, q.patchU, q.patchV, q.u, q.v});
   }
   std::vector<SurfacePoint> points;
-  if (const auto lean = leanFields(fields, fieldBit(Field::Du) | fieldBit(Field::Dv))) {
+  if (const auto lean = listFieldsFor(fields, true)) {
     auto result = evaluated<sampling::ListResult<SurfaceFirst>>(
         at, [&] { return session.evaluate(surface, request, list, *lean); });
-    points.resize(result.points.size());
-    for (size_t i = 0; i < points.size(); ++i)
-      points[i].point = result.points[i].point, points[i].du = result.points[i].du, points[i].dv = result.points[i].dv;
+    points.reserve(result.points.size());
+    for (const SurfaceFirst& f : result.points) points.push_back(pointOf(f));
   } else {
     points = evaluated<sampling::ListResult<SurfacePoint>>(at, [&] { return session.evaluate(surface, request, list); }).points;
   }

@@ -8,9 +8,11 @@
 // steps near one point) skips the binary search and half the basis work. The GPU list kernels
 // (`*_eval.comp` with the fields as a specialization constant) are the same formula in GLSL.
 #include <shapespline/core/curve.h>
+#include <shapespline/core/sample_grid.h>
 #include <shapespline/core/surface.h>
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -43,6 +45,15 @@ class QueryRangeError : public std::out_of_range {
 // What a list evaluation computes: the point, or the point and first derivatives (curves d1,
 // surfaces du and dv). Fields not computed are left 0.
 enum class ListFields { Point, FirstDerivatives };
+
+// The list evaluation that computes `fields` of a curve or surface: nullopt when they ask for more
+// than the point and first derivatives (second derivatives, the normal).
+std::optional<ListFields> listFieldsFor(FieldMask fields, bool surface);
+// The fields a list evaluation computes, as a FieldMask.
+FieldMask fieldMaskOf(ListFields fields, bool surface);
+// A list result in the full evaluation's type, the fields it did not compute 0.
+CurvePoint pointOf(const CurveFirst& f);
+SurfacePoint pointOf(const SurfaceFirst& f);
 
 // out[k] for queries[k] (out.size() == queries.size()). Throws QueryRangeError for the first query
 // outside the model, as Curve/Surface::evaluate and evaluateAt would for it.

@@ -115,9 +115,6 @@ struct Gpu<Curve> {
   using Point = CurvePoint;
   using First = CurveFirst;
   using Query = CurveQuery;
-  static FieldMask mask(ListFields f) {
-    return fieldBit(Field::Point) | (f == ListFields::FirstDerivatives ? fieldBit(Field::D1) : 0u);
-  }
   static CurveFirst first(const CurvePoint& p) { return {p.point, p.d1}; }
   static gpu::CurveSample local(const CurveQuery& q) { return {q.span, q.t}; }
   static double global(const CurveQuery& q) { return q.u; }
@@ -130,10 +127,6 @@ struct Gpu<Surface> {
   using Point = SurfacePoint;
   using First = SurfaceFirst;
   using Query = SurfaceQuery;
-  static FieldMask mask(ListFields f) {
-    return fieldBit(Field::Point) |
-           (f == ListFields::FirstDerivatives ? fieldBit(Field::Du) | fieldBit(Field::Dv) : 0u);
-  }
   static SurfaceFirst first(const SurfacePoint& p) { return {p.point, p.du, p.dv}; }
   static gpu::SurfaceSample local(const SurfaceQuery& q) { return {q.i, q.j, q.u, q.v}; }
   static std::pair<double, double> global(const SurfaceQuery& q) { return {q.u, q.v}; }
@@ -433,7 +426,7 @@ std::vector<typename Gpu<Model>::Point> evaluateOnCpuFor(const Model& model, con
   return out;
 }
 
-// The lean list (core/list_eval.h) on the CPU, or the list kernels with only those fields written.
+// The lean list (core/list_eval.h) on the CPU.
 template <class Model>
 std::vector<typename Gpu<Model>::First> evaluateFirstOnCpu(const Model& model, const Report& r,
                                                            std::span<const typename Gpu<Model>::Query> queries,
@@ -445,13 +438,14 @@ std::vector<typename Gpu<Model>::First> evaluateFirstOnCpu(const Model& model, c
   return out;
 }
 
+// The list kernels with only the lean list's fields written.
 template <class Model>
 std::vector<typename Gpu<Model>::First> evaluateFirstOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model,
                                                            const Report& r,
                                                            std::span<const typename Gpu<Model>::Query> queries,
                                                            ListFields fields) {
   using G = Gpu<Model>;
-  const std::vector<typename G::Point> all = evaluateOnGpu(ctx, model, r, queries, G::mask(fields));
+  const std::vector<typename G::Point> all = evaluateOnGpu(ctx, model, r, queries, fieldMaskOf(fields, std::is_same_v<Model, Surface>));
   std::vector<typename G::First> out(all.size());
   for (size_t i = 0; i < all.size(); ++i) out[i] = G::first(all[i]);
   return out;

@@ -47,9 +47,8 @@ struct Kind<Curve> {
   using Point = CurvePoint;
   using Query = sampling::CurveQuery;
   using ModelData = CurveModel;
-  static constexpr FieldMask kAll = kCurveFields, kFirstOrder = fieldBit(Field::D1);
+  static constexpr FieldMask kAll = kCurveFields;
   static ModelData dataOf(const Curve& c) { return c.model(); }
-  static Point pointOf(const CurveFirst& f) { return {f.point, f.d1, glm::dvec3(0.0)}; }
 };
 template <>
 struct Kind<Surface> {
@@ -58,13 +57,8 @@ struct Kind<Surface> {
   using Point = SurfacePoint;
   using Query = sampling::SurfaceQuery;
   using ModelData = SurfaceModel;
-  static constexpr FieldMask kAll = kSurfaceFields, kFirstOrder = fieldBit(Field::Du) | fieldBit(Field::Dv);
+  static constexpr FieldMask kAll = kSurfaceFields;
   static ModelData dataOf(const Surface& s) { return s.toModel(); }
-  static Point pointOf(const SurfaceFirst& f) {
-    Point p;
-    p.point = f.point, p.du = f.du, p.dv = f.dv, p.normal = glm::dvec3(0.0);
-    return p;
-  }
 };
 
 // Upload counters of a handle: those of its current mirror of one precision, and how many mirrors
@@ -154,14 +148,14 @@ class Handle {
       out.report = python::plan(*model_, request);
       checkQueries(queries);
       if (!out.report.gpu) {
-        if (fields & ~(fieldBit(Field::Point) | K::kFirstOrder)) {
+        const std::optional<ListFields> leanFields = listFieldsFor(fields, std::is_same_v<Model, Surface>);
+        if (!leanFields) {
           out.points = sampling::evaluateOnCpu(*model_, out.report, queries);
           return out;
         }
-        const auto lean = sampling::evaluateOnCpu(*model_, out.report, queries,
-                                                  fields & K::kFirstOrder ? ListFields::FirstDerivatives : ListFields::Point);
+        const auto lean = sampling::evaluateOnCpu(*model_, out.report, queries, *leanFields);
         out.points.reserve(lean.size());
-        for (const auto& f : lean) out.points.push_back(K::pointOf(f));
+        for (const auto& f : lean) out.points.push_back(pointOf(f));
         return out;
       }
     }

@@ -213,5 +213,23 @@ TEST(ListEval, AQueryOutsideTheModelIsNamedByItsIndex) {
   EXPECT_THROW(evaluateList(s, global, ListFields::Point, wrongSize), std::invalid_argument);
 }
 
+// Which list evaluation serves a field mask, and back: only the point and first derivatives.
+TEST(ListFieldsFor, ThePointAndFirstDerivativesAtMost) {
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::Point), false), ListFields::Point);
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::Point) | fieldBit(Field::D1), false), ListFields::FirstDerivatives);
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::Point) | fieldBit(Field::D2), false), std::nullopt);
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::Point) | fieldBit(Field::Dv), true), ListFields::FirstDerivatives);
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::Point) | fieldBit(Field::Normal), true), std::nullopt);
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::Duv), true), std::nullopt);
+  EXPECT_EQ(listFieldsFor(fieldBit(Field::D1), true), std::nullopt);  // a curve's field on a surface
+  for (bool surface : {false, true})
+    for (ListFields f : {ListFields::Point, ListFields::FirstDerivatives})
+      EXPECT_EQ(listFieldsFor(fieldMaskOf(f, surface), surface), f);
+  const SurfacePoint p = pointOf(SurfaceFirst{glm::dvec3(1.0), glm::dvec3(2.0), glm::dvec3(3.0)});
+  EXPECT_EQ(p.dv, glm::dvec3(3.0));
+  EXPECT_EQ(p.duu, glm::dvec3(0.0));
+  EXPECT_EQ(p.normal, glm::dvec3(0.0));
+}
+
 }  // namespace
 }  // namespace shapespline
