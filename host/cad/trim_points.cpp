@@ -32,9 +32,20 @@ TrimPoints::TrimPoints(const Handle(Geom_Surface)& source, const Handle(Geom_BSp
 
 glm::dvec2 TrimPoints::operator()(const TopoDS_Edge& edge, double u, double v) {
   const double tolerance = BRep_Tool::Tolerance(edge);
+  // Through the map and within the trim tolerance of the domain (nearly every point): valid as it
+  // is (core's checkTrim), and its point is the face's (the map's own check): the face's point is
+  // not needed.
+  if (map_) {
+    const glm::dvec2 q = (*map_)(u, v);
+    return inDomain(q) ? q : clampIntoDomain(q, source_->Value(u, v), tolerance);
+  }
   const gp_Pnt point = source_->Value(u, v);
-  const glm::dvec2 q = map_ ? (*map_)(u, v) : project(point, tolerance);
-  return clampIntoDomain(q, point, tolerance);
+  return clampIntoDomain(project(point, tolerance), point, tolerance);
+}
+
+bool TrimPoints::inDomain(glm::dvec2 q) const {
+  const double slack = trimTolerance_;
+  return q.x >= a0_ - slack && q.x <= a1_ + slack && q.y >= b0_ - slack && q.y <= b1_ + slack;
 }
 
 glm::dvec2 TrimPoints::project(const gp_Pnt& point, double tolerance) {
@@ -56,11 +67,8 @@ glm::dvec2 TrimPoints::project(const gp_Pnt& point, double tolerance) {
 }
 
 glm::dvec2 TrimPoints::clampIntoDomain(glm::dvec2 q, const gp_Pnt& point, double edgeTolerance) {
-  // Within the trim tolerance of the domain: valid as it is (core's checkTrim), left unchanged;
-  // through the map its point is the face's (the map's own check), projected it is measured.
-  const double slack = trimTolerance_;
-  const bool inside = q.x >= a0_ - slack && q.x <= a1_ + slack && q.y >= b0_ - slack && q.y <= b1_ + slack;
-  if (inside && map_) return q;
+  // Within the trim tolerance of the domain: left unchanged, but a projected point is measured.
+  const bool inside = inDomain(q);
   const glm::dvec2 kept = inside ? q : glm::dvec2(std::clamp(q.x, a0_, a1_), std::clamp(q.y, b0_, b1_));
   const double gap = bspline_->Value(kept.x, kept.y).Distance(point);
   const double allowed = kEdgeToleranceMultiple * edgeTolerance;

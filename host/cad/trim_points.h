@@ -38,6 +38,7 @@ class TrimPoints {
  private:
   glm::dvec2 project(const gp_Pnt& point, double tolerance);
   glm::dvec2 clampIntoDomain(glm::dvec2 q, const gp_Pnt& point, double tolerance);
+  bool inDomain(glm::dvec2 q) const;  // within the trim tolerance of the knot domain
 
   Handle(Geom_Surface) source_;
   Handle(Geom_BSplineSurface) bspline_;
