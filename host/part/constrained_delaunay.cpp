@@ -65,6 +65,7 @@ struct ConstrainedDelaunay::Impl {
   std::vector<int> vertexEdge;  // a half-edge leaving each vertex (-1 for a duplicate)
   int last = 0;                 // the triangle the last walk ended in
   uint32_t random = 2463534242u;
+  std::vector<int> flipStack;
 
   enum class Where { Inside, OnEdge, OnVertex, Outside };
   struct Location {
@@ -253,7 +254,7 @@ struct ConstrainedDelaunay::Impl {
 
   // Inserts vertex v at a location found for it (Inside or OnEdge) and flips back to Delaunay.
   void insertAt(int v, const Location& at) {
-    std::vector<int> stack;
+    std::vector<int>& stack = flipStack;  // kept between insertions: no allocation per point
     if (at.where != Where::Inside && at.where != Where::OnEdge)
       throw std::logic_error("constrained Delaunay: a vertex inserted where no triangle holds it");
     if (at.where == Where::Inside) {

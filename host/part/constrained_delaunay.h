@@ -20,8 +20,9 @@
 namespace shapespline::part {
 
 // Constraint segments that cross, or a constraint that passes through a point that is not its end:
-// `first` and `second` are the indices of the two segments (for a point on a segment, `second` is
-// -1 - the point's index).
+// `first` and `second` are the indices of the two segments (a point on a segment that ends another
+// segment, as where two collinear segments overlap, names that segment; any other point on a segment
+// makes `second` -1 - the point's index).
 class CrossingConstraints : public std::runtime_error {
  public:
   CrossingConstraints(int first, int second, const std::string& what)

@@ -13,6 +13,7 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <tuple>
 #include <vector>
 
 namespace shapespline::part {
@@ -349,8 +350,8 @@ TEST(ConstrainedDelaunay, BadInputNamesIndexAndValue) {
   EXPECT_EQ(cdt.triangles().size(), 1u);
 }
 
-TEST(ConstrainedDelaunay, CircleOfTenThousandPointsWithTenThousandInside) {
-  constexpr int kLoop = 10000, kInside = 10000;
+// A circle's polygon with random points inside: valid, and its time printed (not asserted).
+void checkCircle(int kLoop, int kInside) {
   std::vector<glm::dvec2> loop, points;
   Segments segments;
   for (int i = 0; i < kLoop; ++i) {
@@ -374,6 +375,10 @@ TEST(ConstrainedDelaunay, CircleOfTenThousandPointsWithTenThousandInside) {
   EXPECT_EQ(c.triangles, expectedTriangles(kInside, kLoop, 0));
 }
 
+TEST(ConstrainedDelaunay, CircleOfTenThousandPointsWithTenThousandInside) { checkCircle(10000, 10000); }
+
+TEST(ConstrainedDelaunay, CircleOfThreeHundredPointsWithTenThousandInside) { checkCircle(300, 9700); }
+
 // Coordinates that are integers below 2^24 (times a power of two) make the determinants exact in
 // 128-bit integers: the predicates must agree with them, also where double arithmetic cannot.
 TEST(ExactPredicates, AgreeWithIntegerArithmeticNearDegeneracy) {
@@ -396,29 +401,48 @@ TEST(ExactPredicates, AgreeWithIntegerArithmeticNearDegeneracy) {
     zeros += det == 0;
   }
   EXPECT_GT(zeros, 1000);
-  // In-circle: points of an integer circle (x^2 + y^2 = 5^6 = 15625 has many lattice points), nudged.
+  // Near (0.5, 0.5), (12, 12), (24, 24), a point moved by ulps (Kettner et al., "Classroom examples of
+  // robustness problems"): the differences round in doubles; every value is an integer times 2^-53.
+  auto units = [](double v) { return int64_t(std::ldexp(v, 53)); };
+  const glm::dvec2 b(12.0, 12.0), c(24.0, 24.0);
+  for (int i = 0; i < 64; ++i) {
+    for (int j = 0; j < 64; ++j) {
+      const glm::dvec2 a(0.5 + std::ldexp(i, -53), 0.5 + std::ldexp(j, -53));
+      const __int128 det = __int128(units(a.x) - units(c.x)) * (units(b.y) - units(c.y)) -
+                           __int128(units(a.y) - units(c.y)) * (units(b.x) - units(c.x));
+      ASSERT_EQ(orient2d(a, b, c), sign(det)) << i << " " << j;
+    }
+  }
+  // In-circle: lattice points of the circle x^2 + y^2 = 5^22 (the Gaussian integers (1 + 2i)^k
+  // (1 - 2i)^(22 - k)), times 2^-26, the fourth point nudged by a unit or not. Lifted squares of
+  // 27-bit differences round in doubles; the integers stay below 2^120.
   std::vector<std::pair<int64_t, int64_t>> lattice;
-  for (int64_t x = -125; x <= 125; ++x)
-    for (int64_t y = -125; y <= 125; ++y)
-      if (x * x + y * y == 15625) lattice.emplace_back(x, y);
-  ASSERT_GT(lattice.size(), 12u);
+  for (int k = 0; k <= 22; ++k) {
+    int64_t re = 1, im = 0;
+    for (int m = 0; m < 22; ++m) {
+      const int64_t s = m < k ? 2 : -2;  // times (1 + 2i) or (1 - 2i)
+      const int64_t r = re - s * im, t = im + s * re;
+      re = r;
+      im = t;
+    }
+    for (const auto& [x, y] : {std::pair(re, im), std::pair(-im, re), std::pair(-re, -im), std::pair(im, -re)})
+      lattice.emplace_back(x, y);
+  }
   std::uniform_int_distribution<size_t> pick(0, lattice.size() - 1);
-  const int64_t ox = 3000001, oy = -2999999;  // centre off the origin so the differences round
+  int cocircular = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     int64_t q[4][2];
-    for (auto& v : q) {
-      const auto [x, y] = lattice[pick(random)];
-      v[0] = x + ox;
-      v[1] = y + oy;
-    }
+    for (auto& v : q) std::tie(v[0], v[1]) = lattice[pick(random)];
     q[3][0] += nudge(random);
     auto rel = [&](int i, int axis) { return __int128(q[i][axis] - q[3][axis]); };
     auto lift = [&](int i) { return rel(i, 0) * rel(i, 0) + rel(i, 1) * rel(i, 1); };
     auto cross = [&](int i, int j) { return rel(i, 0) * rel(j, 1) - rel(i, 1) * rel(j, 0); };
     const __int128 det = lift(0) * cross(1, 2) + lift(1) * cross(2, 0) + lift(2) * cross(0, 1);
-    const glm::dvec2 p0(q[0][0], q[0][1]), p1(q[1][0], q[1][1]), p2(q[2][0], q[2][1]), p3(q[3][0], q[3][1]);
-    ASSERT_EQ(incircle(p0, p1, p2, p3), sign(det)) << trial;
+    auto at = [&](int i) { return glm::dvec2(std::ldexp(double(q[i][0]), -26), std::ldexp(double(q[i][1]), -26)); };
+    ASSERT_EQ(incircle(at(0), at(1), at(2), at(3)), sign(det)) << trial;
+    cocircular += det == 0 && cross(0, 1) != 0;
   }
+  EXPECT_GT(cocircular, 1000);
 }
 
 }  // namespace
