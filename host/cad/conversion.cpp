@@ -119,7 +119,9 @@ ConvertedFace convertFace(const TopoDS_Face& face, double relativeTolerance) {
     try {
       const ParameterMap map(out.source, out.bounds, s);
       TrimPoints points(out.source, s, &map, trimTolerance);
-      m.trim = faceTrimLoops(face, points, trimTolerance);
+      FaceTrim trim = faceTrimLoops(face, points, trimTolerance);
+      m.trim = std::move(trim.trim);
+      out.coedges = std::move(trim.coedges);
       out.clampedTrimPoints = points.clamped();
     } catch (const ParameterMapError& e) {
       // Not separable (or not exact enough for the map's check): project the face's points instead,
@@ -131,7 +133,9 @@ ConvertedFace convertFace(const TopoDS_Face& face, double relativeTolerance) {
         throw ConversionError("the parameter map failed (" + out.mapFailure + ") and the converted B-spline is " +
                               std::to_string(gap) + " from the face, more than its tolerance " + std::to_string(tolerance));
       TrimPoints points(out.source, s, nullptr, trimTolerance);
-      m.trim = faceTrimLoops(face, points, trimTolerance);
+      FaceTrim trim = faceTrimLoops(face, points, trimTolerance);
+      m.trim = std::move(trim.trim);
+      out.coedges = std::move(trim.coedges);
       out.clampedTrimPoints = points.clamped();
       out.projectionGap = std::max(gap, points.largestGap());
     }

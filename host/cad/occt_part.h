@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace shapespline::cad {
 
@@ -40,6 +41,17 @@ class ConversionError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// One edge's run of a face's trim loop (cad/trim_loops.h, docs/cad.md "Coedges"): the loop points
+// start, start + 1, ..., start + t.size() - 1 (modulo the loop's point count) lie on `edge`, point
+// start + j at the edge's own parameter t[j] (the one its p-curve and 3-D curve share). Consecutive
+// coedges share a point; the last one of a closed loop ends at point 0. t runs backwards where the
+// wire uses the edge reversed.
+struct TrimCoedge {
+  TopoDS_Edge edge;
+  int start = 0;
+  std::vector<double> t;
+};
+
 struct ConvertedFace {
   SurfaceModel model;                  // bspline with knots, weights when rational, trim loops
   Handle(Geom_BSplineSurface) bspline; // what `model` was made from (OCCT evaluates it the same)
@@ -50,6 +62,7 @@ struct ConvertedFace {
   int clampedTrimPoints = 0;           // trim points clamped into the knot domain (cad/trim_points.h)
   std::string mapFailure;              // why the ParameterMap failed; empty when it held
   double projectionGap = 0.0;          // with projected trims: the largest face-to-B-spline distance
+  std::vector<std::vector<TrimCoedge>> coedges;  // per loop of model.trim: the edges its points lie on
 };
 
 struct ConvertedEdge {

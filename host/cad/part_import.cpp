@@ -35,6 +35,21 @@ json idsIn(const TopoDS_Shape& shape, TopAbs_ShapeEnum type, const TopTools_Inde
   return ids;
 }
 
+// A face's coedges as part.json writes them: per loop, [{"edge": id, "start": K, "t": [...]}, ...].
+json coedgesJson(const std::vector<std::vector<TrimCoedge>>& loops, const TopTools_IndexedMapOfShape& edges) {
+  json out = json::array();
+  for (const std::vector<TrimCoedge>& loop : loops) {
+    json list = json::array();
+    for (const TrimCoedge& coedge : loop) {
+      const int id = edges.FindIndex(coedge.edge);
+      if (id == 0) throw ConversionError("an edge of the face's wires is not an edge of the part");
+      list.push_back({{"edge", id}, {"start", coedge.start}, {"t", coedge.t}});
+    }
+    out.push_back(std::move(list));
+  }
+  return out;
+}
+
 }  // namespace
 
 ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions& options) {
@@ -64,6 +79,7 @@ ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions
     json entry = {{"id", i}, {"edges", idsIn(face, TopAbs_EDGE, edges)}};
     try {
       const ConvertedFace converted = convertFace(face, options.trimTolerance);
+      json coedges = coedgesJson(converted.coedges, edges);
       const std::string name = numbered("face", i);
       files.push_back({name, io::toJson(converted.model).dump(1) + "\n"});
       entry["model"] = name;
@@ -71,6 +87,7 @@ ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions
       entry["reversed"] = converted.reversed;
       entry["bounds"] = {converted.bounds[0], converted.bounds[1], converted.bounds[2], converted.bounds[3]};
       entry["loops"] = converted.model.trim.loops.size();
+      entry["coedges"] = std::move(coedges);
       if (converted.clampedTrimPoints > 0) entry["clamped_trim_points"] = converted.clampedTrimPoints;
       if (!converted.mapFailure.empty())
         entry["projected"] = {{"why", converted.mapFailure}, {"gap", converted.projectionGap}};
