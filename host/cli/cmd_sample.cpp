@@ -446,6 +446,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
     job.check = [fileFloat](const GridChunk& c, size_t first, size_t count) { requireFinite(c, first, count, fileFloat); };
     return samplePartInto(args, job, outputs, summary, &session);
   }
+  io::requireGridFormat(format, args.out, "-o");
   const bool meshFormat = io::isMesh(format);
   if (args.meshLayout != "welded" && args.meshLayout != "per-item") {
     throw InputError("--mesh-layout", args.meshLayout, "expected welded or per-item");
@@ -962,7 +963,7 @@ void registerSample(CLI::App& app) {
       ->required();
   sub->add_option("-o,--output", args->out,
                   "output file; format from the extension: .obj .ply .csv .svg .glb .gltf (+ OUT.bin) .f32 .f64 .npy "
-                  "(each + OUT.json sidecar); a shard pattern names each shard: out-{shard:05d}-of-{count:05d}.f32")
+                  "(each + OUT.json sidecar), .stl (part meshes only); a shard pattern names each shard: out-{shard:05d}-of-{count:05d}.f32")
       ->required();
   sub->add_option("--samples", args->samples, "samples per span (curves, default 32; both ends included)");
   sub->add_option("--mesh-layout", args->meshLayout,

@@ -17,11 +17,9 @@
 // "shapespline <version>" into asset.generator.
 //
 // tinygltf holds the whole model in memory, so the caller caps the vertex count (kMaxGltfVertices).
-// .glb: tinygltf writes the whole file (JSON and BIN chunk) through a stream buffer into the
-// AtomicFile. .gltf: tinygltf's stream writer would embed the buffer as base64, so it serializes the
-// JSON with an empty buffer and the writer then sets that buffer's "uri" (the .bin's file name,
-// percent-encoded) and "byteLength"; the bytes go to the .bin through the second AtomicFile of the
-// same OutputSet, so the .gltf and its .bin appear together or not at all.
+// Serialized by io/gltf_model.h writeGltfModel: .glb one file; .gltf and its .bin through two
+// AtomicFiles of the same OutputSet, so they appear together or not at all.
+#include <shapespline/io/gltf_model.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/welded_mesh.h>
@@ -32,14 +30,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <exception>
 #include <limits>
 #include <optional>
-#include <ostream>
-#include <sstream>
 #include <stdexcept>
-#include <streambuf>
 #include <string>
 
 namespace shapespline::io {
@@ -53,83 +46,6 @@ namespace {
 
 constexpr int kArrayBuffer = TINYGLTF_TARGET_ARRAY_BUFFER;
 constexpr int kElementArrayBuffer = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-
-// An ostream's bytes into an AtomicFile; a write failure is kept and rethrown by the caller (an
-// ostream would turn it into a bad bit).
-class AtomicFileBuf final : public std::streambuf {
- public:
-  explicit AtomicFileBuf(AtomicFile& out) : out_(out) {}
-  void rethrow() const {
-    if (error_) std::rethrow_exception(error_);
-  }
-
- protected:
-  std::streamsize xsputn(const char* s, std::streamsize n) override {
-    if (error_) return 0;
-    try {
-      out_.write(s, static_cast<size_t>(n));
-    } catch (...) {
-      error_ = std::current_exception();
-      return 0;
-    }
-    return n;
-  }
-  int_type overflow(int_type c) override {
-    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
-    const char ch = traits_type::to_char_type(c);
-    return xsputn(&ch, 1) == 1 ? c : traits_type::eof();
-  }
-
- private:
-  AtomicFile& out_;
-  std::exception_ptr error_;
-};
-
-// JSON (io/job_metadata.h) as a tinygltf::Value; integers beyond int32 become reals (tinygltf's
-// integers are int).
-tinygltf::Value toValue(const nlohmann::json& j) {
-  switch (j.type()) {
-    case nlohmann::json::value_t::boolean: return tinygltf::Value(j.get<bool>());
-    case nlohmann::json::value_t::number_integer:
-    case nlohmann::json::value_t::number_unsigned: {
-      if (j.is_number_unsigned() ? j.get<uint64_t>() <= static_cast<uint64_t>(std::numeric_limits<int>::max())
-                                 : (j.get<int64_t>() >= std::numeric_limits<int>::min() &&
-                                    j.get<int64_t>() <= std::numeric_limits<int>::max()))
-        return tinygltf::Value(static_cast<int>(j.get<int64_t>()));
-      return tinygltf::Value(j.get<double>());
-    }
-    case nlohmann::json::value_t::number_float: return tinygltf::Value(j.get<double>());
-    case nlohmann::json::value_t::string: return tinygltf::Value(j.get<std::string>());
-    case nlohmann::json::value_t::array: {
-      tinygltf::Value::Array a;
-      a.reserve(j.size());
-      for (const auto& e : j) a.push_back(toValue(e));
-      return tinygltf::Value(std::move(a));
-    }
-    case nlohmann::json::value_t::object: {
-      tinygltf::Value::Object o;
-      for (const auto& [k, v] : j.items()) o.emplace(k, toValue(v));
-      return tinygltf::Value(std::move(o));
-    }
-    default: return tinygltf::Value();
-  }
-}
-
-// RFC 3986: every byte but the unreserved ones percent-encoded (a file name as a relative URI).
-std::string uriOf(const std::string& name) {
-  static const char* hex = "0123456789ABCDEF";
-  std::string s;
-  for (unsigned char c : name) {
-    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
-      s += static_cast<char>(c);
-    } else {
-      s += '%';
-      s += hex[c >> 4];
-      s += hex[c & 15];
-    }
-  }
-  return s;
-}
 
 class GltfWriter final : public SampleWriter {
  public:
@@ -157,17 +73,7 @@ class GltfWriter final : public SampleWriter {
     stream_->finish();
     if (positions_.size() != vertices_ * 3) throw std::logic_error("welded vertex stream: wrong vertex count");
     tinygltf::Model model = buildModel();
-    if (bin_) {
-      writeGltf(model);
-    } else {
-      AtomicFileBuf buf(out_);
-      std::ostream os(&buf);
-      tinygltf::TinyGLTF gltf;
-      const bool ok = gltf.WriteGltfSceneToStream(&model, os, false, true);
-      os.flush();
-      buf.rethrow();
-      if (!ok || !os) throw OutputWriteError(out_.option(), out_.target().string(), "tinygltf could not write the .glb");
-    }
+    writeGltfModel(model, out_, bin_);
   }
 
  private:
@@ -202,46 +108,6 @@ class GltfWriter final : public SampleWriter {
     return idx;
   }
 
-  // Appends `bytes` to the buffer at a 4-byte aligned offset as a new buffer view.
-  static int addView(tinygltf::Model& m, const void* data, size_t bytes, int target) {
-    auto& buf = m.buffers[0].data;
-    buf.resize((buf.size() + 3) / 4 * 4, 0);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = buf.size();
-    view.byteLength = bytes;
-    view.target = target;
-    const auto* p = static_cast<const unsigned char*>(data);
-    buf.insert(buf.end(), p, p + bytes);
-    m.bufferViews.push_back(view);
-    return static_cast<int>(m.bufferViews.size()) - 1;
-  }
-
-  static int addAccessor(tinygltf::Model& m, int view, int componentType, int type, size_t count,
-                         std::vector<double> min = {}, std::vector<double> max = {}) {
-    tinygltf::Accessor a;
-    a.bufferView = view;
-    a.byteOffset = 0;
-    a.componentType = componentType;
-    a.type = type;
-    a.count = count;
-    a.minValues = std::move(min);
-    a.maxValues = std::move(max);
-    m.accessors.push_back(a);
-    return static_cast<int>(m.accessors.size()) - 1;
-  }
-
-  // Per-component min/max of `values` (k per vertex).
-  static void bounds(const std::vector<float>& values, int k, std::vector<double>& min, std::vector<double>& max) {
-    min.assign(static_cast<size_t>(k), std::numeric_limits<double>::infinity());
-    max.assign(static_cast<size_t>(k), -std::numeric_limits<double>::infinity());
-    for (size_t i = 0; i < values.size(); ++i) {
-      const size_t c = i % static_cast<size_t>(k);
-      min[c] = std::min(min[c], static_cast<double>(values[i]));
-      max[c] = std::max(max[c], static_cast<double>(values[i]));
-    }
-  }
-
   tinygltf::Model buildModel() {
     tinygltf::Model m;
     m.asset.version = "2.0";
@@ -271,15 +137,15 @@ class GltfWriter final : public SampleWriter {
 
     tinygltf::Primitive prim;
     std::vector<double> min, max;
-    bounds(stored, 3, min, max);
-    prim.attributes["POSITION"] = addAccessor(m, addView(m, stored.data(), stored.size() * 4, kArrayBuffer),
+    gltfBounds(stored, 3, min, max);
+    prim.attributes["POSITION"] = addGltfAccessor(m, addGltfView(m, stored.data(), stored.size() * 4, kArrayBuffer),
                                               TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices_, min, max);
     std::vector<float>().swap(stored);
     if (layout_.surface) {
-      prim.attributes["NORMAL"] = addAccessor(m, addView(m, normals_.data(), normals_.size() * 4, kArrayBuffer),
+      prim.attributes["NORMAL"] = addGltfAccessor(m, addGltfView(m, normals_.data(), normals_.size() * 4, kArrayBuffer),
                                               TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices_);
       std::vector<float>().swap(normals_);
-      prim.attributes["TEXCOORD_0"] = addAccessor(m, addView(m, texCoords_.data(), texCoords_.size() * 4, kArrayBuffer),
+      prim.attributes["TEXCOORD_0"] = addGltfAccessor(m, addGltfView(m, texCoords_.data(), texCoords_.size() * 4, kArrayBuffer),
                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, vertices_);
       std::vector<float>().swap(texCoords_);
     }
@@ -289,19 +155,19 @@ class GltfWriter final : public SampleWriter {
     int view = 0, type = 0;
     if (vertices_ <= 0xffff) {
       std::vector<uint16_t> shorts(idx.begin(), idx.end());
-      view = addView(m, shorts.data(), shorts.size() * 2, kElementArrayBuffer);
+      view = addGltfView(m, shorts.data(), shorts.size() * 2, kElementArrayBuffer);
       type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
     } else {
-      view = addView(m, idx.data(), idx.size() * 4, kElementArrayBuffer);
+      view = addGltfView(m, idx.data(), idx.size() * 4, kElementArrayBuffer);
       type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     }
-    prim.indices = addAccessor(m, view, type, TINYGLTF_TYPE_SCALAR, idx.size());
+    prim.indices = addGltfAccessor(m, view, type, TINYGLTF_TYPE_SCALAR, idx.size());
     prim.mode = mode;
 
     tinygltf::Mesh mesh;
     mesh.name = layout_.source.empty() ? "shapespline" : std::filesystem::path(layout_.source).stem().string();
     mesh.primitives.push_back(std::move(prim));
-    mesh.extras = toValue(metadataJson(layout_.metadata));
+    mesh.extras = gltfValue(metadataJson(layout_.metadata));
     m.meshes.push_back(std::move(mesh));
 
     tinygltf::Node node;
@@ -314,23 +180,6 @@ class GltfWriter final : public SampleWriter {
     m.scenes.push_back(std::move(scene));
     m.defaultScene = 0;
     return m;
-  }
-
-  // .gltf: the JSON from tinygltf with an empty buffer, then that buffer pointed at the .bin.
-  void writeGltf(tinygltf::Model& model) {
-    std::vector<unsigned char> data;
-    data.swap(model.buffers[0].data);
-    std::ostringstream os;
-    tinygltf::TinyGLTF gltf;
-    if (!gltf.WriteGltfSceneToStream(&model, os, true, false)) {
-      throw OutputWriteError(out_.option(), out_.target().string(), "tinygltf could not write the .gltf");
-    }
-    nlohmann::json doc = nlohmann::json::parse(os.str());
-    nlohmann::json& buffer = doc.at("buffers").at(0);
-    buffer["uri"] = uriOf(bin_->target().filename().string());
-    buffer["byteLength"] = data.size();
-    out_.write(doc.dump(2) + "\n");
-    bin_->write(data.data(), data.size());
   }
 
   AtomicFile& out_;

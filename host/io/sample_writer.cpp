@@ -22,9 +22,18 @@ OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::
   if (ext == ".svg") return OutputFormat::Svg;
   if (ext == ".glb") return OutputFormat::Glb;
   if (ext == ".gltf") return OutputFormat::Gltf;
+  if (ext == ".stl") return OutputFormat::Stl;
   throw OutputPathError(option, path.string(),
                         "unknown extension '" + ext +
-                            "' (expected .obj, .ply, .csv, .f32, .f64, .npy, .svg, .glb or .gltf)");
+                            "' (expected .obj, .ply, .csv, .f32, .f64, .npy, .svg, .glb, .gltf or .stl)");
+}
+
+void requireGridFormat(OutputFormat format, const std::filesystem::path& path, const std::string& option) {
+  if (format == OutputFormat::Stl) {
+    throw OutputPathError(option, path.string(),
+                          "STL is written for part meshes only (sample PART.json -o OUT.stl); use .ply, .obj, "
+                          ".glb or .gltf for a curve or surface");
+  }
 }
 
 std::string_view outputFormatName(OutputFormat format) {
@@ -38,6 +47,7 @@ std::string_view outputFormatName(OutputFormat format) {
     case OutputFormat::Svg: return "svg";
     case OutputFormat::Glb: return "glb";
     case OutputFormat::Gltf: return "gltf";
+    case OutputFormat::Stl: return "stl";
   }
   return "?";
 }
@@ -180,6 +190,7 @@ std::unique_ptr<SampleWriter> makeUncheckedWriter(OutputFormat format, AtomicFil
     case OutputFormat::Gltf:
       if (!sidecar) throw std::logic_error(".gltf output needs its .bin file");
       return makeGltfWriter(out, sidecar);
+    case OutputFormat::Stl: throw std::logic_error("STL is written for part meshes only (io/triangle_mesh.h)");
     case OutputFormat::RawF32:
     case OutputFormat::RawF64:
       if (!sidecar) throw std::logic_error("raw output needs a sidecar file");

@@ -28,7 +28,8 @@ namespace shapespline::io {
 
 class WeldGrid;
 
-enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Npy, Svg, Glb, Gltf };
+// Stl: binary STL, written for part meshes only (io/triangle_mesh.h); the grid writers refuse it.
+enum class OutputFormat { Obj, Ply, Csv, RawF32, RawF64, Npy, Svg, Glb, Gltf, Stl };
 
 // glTF output holds its welded mesh in memory (fp32 positions re-centred on the bounding box): at
 // most this many vertices (distinct grid points, io/welded_mesh.h WeldGrid::pointCount).
@@ -40,6 +41,9 @@ std::filesystem::path gltfBufferPath(const std::filesystem::path& gltf);
 // Format from the file extension (case-insensitive); throws OutputPathError(option, ...) otherwise.
 OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option = "-o");
 std::string_view outputFormatName(OutputFormat format);
+// Throws OutputPathError(option, path, ...) for a format only part meshes are written in (.stl),
+// for the commands that sample grids, merge or shard.
+void requireGridFormat(OutputFormat format, const std::filesystem::path& path, const std::string& option = "-o");
 
 // "point", "d1", "du", ..., "normal" (the golden / eval field names).
 std::string_view fieldName(Field field);

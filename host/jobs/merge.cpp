@@ -1321,6 +1321,7 @@ bool isTrimmedShard(const std::string& shard, OutputFormat format) {
 
 MergeResult mergeShards(const std::vector<std::string>& shards, const std::string& output) {
   const OutputFormat format = outputFormatFromPath(output, "-o");
+  io::requireGridFormat(format, output, "-o");
   if (format == OutputFormat::Svg) throw MergeError("-o", shown(output), "SVG files do not merge");
   if (isGltf(format)) throw MergeError("-o", shown(output), "glTF files do not merge (sample them unsharded)");
   if (shards.empty()) throw MergeError("SHARD", "", "give the shard files 1..N");
@@ -1356,7 +1357,8 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
     case OutputFormat::Npy: result = mergeRaw(shards, true, std::nullopt, out, files.add(output + ".json", "-o")); break;
     case OutputFormat::Svg:
     case OutputFormat::Glb:
-    case OutputFormat::Gltf: break;
+    case OutputFormat::Gltf:
+    case OutputFormat::Stl: break;
   }
   files.commit();
   return result;

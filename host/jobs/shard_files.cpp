@@ -25,28 +25,13 @@ namespace {
 
 constexpr size_t kMaxDistinctCounts = 16;
 
-std::string formatName(io::OutputFormat f) {
-  switch (f) {
-    case io::OutputFormat::Obj: return "obj";
-    case io::OutputFormat::Ply: return "ply";
-    case io::OutputFormat::Csv: return "csv";
-    case io::OutputFormat::RawF32: return "f32";
-    case io::OutputFormat::RawF64: return "f64";
-    case io::OutputFormat::Npy: return "npy";
-    case io::OutputFormat::Svg: return "svg";
-    case io::OutputFormat::Glb: return "glb";
-    case io::OutputFormat::Gltf: return "gltf";
-  }
-  return "?";
-}
-
 }  // namespace
 
 ShardRecord shardRecordOf(const io::SampleLayout& layout, io::OutputFormat format) {
   ShardRecord r;
   r.job = layout.job;
   r.surface = layout.surface;
-  r.format = formatName(format);
+  r.format = std::string(io::outputFormatName(format));
   r.shardIndex = layout.shardIndex;
   r.shardCount = layout.shardCount;
   r.firstItem = layout.firstItem;

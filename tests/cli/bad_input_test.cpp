@@ -91,6 +91,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"grid_on_curve", "sample {M} -o {D}/out.obj --grid 4x4 --device cpu", "--grid"},
         BadArgs{"ply_too_many_vertices", "sample {S} -o {D}/out.ply --grid 20000x20000 --device cpu", "--grid"},
         BadArgs{"svg_surface", "sample {S} -o {D}/out.svg --device cpu", "-o"},
+        // STL is written for part meshes only.
+        BadArgs{"stl_surface", "sample {S} -o {D}/out.stl --device cpu", "-o: '"},
+        BadArgs{"stl_curve", "sample {M} -o {D}/out.stl --device cpu", "STL is written for part meshes only"},
+        BadArgs{"stl_shard", "sample {S} -o {D}/out.stl --shard 1/2 --device cpu", "STL is written for part meshes only"},
+        BadArgs{"stl_merge", "merge -o {D}/out.stl {D}/a.stl {D}/b.stl", "STL is written for part meshes only"},
         BadArgs{"normals_on_curve", "sample {M} -o {D}/out.csv --normals --device cpu", "--normals"},
         BadArgs{"shard_zero", "sample {M} -o {D}/out.obj --shard 0/3 --device cpu", "--shard"},
         BadArgs{"shard_beyond", "sample {M} -o {D}/out.obj --shard 4/3 --device cpu", "--shard"},

@@ -1,6 +1,8 @@
 #pragma once
 // Runs the built shapespline binary (SHAPESPLINE_CLI) with stdout/stderr captured to files, and a
 // scratch folder per test.
+#include "support/external_readers.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
@@ -58,14 +60,7 @@ class ScratchDir {
   std::filesystem::path path_;
 };
 
-inline std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
-  }
-  return q + "'";
-}
+inline std::string quote(const std::string& s) { return shellQuote(s); }
 
 // Runs a shell command whose stdout/stderr go to `out`/`err`, then reads and removes both files.
 inline CliResult runCaptured(const std::string& cmd, const std::filesystem::path& out,
@@ -99,6 +94,6 @@ inline std::string examplesDir() { return std::string(SHAPESPLINE_SOURCE_DIR) + 
 inline std::string exampleModel(const std::string& name) { return examplesDir() + "/" + name; }
 
 // Debian's interpreter, the one that sees python3-numpy (another python3 may come first on PATH).
-inline constexpr const char* kPython = "/usr/bin/python3";
+inline constexpr const char* kPython = kSystemPython;
 
 }  // namespace shapespline::test
