@@ -1,0 +1,229 @@
+#include <shapespline/part/constrained_delaunay.h>
+#include <shapespline/part/face_triangulation.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <unordered_map>
+
+namespace shapespline::part {
+namespace {
+
+constexpr int kMaxRounds = 48;
+
+glm::dvec3 unitOrZero(glm::dvec3 v) {
+  const double l = glm::length(v);
+  return l > 0.0 && std::isfinite(l) ? v / l : glm::dvec3(0.0);
+}
+
+double angleBetweenUnits(glm::dvec3 a, glm::dvec3 b) { return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)); }
+
+// The distance from p to the segment [a, b].
+double distanceToSegment3(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+  const glm::dvec3 d = b - a;
+  const double length2 = glm::dot(d, d);
+  const double s = length2 > 0.0 ? std::clamp(glm::dot(p - a, d) / length2, 0.0, 1.0) : 0.0;
+  return glm::length(p - (a + s * d));
+}
+
+// The distance from p to the triangle abc: to its plane where p projects inside it, else to the
+// nearest side (a degenerate triangle is its sides).
+double distanceToTriangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double n2 = glm::dot(n, n);
+  if (n2 > 0.0) {
+    const glm::dvec3 q = p - glm::dot(p - a, n) / n2 * n;
+    const bool inside = glm::dot(glm::cross(b - a, q - a), n) >= 0.0 && glm::dot(glm::cross(c - b, q - b), n) >= 0.0 &&
+                        glm::dot(glm::cross(a - c, q - c), n) >= 0.0;
+    if (inside) return glm::length(p - q);
+  }
+  return std::min({distanceToSegment3(p, a, b), distanceToSegment3(p, b, c), distanceToSegment3(p, c, a)});
+}
+
+// The plane's scale of each parameter: the mean length of the first partials over a 5 x 5 grid of
+// the loops' box. Delaunay in (su U, sv V) keeps triangles near their 3-D shape on a fillet whose
+// U is an angle and V a length.
+glm::dvec2 parameterScale(const Surface& surface, glm::dvec2 lo, glm::dvec2 hi, FaceEvaluator& evaluator) {
+  constexpr int n = 5;
+  std::vector<glm::dvec2> uv;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) uv.push_back(lo + (hi - lo) * glm::dvec2((i + 0.5) / n, (j + 0.5) / n));
+  std::vector<SurfaceFirst> out(uv.size());
+  evaluator.evaluate(surface, uv, out);
+  glm::dvec2 sum(0.0);
+  for (const SurfaceFirst& s : out) sum += glm::dvec2(glm::length(s.du), glm::length(s.dv));
+  glm::dvec2 scale = sum / double(out.size());
+  // A direction with no length (a degenerate box) takes the other's scale, or 1.
+  if (!(scale.x > 0.0) || !std::isfinite(scale.x)) scale.x = scale.y > 0.0 && std::isfinite(scale.y) ? scale.y : 1.0;
+  if (!(scale.y > 0.0) || !std::isfinite(scale.y)) scale.y = scale.x;
+  return scale;
+}
+
+class FaceRefiner {
+ public:
+  FaceRefiner(const Surface& surface, bool reversed, const FaceTolerances& tol, FaceEvaluator& evaluator)
+      : surface_(surface), sign_(reversed ? -1.0 : 1.0), tol_(tol), evaluator_(evaluator) {}
+
+  FaceTriangles run(const std::vector<std::vector<LoopVertex>>& loops, const std::vector<glm::dvec3>& positions,
+                    std::atomic<int64_t>& budget) {
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    std::vector<glm::dvec2> loopUv;
+    for (const auto& loop : loops)
+      for (const LoopVertex& v : loop) {
+        lo = glm::min(lo, v.uv);
+        hi = glm::max(hi, v.uv);
+        loopUv.push_back(v.uv);
+      }
+    scale_ = parameterScale(surface_, lo, hi, evaluator_);
+
+    // The loops' own vertices: their part-wide points, and this face's normal there.
+    std::vector<SurfaceFirst> atLoops(loopUv.size());
+    evaluator_.evaluate(surface_, loopUv, atLoops);
+    FaceTriangles result;
+    std::vector<glm::dvec2> planePoints;
+    std::vector<std::array<int, 2>> constraints;
+    for (const auto& loop : loops) {
+      const int first = static_cast<int>(planePoints.size());
+      for (size_t k = 0; k < loop.size(); ++k) {
+        const int index = static_cast<int>(planePoints.size());
+        planePoints.push_back(loop[k].uv * scale_);
+        vertices_.push_back({loop[k].uv, positions[loop[k].vertex], normalOf(atLoops[size_t(index)]), loop[k].vertex});
+        result.loopNormals.push_back(vertices_.back().normal);
+        constraints.push_back({index, k + 1 == loop.size() ? first : index + 1});
+      }
+    }
+    std::optional<ConstrainedDelaunay> cdt;
+    try {
+      cdt.emplace(std::move(planePoints), constraints);
+    } catch (const CrossingConstraints& e) {
+      throw CrossingTrimLoops(e.what());
+    }
+
+    for (int round = 0; round < kMaxRounds; ++round) {
+      const std::vector<std::array<int, 3>> triangles = cdt->triangles();
+      if (static_cast<int64_t>(triangles.size()) > budget.load())
+        throw TriangleBudgetExceeded("the face needs more triangles than the budget has left");
+      const std::vector<std::pair<glm::dvec2, Vertex>> added = refinementPoints(triangles);
+      if (added.empty()) {
+        collect(triangles, result);
+        budget -= static_cast<int64_t>(result.triangles.size());
+        return result;
+      }
+      for (const auto& [uv, vertex] : added) {
+        const int index = cdt->insert(uv * scale_);
+        if (static_cast<size_t>(index) == vertices_.size()) vertices_.push_back(vertex);
+      }
+    }
+    collect(cdt->triangles(), result);
+    budget -= static_cast<int64_t>(result.triangles.size());
+    return result;
+  }
+
+ private:
+  struct Vertex {
+    glm::dvec2 uv;
+    glm::dvec3 point, normal;
+    uint32_t id;  // part-wide for loop vertices; interior ones are numbered in collect()
+  };
+
+  // The unit normal, or zero where the partials are (nearly) parallel or vanish, as at a pole: there
+  // the rounded cross product points anywhere and would fail every angle test.
+  glm::dvec3 normalOf(const SurfaceFirst& s) const {
+    const glm::dvec3 n = glm::cross(s.du, s.dv);
+    const double scale = std::max(glm::dot(s.du, s.du), glm::dot(s.dv, s.dv));
+    if (!(glm::length(n) > 1e-10 * scale)) return glm::dvec3(0.0);
+    return sign_ * unitOrZero(n);
+  }
+
+  // The centroids of the triangles and the midpoints of the inner edges where the mesh is too far
+  // from the surface or turns too much, as new vertices (evaluated once, here).
+  std::vector<std::pair<glm::dvec2, Vertex>> refinementPoints(const std::vector<std::array<int, 3>>& triangles) {
+    std::vector<glm::dvec2> uv;
+    uv.reserve(triangles.size() * 2);
+    for (const auto& t : triangles)
+      uv.push_back((vertices_[size_t(t[0])].uv + vertices_[size_t(t[1])].uv + vertices_[size_t(t[2])].uv) / 3.0);
+    // Inner edges: those two triangles share (each listed once, from its lower vertex).
+    std::unordered_map<uint64_t, int> seen;
+    std::vector<std::array<int, 2>> inner;
+    seen.reserve(triangles.size() * 3);
+    for (const auto& t : triangles)
+      for (int k = 0; k < 3; ++k) {
+        const int a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
+        const uint64_t key = (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+        if (++seen[key] == 2) inner.push_back({a, b});
+      }
+    for (const auto& e : inner) uv.push_back(0.5 * (vertices_[size_t(e[0])].uv + vertices_[size_t(e[1])].uv));
+    std::vector<SurfaceFirst> s(uv.size());
+    evaluator_.evaluate(surface_, uv, s);
+
+    std::vector<std::pair<glm::dvec2, Vertex>> added;
+    for (size_t k = 0; k < triangles.size(); ++k) {
+      const Vertex& a = vertices_[size_t(triangles[k][0])];
+      const Vertex& b = vertices_[size_t(triangles[k][1])];
+      const Vertex& c = vertices_[size_t(triangles[k][2])];
+      const glm::dvec3 normal = normalOf(s[k]);
+      bool split = distanceToTriangle(s[k].point, a.point, b.point, c.point) > tol_.deflection;
+      // The surface's own turn across the triangle (its normals at the corners against the one at
+      // the centroid), not the triangle's plane: a sliver's plane says nothing of the surface, and
+      // splitting slivers for it only makes more of them.
+      // A triangle already shorter than the deflection is flat enough whatever its normals do.
+      const double longest = std::max({glm::length(b.point - a.point), glm::length(c.point - b.point),
+                                       glm::length(a.point - c.point)});
+      for (const Vertex* corner : {&a, &b, &c})
+        if (!split && longest > tol_.deflection && normal != glm::dvec3(0.0) && corner->normal != glm::dvec3(0.0))
+          split = angleBetweenUnits(normal, corner->normal) > tol_.angle;
+      if (split) added.push_back({uv[k], {uv[k], s[k].point, normal, 0}});
+    }
+    for (size_t k = 0; k < inner.size(); ++k) {
+      const size_t at = triangles.size() + k;
+      if (distanceToSegment3(s[at].point, vertices_[size_t(inner[k][0])].point, vertices_[size_t(inner[k][1])].point) >
+          tol_.deflection)
+        added.push_back({uv[at], {uv[at], s[at].point, normalOf(s[at]), 0}});
+    }
+    return added;
+  }
+
+  // The triangles with part-wide ids (interior vertices numbered as they are first used), wound
+  // so that they face along the face's outward normal.
+  void collect(const std::vector<std::array<int, 3>>& triangles, FaceTriangles& out) {
+    const size_t loopVertices = out.loopNormals.size();
+    std::vector<uint32_t> interiorId(vertices_.size(), UINT32_MAX);
+    for (const auto& t : triangles) {
+      std::array<uint32_t, 3> ids{};
+      for (int k = 0; k < 3; ++k) {
+        const size_t v = size_t(t[k]);
+        if (v < loopVertices) {
+          ids[size_t(k)] = vertices_[v].id;
+          continue;
+        }
+        if (interiorId[v] == UINT32_MAX) {
+          interiorId[v] = FaceTriangles::kInterior + static_cast<uint32_t>(out.points.size());
+          out.points.push_back(vertices_[v].point);
+          out.normals.push_back(vertices_[v].normal);
+        }
+        ids[size_t(k)] = interiorId[v];
+      }
+      if (sign_ < 0.0) std::swap(ids[1], ids[2]);
+      out.triangles.push_back(ids);
+    }
+  }
+
+  const Surface& surface_;
+  double sign_;
+  const FaceTolerances& tol_;
+  FaceEvaluator& evaluator_;
+  glm::dvec2 scale_{1.0};
+  std::vector<Vertex> vertices_;  // by the triangulation's point index
+};
+
+}  // namespace
+
+FaceTriangles triangulateFace(const Surface& surface, bool reversed, const std::vector<std::vector<LoopVertex>>& loops,
+                              const std::vector<glm::dvec3>& positions, const FaceTolerances& tolerances,
+                              FaceEvaluator& evaluator, std::atomic<int64_t>& budget) {
+  return FaceRefiner(surface, reversed, tolerances, evaluator).run(loops, positions, budget);
+}
+
+}  // namespace shapespline::part

@@ -1,0 +1,65 @@
+#include <shapespline/core/validate.h>
+#include <shapespline/io/model_json.h>
+#include <shapespline/io/input_file.h>
+#include <shapespline/part/part_model.h>
+
+#include <algorithm>
+
+namespace shapespline::part {
+
+const io::PartEdgeEntry* Part::edge(int id) const {
+  // part.json lists edges by id in order, so the id is usually the position plus one.
+  if (id >= 1 && static_cast<size_t>(id) <= edges.size() && edges[static_cast<size_t>(id) - 1].id == id)
+    return &edges[static_cast<size_t>(id) - 1];
+  const auto it = std::find_if(edges.begin(), edges.end(), [&](const io::PartEdgeEntry& e) { return e.id == id; });
+  return it == edges.end() ? nullptr : &*it;
+}
+
+Part loadPart(const std::filesystem::path& manifestPath) {
+  io::PartManifest manifest = io::readPartManifest(manifestPath);
+  Part part;
+  part.manifest = manifestPath;
+  part.edges = std::move(manifest.edges);
+  part.shells = std::move(manifest.shells);
+  part.skipped = manifest.skipped;
+  for (io::PartFaceEntry& entry : manifest.faces) {
+    if (!entry.model) continue;
+    const std::string key = entry.field + ".model";
+    io::Model model;
+    try {
+      model = io::loadModelFile(*entry.model);
+    } catch (const ModelError& e) {
+      throw ModelError(key + " (" + io::shortText(entry.model->filename().string()) + "): " + e.field(), e.value(),
+                       e.rule());
+    }
+    auto* surface = std::get_if<SurfaceModel>(&model);
+    if (!surface || surface->trim.empty())
+      throw ModelError(key, io::shortText(entry.model->string()), "is not a trimmed surface (a face written by import)");
+    if (!entry.coedges.empty() && entry.coedges.size() != surface->trim.loops.size())
+      throw ModelError(entry.field + ".coedges", std::to_string(entry.coedges.size()) + " loops",
+                       "must give the coedges of each of the face's " + std::to_string(surface->trim.loops.size()) +
+                           " trim loops");
+    PartFace face{entry.id, entry.field, *entry.model, Surface::create(std::move(*surface)), entry.reversed,
+                  std::move(entry.coedges)};
+    part.faces.push_back(std::move(face));
+  }
+  return part;
+}
+
+Part faceAsPart(const std::filesystem::path& model, Surface surface) {
+  Part part;
+  part.manifest = model;
+  PartFace face{1, "face", model, std::move(surface), false, {}};
+  const auto& loops = face.surface.model().trim.loops;
+  for (size_t l = 0; l < loops.size(); ++l) {
+    io::PartCoedge coedge{static_cast<int>(l) + 1, 0, {}};
+    for (size_t k = 0; k <= loops[l].size(); ++k) coedge.t.push_back(static_cast<double>(k));
+    face.coedges.push_back({coedge});
+    part.edges.push_back({static_cast<int>(l) + 1, false});
+  }
+  part.faces.push_back(std::move(face));
+  part.shells.push_back({1});
+  return part;
+}
+
+}  // namespace shapespline::part

@@ -1,0 +1,237 @@
+// The part mesher on parts written here, without Open CASCADE: a unit cube of six planar faces (its
+// welding, orientation and watertightness exactly) and a wavy trimmed bicubic face (the deflection,
+// measured by projecting the mesh back onto the surface). tests/cad/ meshes real OCCT parts.
+#include <shapespline/core/list_eval.h>
+#include <shapespline/core/model.h>
+#include <shapespline/core/trim_classifier.h>
+#include <shapespline/part/face_triangulation.h>
+#include <shapespline/part/part_mesher.h>
+#include <shapespline/part/part_model.h>
+
+#include <support/temp_files.h>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+
+namespace shapespline::part {
+namespace {
+
+using nlohmann::json;
+
+void writeJson(const std::filesystem::path& path, const json& j) { std::ofstream(path) << j.dump(); }
+
+json planarFace(glm::dvec3 o, glm::dvec3 u, glm::dvec3 v) {
+  json points = json::array();
+  for (int i = 0; i < 2; ++i) {
+    json row = json::array();
+    for (int j = 0; j < 2; ++j) {
+      const glm::dvec3 p = o + double(i) * u + double(j) * v;
+      row.push_back({p.x, p.y, p.z});
+    }
+    points.push_back(row);
+  }
+  return {{"kind", "surface"}, {"construction", "bspline"}, {"order", {2, 2}},
+          {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}}}, {"closed", {false, false}},
+          {"trim", {{"loops", {{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}}, {"tolerance", 1e-9}}}, {"points", points}};
+}
+
+// DIR/part.json and six face files of the cube [0, size]^3, with the coedges import writes: each
+// of the 12 edges parametrised from its lower-numbered corner (t = 0) to the other (t = 1).
+void writeCube(const std::filesystem::path& dir, double size) {
+  std::filesystem::create_directories(dir);
+  const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  std::map<std::pair<int, int>, int> edgeIds;
+  json faces = json::array(), edges = json::array(), shell = json::array();
+  const auto corner = [&](glm::dvec3 p) {
+    return int(std::lround(p.x / size)) + 2 * int(std::lround(p.y / size)) + 4 * int(std::lround(p.z / size));
+  };
+  int id = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      ++id;
+      const glm::dvec3 u = size * axes[(a + 1) % 3], v = size * axes[(a + 2) % 3];  // u x v along axis a
+      const glm::dvec3 o = double(side) * size * axes[a];
+      const std::string name = "face_" + std::to_string(id) + ".json";
+      writeJson(dir / name, planarFace(o, u, v));
+      const glm::dvec2 uv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+      json loop = json::array();
+      for (int k = 0; k < 4; ++k) {
+        const int from = corner(o + uv[k].x * u + uv[k].y * v);
+        const int to = corner(o + uv[(k + 1) % 4].x * u + uv[(k + 1) % 4].y * v);
+        const auto key = std::minmax(from, to);
+        auto [it, added] = edgeIds.try_emplace(key, int(edgeIds.size()) + 1);
+        if (added) edges.push_back({{"id", it->second}, {"curve", "Geom_Line"}, {"model", nullptr}});
+        loop.push_back({{"edge", it->second}, {"start", k}, {"t", from < to ? json{0.0, 1.0} : json{1.0, 0.0}}});
+      }
+      faces.push_back({{"id", id}, {"model", name}, {"reversed", side == 0}, {"surface", "Geom_Plane"},
+                       {"coedges", json::array({loop})}});
+      shell.push_back(id);
+    }
+  writeJson(dir / "part.json", {{"format", "shapespline-part"}, {"faces", faces}, {"edges", edges},
+                                {"shells", json::array({{{"id", 1}, {"faces", shell}}})}});
+}
+
+// Every mesh edge used by exactly two triangles, once each way: closed, manifold, consistently wound.
+void expectClosedAndOriented(const io::TriangleMesh& mesh) {
+  std::map<std::pair<uint32_t, uint32_t>, int> directed;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++directed[{t[size_t(k)], t[size_t((k + 1) % 3)]}];
+  for (const auto& [edge, n] : directed) {
+    EXPECT_EQ(n, 1) << "edge " << edge.first << "-" << edge.second << " is wound the same way twice";
+    EXPECT_TRUE(directed.count({edge.second, edge.first})) << "edge " << edge.first << "-" << edge.second << " is open";
+  }
+}
+
+double signedVolume(const io::TriangleMesh& mesh) {
+  double six = 0.0;
+  for (const auto& t : mesh.triangles)
+    six += glm::dot(mesh.positions[t[0]], glm::cross(mesh.positions[t[1]], mesh.positions[t[2]]));
+  return six / 6.0;
+}
+
+TEST(PartMesher, CubeIsTwelveTrianglesOnEightSharedVertices) {
+  const std::filesystem::path dir = test::processTempFile("part", "cube");
+  writeCube(dir, 2.0);
+  const Part part = loadPart(dir / "part.json");
+  ASSERT_EQ(part.faces.size(), 6u);
+  CpuFaceEvaluator cpu;
+  MeshOptions options;
+  options.deflection = 1e-3;
+  const PartMesh mesh = meshPart(part, options, cpu);
+  EXPECT_EQ(mesh.mesh.positions.size(), 8u);
+  EXPECT_EQ(mesh.mesh.triangles.size(), 12u);
+  EXPECT_EQ(mesh.boundaryEdges, 0);
+  EXPECT_EQ(mesh.nonManifoldEdges, 0);
+  EXPECT_EQ(mesh.edges, 12);
+  expectClosedAndOriented(mesh.mesh);
+  EXPECT_NEAR(signedVolume(mesh.mesh), 8.0, 1e-12);  // positive: every face wound outwards
+  std::map<int, int> perFace;
+  for (int f : mesh.mesh.faceIds) ++perFace[f];
+  EXPECT_EQ(perFace.size(), 6u);
+  for (const auto& [f, n] : perFace) EXPECT_EQ(n, 2) << "face " << f;
+}
+
+TEST(PartMesher, RefusesAFaceWithoutCoedges) {
+  const std::filesystem::path dir = test::processTempFile("part", "old");
+  writeCube(dir, 1.0);
+  json manifest = json::parse(std::ifstream(dir / "part.json"));
+  manifest["faces"][2].erase("coedges");
+  writeJson(dir / "part.json", manifest);
+  CpuFaceEvaluator cpu;
+  MeshOptions options;
+  options.deflection = 1e-3;
+  try {
+    meshPart(loadPart(dir / "part.json"), options, cpu);
+    FAIL() << "a face without coedges was meshed";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(e.field(), "faces[2].coedges");
+  }
+}
+
+// A bicubic face over [0, 1]^2 whose net waves in z, trimmed by a square with a square hole.
+Surface wavyFace(std::vector<std::vector<glm::dvec2>> loops) {
+  SurfaceModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = 4;
+  m.orderV = 4;
+  const int n = 4, rows = n + 3;
+  std::vector<double> knots = {0, 0, 0};
+  for (int i = 0; i <= n; ++i) knots.push_back(double(i) / n);
+  knots.insert(knots.end(), {1, 1, 1});
+  m.knotsU = m.knotsV = knots;
+  m.rows = m.cols = rows;
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < rows; ++j)
+      m.points.push_back({double(i) / (rows - 1), double(j) / (rows - 1), 0.3 * std::sin(1.7 * i + 2.3 * j)});
+  m.trim.loops = std::move(loops);
+  m.trim.tolerance = 1e-9;
+  return Surface::create(std::move(m));
+}
+
+// The foot of p on the surface: the nearest of a grid, then Newton on |S(u,v) - p|^2 (the test's
+// own projection: a wavy face of 4 x 4 bicubic spans has one minimum near its grid's best).
+struct Foot {
+  double distance;
+  glm::dvec2 uv;
+};
+Foot footOnSurface(const Surface& s, glm::dvec3 p) {
+  constexpr int n = 48;
+  double best = INFINITY;
+  glm::dvec2 uv(0.0);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double d = glm::length(s.evaluateAt(double(i) / n, double(j) / n).point - p);
+      if (d < best) best = d, uv = {double(i) / n, double(j) / n};
+    }
+  for (int it = 0; it < 30; ++it) {
+    const SurfacePoint q = s.evaluateAt(uv.x, uv.y);
+    const glm::dvec3 r = q.point - p;
+    const double a = glm::dot(q.du, q.du) + glm::dot(r, q.duu), b = glm::dot(q.du, q.dv) + glm::dot(r, q.duv),
+                 c = glm::dot(q.dv, q.dv) + glm::dot(r, q.dvv);
+    const double gu = glm::dot(r, q.du), gv = glm::dot(r, q.dv), det = a * c - b * b;
+    if (det == 0.0) break;
+    uv = glm::clamp(uv - glm::dvec2(c * gu - b * gv, a * gv - b * gu) / det, 0.0, 1.0);
+  }
+  return {std::min(best, glm::length(s.evaluateAt(uv.x, uv.y).point - p)), uv};
+}
+
+TEST(PartMesher, TrimmedFaceIsWithinTheDeflection) {
+  const std::vector<std::vector<glm::dvec2>> loops = {{{0.05, 0.05}, {0.95, 0.05}, {0.95, 0.95}, {0.05, 0.95}},
+                                                     {{0.4, 0.4}, {0.4, 0.6}, {0.6, 0.6}, {0.6, 0.4}}};
+  Part part = faceAsPart("wavy.json", wavyFace(loops));
+  const Surface& surface = part.faces.front().surface;
+  CpuFaceEvaluator cpu;
+  for (double deflection : {1e-2, 1e-3}) {
+    MeshOptions options;
+    options.deflection = deflection;
+    const PartMesh mesh = meshPart(part, options, cpu);
+    SCOPED_TRACE("deflection " + std::to_string(deflection) + ", " + std::to_string(mesh.mesh.triangles.size()) +
+                 " triangles");
+    EXPECT_EQ(mesh.nonManifoldEdges, 0);
+    EXPECT_GT(mesh.boundaryEdges, 8);  // the two loops, cut to the deflection
+    double worst = 0.0;
+    const TrimClassifier inside(surface.model().trim);
+    const size_t step = std::max<size_t>(1, mesh.mesh.triangles.size() / 300);
+    for (size_t k = 0; k < mesh.mesh.triangles.size(); k += step) {
+      const auto& t = mesh.mesh.triangles[k];
+      const glm::dvec3 a = mesh.mesh.positions[t[0]], b = mesh.mesh.positions[t[1]], c = mesh.mesh.positions[t[2]];
+      EXPECT_GT(glm::length(glm::cross(b - a, c - a)), 0.0) << "triangle " << k << " has no area";
+      for (glm::dvec3 q : {(a + b + c) / 3.0, (a + b) / 2.0, (b + c) / 2.0, (c + a) / 2.0})
+        worst = std::max(worst, footOnSurface(surface, q).distance);
+      // Inside the loops only: the centroid's foot is inside, or (a boundary chord leaves the
+      // surface by up to the deflection) within the deflection of a loop, in parameters as in space
+      // on this face whose speed is about 1 to 2.
+      const glm::dvec2 foot = footOnSurface(surface, (a + b + c) / 3.0).uv;
+      double nearest = INFINITY;
+      for (const auto& loop : surface.model().trim.loops)
+        for (size_t j = 0; j < loop.size(); ++j)
+          nearest = std::min(nearest, distanceToSegment(foot, loop[j], loop[(j + 1) % loop.size()]));
+      EXPECT_TRUE(inside.inside(foot) || nearest <= deflection)
+          << "triangle " << k << " at (" << foot.x << ", " << foot.y << "), " << nearest << " from a loop";
+    }
+    EXPECT_LE(worst, deflection);
+    EXPECT_GT(worst, deflection / 20) << "the mesh is far finer than asked";
+  }
+}
+
+TEST(PartMesher, CrossingLoopsAndTheBudgetAreRefused) {
+  CpuFaceEvaluator cpu;
+  MeshOptions options;
+  options.deflection = 1e-3;
+  Part crossing = faceAsPart("bow.json", wavyFace({{{0.1, 0.1}, {0.9, 0.7}, {0.9, 0.1}, {0.1, 0.9}}}));
+  EXPECT_THROW(meshPart(crossing, options, cpu), ModelError);
+  Part fine = faceAsPart("wavy.json", wavyFace({{{0.1, 0.1}, {0.9, 0.1}, {0.9, 0.9}, {0.1, 0.9}}}));
+  options.deflection = 1e-6;
+  options.maxTriangles = 1000;
+  EXPECT_THROW(meshPart(fine, options, cpu), TriangleBudgetExceeded);
+}
+
+}  // namespace
+}  // namespace shapespline::part
