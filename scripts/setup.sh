@@ -18,7 +18,7 @@ PACKAGES=(
   glslang-tools spirv-tools
   libglm-dev nlohmann-json3-dev libcli11-dev libpng-dev libssl-dev libimgui-dev
   libgtest-dev libgmock-dev libbenchmark-dev libosd-dev
-  python3-numpy libtinygltf-dev assimp-utils
+  python3-numpy libtinygltf-dev assimp-utils python3-open3d
   slurm-wlm munge
   libglfw3-dev xvfb xauth
   pybind11-dev python3-dev python3-pytest python3-matplotlib python3-scipy

@@ -1,6 +1,8 @@
 #include <shapespline/part/edge_discretisation.h>
 #include <shapespline/part/parallel_for.h>
 
+#include <shapespline/part/face_triangulation.h>
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -32,8 +34,9 @@ constexpr int kMaxDepth = 30;  // 2^-30 of an edge's range: far below any deflec
 // they fail; each interval carries its middle point from its parent's quarter point.
 class EdgeCutter {
  public:
-  EdgeCutter(const PartFace& face, const CoedgePath& path, const EdgeTolerances& tol, FaceEvaluator& evaluator)
-      : face_(face), path_(path), tol_(tol), evaluator_(evaluator) {}
+  EdgeCutter(const PartFace& face, const CoedgePath& path, const EdgeTolerances& tol, FaceEvaluator& evaluator,
+             std::atomic<int64_t>& budget)
+      : face_(face), path_(path), tol_(tol), evaluator_(evaluator), budget_(budget) {}
 
   void cut(DiscreteEdge& edge) {
     const double t0 = std::min(path_.firstT(), path_.lastT()), t1 = std::max(path_.firstT(), path_.lastT());
@@ -71,6 +74,9 @@ class EdgeCutter {
         next.push_back({i.a, m, i.pa, pm, q1, i.depth + 1});
         next.push_back({m, i.b, pm, i.pb, q3, i.depth + 1});
       }
+      // Every edge vertex costs at least one triangle of each face that uses the edge.
+      if ((budget_ -= static_cast<int64_t>(next.size() / 2)) < 0)
+        throw TriangleBudgetExceeded("an edge needs more vertices than the triangle budget");
       pending = std::move(next);
     }
     for (const auto& [t, p] : vertices) {
@@ -103,12 +109,14 @@ class EdgeCutter {
   const CoedgePath& path_;
   const EdgeTolerances& tol_;
   FaceEvaluator& evaluator_;
+  std::atomic<int64_t>& budget_;
 };
 
 }  // namespace
 
 std::vector<DiscreteEdge> discretiseEdges(const Part& part, const CoedgePaths& paths, const EdgeTolerances& tolerances,
-                                          FaceEvaluator& evaluator, int threads) {
+                                          FaceEvaluator& evaluator, int threads, int64_t maxVertices) {
+  std::atomic<int64_t> budget{maxVertices};
   std::map<int, std::vector<EdgeUse>> usesById;
   for (size_t f = 0; f < paths.size(); ++f)
     for (size_t l = 0; l < paths[f].size(); ++l)
@@ -137,7 +145,7 @@ std::vector<DiscreteEdge> discretiseEdges(const Part& part, const CoedgePaths& p
       edge.points = {p.point};
       return;
     }
-    EdgeCutter(face, path, tolerances, evaluator).cut(edge);
+    EdgeCutter(face, path, tolerances, evaluator, budget).cut(edge);
   });
   return edges;
 }

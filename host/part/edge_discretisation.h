@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace shapespline::part {
@@ -37,8 +38,10 @@ struct EdgeTolerances {
 };
 
 // The discretised edges, one per edge id that a coedge names (in ascending id). Edges run on
-// `threads` threads; `evaluator` must then be thread-safe or serialise itself.
+// `threads` threads; `evaluator` must then be thread-safe or serialise itself. More than
+// `maxVertices` vertices over all edges throws TriangleBudgetExceeded (face_triangulation.h): each
+// one costs the mesh at least a triangle, so the cut stops before it outgrows the budget.
 std::vector<DiscreteEdge> discretiseEdges(const Part& part, const CoedgePaths& paths, const EdgeTolerances& tolerances,
-                                          FaceEvaluator& evaluator, int threads);
+                                          FaceEvaluator& evaluator, int threads, int64_t maxVertices);
 
 }  // namespace shapespline::part

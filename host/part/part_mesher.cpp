@@ -1,6 +1,8 @@
 #include <shapespline/core/model.h>
+#include <shapespline/core/value_text.h>
 #include <shapespline/part/edge_discretisation.h>
 #include <shapespline/part/face_triangulation.h>
+#include <shapespline/part/loop_projection.h>
 #include <shapespline/part/parallel_for.h>
 #include <shapespline/part/part_mesher.h>
 
@@ -69,9 +71,19 @@ double partDiagonal(const Part& part) {
 }
 
 PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& evaluator) {
+  const auto overBudget = [&](const std::string& where) {
+    return TriangleBudgetExceeded("the mesh at deflection " + shortestText(options.deflection) +
+                                  " needs more than the budget of " + std::to_string(options.maxTriangles) +
+                                  " triangles (" + where + " reached it)");
+  };
   const CoedgePaths paths = coedgePaths(part);
-  const std::vector<DiscreteEdge> edges =
-      discretiseEdges(part, paths, {options.deflection, options.angle}, evaluator, options.threads);
+  std::vector<DiscreteEdge> edges;
+  try {
+    edges = discretiseEdges(part, paths, {options.deflection, options.angle}, evaluator, options.threads,
+                            options.maxTriangles);
+  } catch (const TriangleBudgetExceeded&) {
+    throw overBudget("the edges");
+  }
 
   // Part-wide vertex ids: edge e's vertex k is base[e] + k.
   std::unordered_map<int, size_t> edgeIndex;
@@ -117,6 +129,7 @@ PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& e
   std::atomic<int64_t> budget{options.maxTriangles};
   parallelFor(part.faces.size(), options.threads, [&](size_t f) {
     const PartFace& face = part.faces[f];
+    projectLoopVertices(face.surface, faceLoops[f], positions, evaluator);
     try {
       faces[f] = triangulateFace(face.surface, face.reversed, faceLoops[f], positions,
                                  {options.deflection, options.angle}, evaluator, budget);
@@ -124,9 +137,7 @@ PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& e
       throw ModelError(face.field + ".model", face.model.filename().string(),
                        std::string("its trim loops cross each other (") + e.what() + ")");
     } catch (const TriangleBudgetExceeded&) {
-      throw TriangleBudgetExceeded("the mesh at deflection " + std::to_string(options.deflection) +
-                                   " needs more than the budget of " + std::to_string(options.maxTriangles) +
-                                   " triangles (" + face.field + " ran out)");
+      throw overBudget(face.field);
     }
   });
 

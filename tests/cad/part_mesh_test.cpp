@@ -11,6 +11,8 @@
 
 #include "test_parts.h"
 
+#include <cli/cli_runner.h>
+
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
 
@@ -31,6 +33,7 @@
 
 #include <cstdio>
 #include <map>
+#include <sstream>
 #include <unistd.h>
 
 namespace shapespline::test {
@@ -144,6 +147,45 @@ TEST_P(PartMesh, ClosedOrientedAndWithinTheDeflectionOfOcct) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Deflections, PartMesh, ::testing::Values(1e-3, 1e-4));
+
+// `sample part.json -o part.ply` as a user runs it, on the job's default device and on the CPU:
+// Open3D finds each closed part's mesh watertight, orientable and edge-manifold, and the two
+// devices give the same triangles (the same topology).
+TEST(PartMeshCli, Open3dFindsEveryClosedPartWatertightOnEveryDevice) {
+  if (const std::string why = open3dMissing(); !why.empty()) GTEST_FAIL() << why;
+  std::string files;
+  for (const TestPart& test : allTestParts()) {
+    if (!closedShell(test.name)) continue;
+    const fs::path dir = imported(test);
+    for (const std::string device : {"auto", "cpu"}) {
+      const fs::path out = scratch() / (test.name + "_" + device + ".ply");
+      const CliResult r = runCli("sample " + quote((dir / "part.json").string()) + " --device " + device + " -o " +
+                                     quote(out.string()),
+                                 scratch());
+      ASSERT_EQ(r.rc, 0) << r.err;
+      EXPECT_NE(r.err.find(" 0 open edges"), std::string::npos) << r.err;
+    }
+    files += " " + quote((scratch() / (test.name + "_auto.ply")).string()) + " " +
+             quote((scratch() / (test.name + "_cpu.ply")).string());
+  }
+  const ToolResult checks = runTool(std::string(kSystemPython) + " -c \"import sys, numpy as np, open3d as o3d\n"
+                                    "for a, b in zip(sys.argv[1::2], sys.argv[2::2]):\n"
+                                    "  m, c = o3d.io.read_triangle_mesh(a), o3d.io.read_triangle_mesh(b)\n"
+                                    "  same = np.array_equal(np.asarray(m.triangles), np.asarray(c.triangles))\n"
+                                    "  print(len(m.triangles) > 0, m.is_watertight(), m.is_orientable(), "
+                                    "m.is_edge_manifold(), same)\n\"" +
+                                    files);
+  ASSERT_EQ(checks.rc, 0) << checks.out;
+  size_t parts = 0;
+  std::istringstream lines(checks.out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("True") == std::string::npos && line.find("False") == std::string::npos) continue;  // Open3D's notes
+    ++parts;
+    EXPECT_EQ(line, "True True True True True") << "non-empty, watertight, orientable, edge-manifold, same on both "
+                                                   "devices: " << checks.out;
+  }
+  EXPECT_EQ(parts, allTestParts().size() - 1) << checks.out;
+}
 
 }  // namespace
 }  // namespace shapespline::test

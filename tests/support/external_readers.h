@@ -1,6 +1,6 @@
 #pragma once
 // The readers we did not write that check our output files: Debian's /usr/bin/python3 (with
-// numpy), assimp (`assimp info`, Debian assimp-utils) and the Khronos glTF validator (npm
+// numpy, and Open3D for meshes), assimp (`assimp info`, Debian assimp-utils) and the Khronos glTF validator (npm
 // gltf-validator pinned in tests/tools/gltf, run by node). scripts/setup.sh installs all of them;
 // a test that needs one that is missing skips with the reason.
 #include <sys/wait.h>
@@ -45,6 +45,11 @@ inline std::string gltfValidatorScript() { return std::string(SHAPESPLINE_SOURCE
 inline std::string pythonNumpyMissing() {
   if (runTool(std::string(kSystemPython) + " -c 'import numpy'").rc != 0)
     return std::string(kSystemPython) + " with numpy is missing (install python3-numpy: scripts/setup.sh)";
+  return "";
+}
+inline std::string open3dMissing() {
+  if (runTool(std::string(kSystemPython) + " -c 'import open3d'").rc != 0)
+    return std::string(kSystemPython) + " with open3d is missing (install python3-open3d: scripts/setup.sh)";
   return "";
 }
 inline std::string assimpMissing() {
