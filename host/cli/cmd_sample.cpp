@@ -178,8 +178,8 @@ void requireTrimmable(const SampleArgs& args, const io::Model& model, io::Output
     throw InputError("--trim", args.model, "the model has no trim loops (the faces `shapespline import` writes have them)");
   if (!io::trimmedPointFormat(format))
     throw InputError("-o", args.out,
-                     "a trimmed face is written as a point cloud (.npy, .f32, .f64, .csv or .ply); meshes and pictures "
-                     "of trimmed faces are refused until a trimmed mesher exists");
+                     "a trimmed face is written as a mesh (.ply, .obj, .stl, .glb or .gltf without --grid) or as a "
+                     "point cloud (.npy, .f32, .f64, .csv or .ply)");
   requireTrimmedShardFormat(args, format);
   if (args.meshLayoutGiven) throw InputError("--mesh-layout", args.meshLayout, "does not apply to --trim (a point cloud)");
 }
@@ -347,8 +347,14 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
                      "must be in [1, " + std::to_string(kMaxChunkPoints) + "] (0 = default)");
   }
 
-  // A part's manifest (`shapespline import`): every face, trimmed, into one point cloud.
+  // A part's manifest (`shapespline import`): its mesh (part_mesh.cpp), or every face, trimmed, into
+  // one point cloud (part_sample.cpp).
   const bool part = io::isPartManifest(args.model);
+  if (meshesTrimmed(args, format, part)) return meshPartInto(args, format, request, outputs, summary, session);
+  for (const auto& [option, value] : {std::pair{"--deflection", args.deflection},
+                                      {"--relative-deflection", args.relativeDeflection}, {"--angle", args.angle}})
+    if (!value.empty())
+      throw InputError(option, value, "applies to the mesh of a part or a trimmed face (.ply, .obj, .stl, .glb, .gltf)");
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
   std::optional<io::ModelDigest> modelDigest;  // the metadata's SHA-256, hashed beside the parse and build
   if (!part) modelDigest.emplace(args.model);
@@ -990,9 +996,17 @@ void registerSample(CLI::App& app) {
   sub->add_option("--chunk-points", args->chunkPoints,
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 32768 "
                   "on the CPU, 4 MiB planes on the GPU; output is identical)");
+  sub->add_option("--deflection", args->deflection,
+                  "a part's or trimmed face's mesh: largest distance from the surfaces, in model units");
+  sub->add_option("--relative-deflection", args->relativeDeflection,
+                  "the same as a fraction of the part's diagonal (default 1e-3)");
+  sub->add_option("--angle", args->angle, "a trimmed mesh's largest turn across a triangle or edge, radians (default 0.5)");
+  sub->add_option("--max-triangles", args->maxTriangles,
+                  "a trimmed mesh needing more triangles is refused (default 50000000)");
   sub->add_flag("--trim", args->trim,
                 "keep only the samples inside the model's trim loops (a face from `import`), written as a point cloud "
-                "(.npy, .f32, .f64, .csv, .ply) with each sample's (U, V)");
+                "(.npy, .f32, .f64, .csv, .ply with --grid) with each sample's (U, V), or as a mesh (.ply, .obj, .stl, "
+                ".glb, .gltf without --grid)");
   sub->add_flag("--require-device", args->requireDevice,
                 "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   addQuietFlag(sub, args->quiet, "no notices and no progress bar");

@@ -38,6 +38,9 @@ struct SampleArgs {
   bool failFast = false;            // several models: stop at the first that fails
   bool trim = false;                // --trim: only the samples inside the model's trim loops
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
+  // A trimmed mesh (a part or a face with --trim to .ply, .obj, .stl, .glb, .gltf): as given.
+  std::string deflection, relativeDeflection, angle;
+  long long maxTriangles = 50'000'000;
 };
 
 // Samples one job and commits its files (data, sidecar, shard record) as one output set; with
@@ -77,5 +80,13 @@ void requireTrimmedShardFormat(const SampleArgs& args, io::OutputFormat format);
 // (cli/part_sample.cpp); as sampleInto.
 bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& outputs, std::string& summary,
                     sampling::Session* session);
+
+// Whether this job is a trimmed mesh (a part, or a face with --trim, to a mesh format without a
+// grid: cli/part_mesh.cpp); InputError for a grid asked of a mesh format other than PLY.
+bool meshesTrimmed(const SampleArgs& args, io::OutputFormat format, bool part);
+
+// The part's (or the trimmed face's) watertight mesh into one file; as sampleInto.
+bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const sampling::DeviceRequest& request,
+                  io::OutputSet& outputs, std::string& summary, sampling::Session& session);
 
 }  // namespace shapespline::cli

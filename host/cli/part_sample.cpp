@@ -44,8 +44,8 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
                     sampling::Session* shared) {
   if (!io::trimmedPointFormat(job.format))
     throw InputError("-o", args.out,
-                     "a part is written as one point cloud (.npy, .f32, .f64, .csv or .ply); meshes and pictures of "
-                     "trimmed faces are refused until a trimmed mesher exists");
+                     "a part is written as a mesh (.ply, .obj, .stl, .glb or .gltf without --grid) or as one point "
+                     "cloud (.npy, .f32, .f64, .csv or .ply)");
   requireTrimmedShardFormat(args, job.format);
   const std::filesystem::path manifestPath(args.model);
   const io::PartManifest manifest = io::readPartManifest(manifestPath);

@@ -143,10 +143,11 @@ TEST_F(TrimmedSampling, OcctsFaceClassifierAgrees) {
   }
 }
 
-TEST_F(TrimmedSampling, RefusesMeshesShardsAndModelsWithoutLoops) {
+TEST_F(TrimmedSampling, RefusesPicturesShardsAndModelsWithoutLoops) {
   ASSERT_EQ(drilled_.size(), 2u);
   const std::string model = quote(face(drilled_.at(0)).string());
-  CliResult r = runCli("sample " + model + " --trim -o " + quote((*dir_ / "x.obj").string()), dir_->path());
+  // An SVG of a trimmed face is not made (a mesh or a point cloud is).
+  CliResult r = runCli("sample " + model + " --trim -o " + quote((*dir_ / "x.svg").string()), dir_->path());
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("point cloud"), std::string::npos) << r.err;
   // Trimmed shards go to formats that carry their identity (tests/cli/part_shards_test.cpp).
@@ -157,7 +158,7 @@ TEST_F(TrimmedSampling, RefusesMeshesShardsAndModelsWithoutLoops) {
              dir_->path());
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("no trim loops"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(*dir_ / "x.obj"));
+  EXPECT_FALSE(fs::exists(*dir_ / "x.svg"));
   EXPECT_FALSE(fs::exists(*dir_ / "x.csv"));
   EXPECT_FALSE(fs::exists(*dir_ / "y.npy"));
 }
