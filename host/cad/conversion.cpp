@@ -42,9 +42,22 @@ std::string failureText(const Standard_Failure& e) {
   return std::string(e.DynamicType()->Name()) + (text && *text ? std::string(": ") + text : "");
 }
 
+// The period of a direction of the surface, or of the periodic surface it cuts; 0 when none.
+double periodOf(const Handle(Geom_Surface)& surface, int direction) {
+  Handle(Geom_Surface) periodic = surface;
+  if (const Handle(Geom_RectangularTrimmedSurface) cut = Handle(Geom_RectangularTrimmedSurface)::DownCast(surface))
+    periodic = cut->BasisSurface();
+  if (direction == 0) return periodic->IsUPeriodic() ? periodic->UPeriod() : 0.0;
+  return periodic->IsVPeriodic() ? periodic->VPeriod() : 0.0;
+}
+
 // The bounds of a face's p-curves can stick out of its surface by rounding or the edges'
 // tolerance (a sphere's v beyond pi/2, a torus' u over a period after an IGES round trip), which
 // GeomConvert refuses: clamp them to the surface's range, and a periodic direction to one period.
+// A whole period is cut a hair short: GeomConvert makes a whole period a periodic B-spline whose
+// parameters start elsewhere on the circle (a cylinder's seam moved by 2 degrees), and the face's
+// loops would cross the B-spline's ends. The hair (1e-9 of the period) is far inside the clamping
+// of trim points (docs/cad.md).
 void keepInsideSurface(const Handle(Geom_Surface)& surface, double bounds[4]) {
   double range[4];
   surface->Bounds(range[0], range[1], range[2], range[3]);
@@ -52,13 +65,11 @@ void keepInsideSurface(const Handle(Geom_Surface)& surface, double bounds[4]) {
   for (int d = 0; d < 2; ++d) {
     double& lo = bounds[2 * d];
     double& hi = bounds[2 * d + 1];
-    if (periodic[d]) {
-      const double period = d == 0 ? surface->UPeriod() : surface->VPeriod();
-      hi = std::min(hi, lo + period);
-    } else {
+    if (!periodic[d]) {
       lo = std::max(lo, range[2 * d]);
       hi = std::min(hi, range[2 * d + 1]);
     }
+    if (const double period = periodOf(surface, d); period > 0.0) hi = std::min(hi, lo + period * (1.0 - 1e-9));
   }
 }
 
