@@ -12,6 +12,9 @@ namespace shapespline::part {
 namespace {
 
 constexpr int kMaxRounds = 48;
+// Twice a sliver's area in the scaled plane over its longest side squared: corners within 5e-10
+// of the side's length from one line.
+constexpr double kSliver = 1e-9;
 
 glm::dvec3 unitOrZero(glm::dvec3 v) {
   const double l = glm::length(v);
@@ -144,15 +147,34 @@ class FaceRefiner {
     uv.reserve(triangles.size() * 2);
     for (const auto& t : triangles)
       uv.push_back((vertices_[size_t(t[0])].uv + vertices_[size_t(t[1])].uv + vertices_[size_t(t[2])].uv) / 3.0);
-    // Inner edges: those two triangles share (each listed once, from its lower vertex).
-    std::unordered_map<uint64_t, int> seen;
+    // Slivers: triangles whose corners are (nearly) on one line in the plane, as three loop
+    // vertices along a straight side are after rounding. A sliver's centroid and the midpoint of
+    // its long side lie on the loop, and inserting them only makes more slivers there; its surface
+    // is the loop's, cut to the deflection already, so neither it nor its sides are split.
+    std::vector<bool> sliver(triangles.size());
+    for (size_t k = 0; k < triangles.size(); ++k) {
+      const glm::dvec2 a = vertices_[size_t(triangles[k][0])].uv * scale_, b = vertices_[size_t(triangles[k][1])].uv * scale_,
+                       c = vertices_[size_t(triangles[k][2])].uv * scale_;
+      const glm::dvec2 ab = b - a, ac = c - a, bc = c - b;
+      const double longest2 = std::max({glm::dot(ab, ab), glm::dot(ac, ac), glm::dot(bc, bc)});
+      sliver[k] = std::abs(ab.x * ac.y - ab.y * ac.x) <= kSliver * longest2;
+    }
+    // Inner edges: those two triangles share (each listed once, from its lower vertex), unless one
+    // of them is a sliver.
+    struct EdgeUse {
+      int triangles = 0;
+      bool sliver = false;
+    };
+    std::unordered_map<uint64_t, EdgeUse> seen;
     std::vector<std::array<int, 2>> inner;
     seen.reserve(triangles.size() * 3);
-    for (const auto& t : triangles)
-      for (int k = 0; k < 3; ++k) {
-        const int a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
-        const uint64_t key = (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
-        if (++seen[key] == 2) inner.push_back({a, b});
+    for (size_t k = 0; k < triangles.size(); ++k)
+      for (int j = 0; j < 3; ++j) {
+        const auto& t = triangles[k];
+        const int a = std::min(t[j], t[(j + 1) % 3]), b = std::max(t[j], t[(j + 1) % 3]);
+        EdgeUse& use = seen[(uint64_t(uint32_t(a)) << 32) | uint32_t(b)];
+        use.sliver = use.sliver || sliver[k];
+        if (++use.triangles == 2 && !use.sliver) inner.push_back({a, b});
       }
     for (const auto& e : inner) uv.push_back(0.5 * (vertices_[size_t(e[0])].uv + vertices_[size_t(e[1])].uv));
     std::vector<SurfaceFirst> s(uv.size());
@@ -163,6 +185,7 @@ class FaceRefiner {
       const Vertex& a = vertices_[size_t(triangles[k][0])];
       const Vertex& b = vertices_[size_t(triangles[k][1])];
       const Vertex& c = vertices_[size_t(triangles[k][2])];
+      if (sliver[k]) continue;
       const glm::dvec3 normal = normalOf(s[k]);
       bool split = distanceToTriangle(s[k].point, a.point, b.point, c.point) > tol_.deflection;
       // The surface's own turn across the triangle (its normals at the corners against the one at

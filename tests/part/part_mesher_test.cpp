@@ -196,6 +196,12 @@ TEST(PartMesher, TrimmedFaceIsWithinTheDeflection) {
                  " triangles");
     EXPECT_EQ(mesh.nonManifoldEdges, 0);
     EXPECT_GT(mesh.boundaryEdges, 8);  // the two loops, cut to the deflection
+    // No two vertices at one point: the refinement converges instead of piling points up (as it
+    // did on the slivers three loop vertices along a straight side make).
+    std::set<std::array<double, 3>> places;
+    for (const glm::dvec3& p : mesh.mesh.positions)
+      places.insert({std::round(p.x * 1e11), std::round(p.y * 1e11), std::round(p.z * 1e11)});
+    EXPECT_EQ(places.size(), mesh.mesh.positions.size());
     double worst = 0.0;
     const TrimClassifier inside(surface.model().trim);
     const size_t step = std::max<size_t>(1, mesh.mesh.triangles.size() / 300);
@@ -218,6 +224,39 @@ TEST(PartMesher, TrimmedFaceIsWithinTheDeflection) {
     }
     EXPECT_LE(worst, deflection);
     EXPECT_GT(worst, deflection / 20) << "the mesh is far finer than asked";
+  }
+}
+
+// A bicubic face whose whole side u = 0 is one point (a cone's apex drawn as a B-spline, its edge
+// not marked degenerate): the points the refinement puts at the apex are the apex's one vertex,
+// and no triangle is left without area.
+TEST(PartMesher, ASideDrawnToAPointLeavesNoTriangleWithoutArea) {
+  SurfaceModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = 4;
+  m.orderV = 4;
+  m.knotsU = m.knotsV = {0, 0, 0, 0, 1, 1, 1, 1};
+  m.rows = m.cols = 4;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double r = i / 3.0, a = 1.5 * j / 3.0;
+      m.points.push_back({r * std::cos(a), r * std::sin(a), 0.4 * r * r});
+    }
+  m.trim.loops = {{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}}};
+  m.trim.tolerance = 1e-9;
+  const Part part = faceAsPart("apex.json", Surface::create(std::move(m)));
+  CpuFaceEvaluator cpu;
+  MeshOptions options;
+  options.deflection = 1e-4;
+  const PartMesh mesh = meshPart(part, options, cpu);
+  ASSERT_GT(mesh.mesh.triangles.size(), 50u);
+  EXPECT_EQ(mesh.nonManifoldEdges, 0);
+  size_t atApex = 0;
+  for (const glm::dvec3& p : mesh.mesh.positions) atApex += glm::length(p) <= 1e-12;
+  EXPECT_EQ(atApex, 1u);
+  for (const auto& t : mesh.mesh.triangles) {
+    const glm::dvec3 a = mesh.mesh.positions[t[0]], b = mesh.mesh.positions[t[1]], c = mesh.mesh.positions[t[2]];
+    ASSERT_GT(glm::length(glm::cross(b - a, c - a)), 0.0);
   }
 }
 
