@@ -301,6 +301,28 @@ def sample_many(models: Sequence[Union[Curve, Surface, dict[str, Any], str, "os.
     carries the note 'sample_many: models[k]'; errors='keep' puts it in the model's place and
     samples the others."""
 
+class Part:
+    """A part `shapespline import` wrote (DIR/part.json): its faces, edges and shells."""
+
+    faces: list[int]
+    """The ids of the faces that imported, in the manifest's order."""
+    edges: int
+    skipped: int
+    """Faces that did not convert at import (part.json says why)."""
+    diagonal: float
+    """The diagonal of the box around every face's control points."""
+
+    def mesh(self, *, deflection: Optional[float] = None, relative_deflection: Optional[float] = None,
+             angle: float = 0.5, max_triangles: int = 50_000_000, device: str = "auto", precision: str = "double",
+             require: bool = False, threads: int = 0, with_report: bool = False) -> dict[str, Any]:
+        """The watertight mesh (docs/cad.md 'Meshing a part'): positions (N, 3) float64, normals (N, 3),
+        triangles (M, 3) uint32, face_ids (M,) int32, open_edges, non_manifold_edges, deflection, device
+        (and report with with_report). deflection in model units or relative_deflection of the diagonal
+        (default 1e-3); ValueError past max_triangles."""
+
+def load_part(dir: str) -> Part:
+    """A part `shapespline import` wrote: DIR or DIR/part.json."""
+
 def devices() -> str:
     """The Vulkan devices, the one a job would use, fp64 support and limits (as `shapespline info`)."""
 

@@ -3,6 +3,7 @@
 // sampling a whole part (cli/part_sample.cpp) shares.
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/part/part_mesher.h>
 #include <shapespline/sampling/report.h>
 
 #include <functional>
@@ -40,7 +41,7 @@ struct SampleArgs {
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
   // A trimmed mesh (a part or a face with --trim to .ply, .obj, .stl, .glb, .gltf): as given.
   std::string deflection, relativeDeflection, angle;
-  long long maxTriangles = 50'000'000;
+  long long maxTriangles = part::kDefaultTriangleBudget;
 };
 
 // Samples one job and commits its files (data, sidecar, shard record) as one output set; with

@@ -12,15 +12,15 @@
 
 namespace shapespline::part {
 
+// The documented default budget: a mesh past it is refused (docs/cad.md).
+inline constexpr int64_t kDefaultTriangleBudget = 50'000'000;
+
 struct MeshOptions {
   double deflection = 0.0;  // absolute, in the part's units; > 0
   double angle = 0.5;       // radians, in (0, pi)
-  int64_t maxTriangles = 50'000'000;
+  int64_t maxTriangles = kDefaultTriangleBudget;
   int threads = 0;  // 0: every core of the process
 };
-
-// The documented default budget: a mesh past it is refused (docs/cad.md).
-inline constexpr int64_t kDefaultTriangleBudget = 50'000'000;
 
 struct PartMesh {
   io::TriangleMesh mesh;  // normals: the mean of the faces' unit normals at each vertex

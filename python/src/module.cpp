@@ -29,6 +29,7 @@ namespace shapespline::python {
 
 void bindTools(py::module_& m, py::class_<CurveHandle, std::shared_ptr<CurveHandle>>& curve,
                py::class_<SurfaceHandle, std::shared_ptr<SurfaceHandle>>& surface);
+void bindPart(py::module_& m);
 
 namespace {
 
@@ -1127,4 +1128,5 @@ PYBIND11_MODULE(shapespline, m) {
   }, "The Vulkan devices, the one a job would use, fp64 support and limits (as `shapespline info`).");
 
   bindTools(m, curve, surface);
+  bindPart(m);
 }
