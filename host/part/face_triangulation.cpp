@@ -23,13 +23,15 @@ glm::dvec3 unitOrZero(glm::dvec3 v) {
 
 double angleBetweenUnits(glm::dvec3 a, glm::dvec3 b) { return std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)); }
 
-// The distance from p to the segment [a, b].
-double distanceToSegment3(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+// The point of the segment [a, b] nearest p.
+glm::dvec3 nearestOnSegment(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
   const glm::dvec3 d = b - a;
   const double length2 = glm::dot(d, d);
   const double s = length2 > 0.0 ? std::clamp(glm::dot(p - a, d) / length2, 0.0, 1.0) : 0.0;
-  return glm::length(p - (a + s * d));
+  return a + s * d;
 }
+
+double distanceToSegment3(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) { return glm::length(p - nearestOnSegment(p, a, b)); }
 
 // The distance from p to the triangle abc: to its plane where p projects inside it, else to the
 // nearest side (a degenerate triangle is its sides).
@@ -45,9 +47,14 @@ double distanceToTriangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c
   return std::min({distanceToSegment3(p, a, b), distanceToSegment3(p, b, c), distanceToSegment3(p, c, a)});
 }
 
-// The plane's scale of each parameter: the mean length of the first partials over a 5 x 5 grid of
-// the loops' box. Delaunay in (su U, sv V) keeps triangles near their 3-D shape on a fillet whose
-// U is an angle and V a length.
+// The plane's scale of each parameter, so that Delaunay triangles in (su U, sv V) are about as
+// long in each direction as the deflection allows. A chord of length h along a direction of normal
+// curvature k leaves the surface by about k h^2 / 8, so a direction's scale is its speed |S_u|
+// times the square root of its curvature: a cylinder's triangles come out long along its axis, as
+// BRepMesh's do, instead of fanning. Speeds and curvatures are means over a 5 x 5 grid of the
+// loops' box (the curvature from the change of the partials between neighbours, along the normal).
+// The flatter direction's curvature is taken as at least 1/64 of the other's (at most 8 times longer
+// triangles); a plane, flat both ways, keeps the speeds alone.
 glm::dvec2 parameterScale(const Surface& surface, glm::dvec2 lo, glm::dvec2 hi, FaceEvaluator& evaluator) {
   constexpr int n = 5;
   std::vector<glm::dvec2> uv;
@@ -55,12 +62,38 @@ glm::dvec2 parameterScale(const Surface& surface, glm::dvec2 lo, glm::dvec2 hi, 
     for (int j = 0; j < n; ++j) uv.push_back(lo + (hi - lo) * glm::dvec2((i + 0.5) / n, (j + 0.5) / n));
   std::vector<SurfaceFirst> out(uv.size());
   evaluator.evaluate(surface, uv, out);
-  glm::dvec2 sum(0.0);
-  for (const SurfaceFirst& s : out) sum += glm::dvec2(glm::length(s.du), glm::length(s.dv));
-  glm::dvec2 scale = sum / double(out.size());
+  glm::dvec2 speed(0.0), bend(0.0);
+  int bends[2] = {0, 0};
+  const glm::dvec2 step = (hi - lo) / double(n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const SurfaceFirst& s = out[size_t(i * n + j)];
+      speed += glm::dvec2(glm::length(s.du), glm::length(s.dv));
+      const glm::dvec3 normal = glm::cross(s.du, s.dv);
+      const double area = glm::length(normal);
+      if (!(area > 0.0) || !std::isfinite(area)) continue;
+      // |n . S_uu| / |S_u|^2 from the next grid point along u (and likewise v).
+      if (i + 1 < n && step.x > 0.0) {
+        const SurfaceFirst& t = out[size_t((i + 1) * n + j)];
+        const double l2 = glm::dot(s.du, s.du);
+        if (l2 > 0.0) bend.x += std::abs(glm::dot(normal / area, (t.du - s.du) / step.x)) / l2, ++bends[0];
+      }
+      if (j + 1 < n && step.y > 0.0) {
+        const SurfaceFirst& t = out[size_t(i * n + j + 1)];
+        const double l2 = glm::dot(s.dv, s.dv);
+        if (l2 > 0.0) bend.y += std::abs(glm::dot(normal / area, (t.dv - s.dv) / step.y)) / l2, ++bends[1];
+      }
+    }
+  glm::dvec2 scale = speed / double(out.size());
   // A direction with no length (a degenerate box) takes the other's scale, or 1.
   if (!(scale.x > 0.0) || !std::isfinite(scale.x)) scale.x = scale.y > 0.0 && std::isfinite(scale.y) ? scale.y : 1.0;
   if (!(scale.y > 0.0) || !std::isfinite(scale.y)) scale.y = scale.x;
+  glm::dvec2 curvature(bends[0] ? bend.x / bends[0] : 0.0, bends[1] ? bend.y / bends[1] : 0.0);
+  const double most = std::max(curvature.x, curvature.y);
+  if (most > 0.0 && std::isfinite(most)) {
+    curvature = glm::max(curvature, glm::dvec2(most / 64.0));
+    scale *= glm::sqrt(curvature / most);
+  }
   return scale;
 }
 
@@ -165,8 +198,11 @@ class FaceRefiner {
       int triangles = 0;
       bool sliver = false;
     };
+    struct InnerEdge {
+      int a, b;
+    };
     std::unordered_map<uint64_t, EdgeUse> seen;
-    std::vector<std::array<int, 2>> inner;
+    std::vector<InnerEdge> inner;
     seen.reserve(triangles.size() * 3);
     for (size_t k = 0; k < triangles.size(); ++k)
       for (int j = 0; j < 3; ++j) {
@@ -176,7 +212,7 @@ class FaceRefiner {
         use.sliver = use.sliver || sliver[k];
         if (++use.triangles == 2 && !use.sliver) inner.push_back({a, b});
       }
-    for (const auto& e : inner) uv.push_back(0.5 * (vertices_[size_t(e[0])].uv + vertices_[size_t(e[1])].uv));
+    for (const InnerEdge& e : inner) uv.push_back(0.5 * (vertices_[size_t(e.a)].uv + vertices_[size_t(e.b)].uv));
     std::vector<SurfaceFirst> s(uv.size());
     evaluator_.evaluate(surface_, uv, s);
 
@@ -199,11 +235,17 @@ class FaceRefiner {
           split = angleBetweenUnits(normal, corner->normal) > tol_.angle;
       if (split) added.push_back({uv[k], {uv[k], s[k].point, normal, 0}});
     }
+    // An inner edge's midpoint is measured from the edge along the surface normal there: where the
+    // parameters run unevenly (a plane whose net is no parallelogram) the surface point slides along
+    // the surface, which is no distance from the mesh. Where there is no normal (a pole), the whole
+    // distance.
     for (size_t k = 0; k < inner.size(); ++k) {
       const size_t at = triangles.size() + k;
-      if (distanceToSegment3(s[at].point, vertices_[size_t(inner[k][0])].point, vertices_[size_t(inner[k][1])].point) >
-          tol_.deflection)
-        added.push_back({uv[at], {uv[at], s[at].point, normalOf(s[at]), 0}});
+      const glm::dvec3 a = vertices_[size_t(inner[k].a)].point, b = vertices_[size_t(inner[k].b)].point;
+      const glm::dvec3 normal = normalOf(s[at]);
+      const double off = normal == glm::dvec3(0.0) ? distanceToSegment3(s[at].point, a, b)
+                                                   : std::abs(glm::dot(normal, s[at].point - nearestOnSegment(s[at].point, a, b)));
+      if (off > tol_.deflection) added.push_back({uv[at], {uv[at], s[at].point, normal, 0}});
     }
     return added;
   }
