@@ -92,12 +92,13 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
   if (!(options.deflection > 0.0) || !std::isfinite(options.deflection))
     throw InputError("MODEL", args.model, "the part has no extent to take a relative deflection of");
 
-  const sampling::Report report = session.plan(part->faces.front().surface, request);
+  const sampling::DeviceRequest meshRequest = part::meshDeviceRequest(request);
+  const sampling::Report report = session.plan(part->faces.front().surface, meshRequest);
   printNotices(report, args.quiet);
   std::optional<part::CpuFaceEvaluator> cpu;
   std::optional<part::SessionFaceEvaluator> gpu;
-  part::FaceEvaluator& evaluator = report.gpu ? static_cast<part::FaceEvaluator&>(gpu.emplace(session, request, report.device))
-                                              : cpu.emplace();
+  part::FaceEvaluator& evaluator =
+      report.gpu ? static_cast<part::FaceEvaluator&>(gpu.emplace(session, meshRequest, report.device)) : cpu.emplace();
   part::PartMesh mesh;
   try {
     mesh = part::meshPart(*part, options, evaluator);

@@ -18,6 +18,11 @@ std::vector<SurfaceQuery> clampedQueries(const Surface& face, std::span<const gl
   return queries;
 }
 
+sampling::DeviceRequest meshDeviceRequest(sampling::DeviceRequest request) {
+  if (request.device == sampling::DeviceKind::Auto) request.device = sampling::DeviceKind::Cpu;
+  return request;
+}
+
 void CpuFaceEvaluator::evaluate(const Surface& face, std::span<const glm::dvec2> uv, std::span<SurfaceFirst> out) {
   const std::vector<SurfaceQuery> queries = clampedQueries(face, uv);
   evaluateList(face, queries, ListFields::FirstDerivatives, out);

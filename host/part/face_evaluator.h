@@ -47,6 +47,12 @@ class SessionFaceEvaluator final : public FaceEvaluator {
   std::mutex mutex_;
 };
 
+// The device a part mesh runs on for `request`: `auto` is the CPU, because the mesher asks for many
+// small lists (a few per face and round) and on a device each costs a submission that outweighs
+// its evaluation (bench/cad/part_mesh.cpp: a 1,018-face part in 0.08 s on the CPU, 5 s on
+// lavapipe); `vulkan` and `cpu` are as asked.
+sampling::DeviceRequest meshDeviceRequest(sampling::DeviceRequest request);
+
 // uv clamped into the face's parameter ranges, as global list queries.
 std::vector<SurfaceQuery> clampedQueries(const Surface& face, std::span<const glm::dvec2> uv);
 

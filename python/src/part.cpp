@@ -49,7 +49,7 @@ py::dict meshOf(const PartHandle& h, py::object deflection, py::object relative,
   options.maxTriangles = maxTriangles;
   options.threads = threads;
 
-  const sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  const sampling::DeviceRequest request = part::meshDeviceRequest(deviceRequest(device, precision, require));
   const sampling::Report report = plan(h.part.faces.front().surface, request);
   part::PartMesh mesh;
   {

@@ -111,6 +111,16 @@ TEST_F(TrimmedMesh, BadOptionsAndCrossingLoopsExitTwoWithNothingWritten) {
   EXPECT_FALSE(fs::exists(dir_ / "cloud.npy"));
 }
 
+// `--device auto` meshes on the CPU (part/face_evaluator.h meshDeviceRequest: the mesher's many
+// small lists cost a device submission each); `--device vulkan` is taken at its word.
+TEST_F(TrimmedMesh, AutoMeshesOnTheCpu) {
+  const CliResult r = runCli("sample " + quote((dir_ / "face.json").string()) + " --trim -o " +
+                                 quote((dir_ / "auto.glb").string()),
+                             dir_.path());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.err.find(", cpu fp64)"), std::string::npos) << r.err;
+}
+
 // A part whose manifest has no coedges (written before they existed, or by hand) cannot be welded:
 // exit 2 naming the face's key.
 TEST_F(TrimmedMesh, APartWithoutCoedgesIsRefusedByKey) {
