@@ -9,6 +9,8 @@
 
 #include <support/vk_fixture.h>
 
+#include "wavy_face.h"
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -17,29 +19,14 @@
 namespace shapespline::part {
 namespace {
 
-// A bicubic face over [0, 1]^2 waving in z, trimmed by a square with a round-ish hole.
-Surface wavyFace() {
-  SurfaceModel m;
-  m.family.construction = Construction::BSpline;
-  m.family.order = 4;
-  m.orderV = 4;
-  const int n = 4, rows = n + 3;
-  std::vector<double> knots = {0, 0, 0};
-  for (int i = 0; i <= n; ++i) knots.push_back(double(i) / n);
-  knots.insert(knots.end(), {1, 1, 1});
-  m.knotsU = m.knotsV = knots;
-  m.rows = m.cols = rows;
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < rows; ++j)
-      m.points.push_back({double(i) / (rows - 1), double(j) / (rows - 1), 0.3 * std::sin(1.7 * i + 2.3 * j)});
+// The wavy face trimmed by a square with a round-ish hole.
+Surface wavyFaceWithARoundHole() {
   std::vector<glm::dvec2> hole;
   for (int k = 0; k < 12; ++k) {
     const double a = -2.0 * M_PI * k / 12;  // clockwise: a hole
     hole.push_back({0.5 + 0.2 * std::cos(a), 0.45 + 0.2 * std::sin(a)});
   }
-  m.trim.loops = {{{0.05, 0.05}, {0.95, 0.05}, {0.95, 0.95}, {0.05, 0.95}}, hole};
-  m.trim.tolerance = 1e-9;
-  return Surface::create(std::move(m));
+  return wavyFace({{{0.05, 0.05}, {0.95, 0.05}, {0.95, 0.95}, {0.05, 0.95}}, hole});
 }
 
 class PartMesherGpu : public test::VulkanTest {
@@ -59,7 +46,7 @@ class PartMesherGpu : public test::VulkanTest {
 };
 
 TEST_F(PartMesherGpu, Fp64HasTheCpuTopologyAndPoints) {
-  const Part part = faceAsPart("wavy.json", wavyFace());
+  const Part part = faceAsPart("wavy.json", wavyFaceWithARoundHole());
   CpuFaceEvaluator cpu;
   MeshOptions options;
   options.deflection = 1e-3;

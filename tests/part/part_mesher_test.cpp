@@ -10,6 +10,8 @@
 
 #include <support/temp_files.h>
 
+#include "wavy_face.h"
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -133,26 +135,6 @@ TEST(PartMesher, RefusesAFaceWithoutCoedges) {
   } catch (const ModelError& e) {
     EXPECT_EQ(e.field(), "faces[2].coedges");
   }
-}
-
-// A bicubic face over [0, 1]^2 whose net waves in z, trimmed by a square with a square hole.
-Surface wavyFace(std::vector<std::vector<glm::dvec2>> loops) {
-  SurfaceModel m;
-  m.family.construction = Construction::BSpline;
-  m.family.order = 4;
-  m.orderV = 4;
-  const int n = 4, rows = n + 3;
-  std::vector<double> knots = {0, 0, 0};
-  for (int i = 0; i <= n; ++i) knots.push_back(double(i) / n);
-  knots.insert(knots.end(), {1, 1, 1});
-  m.knotsU = m.knotsV = knots;
-  m.rows = m.cols = rows;
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < rows; ++j)
-      m.points.push_back({double(i) / (rows - 1), double(j) / (rows - 1), 0.3 * std::sin(1.7 * i + 2.3 * j)});
-  m.trim.loops = std::move(loops);
-  m.trim.tolerance = 1e-9;
-  return Surface::create(std::move(m));
 }
 
 // The foot of p on the surface: the nearest of a grid, then Newton on |S(u,v) - p|^2 (the test's
