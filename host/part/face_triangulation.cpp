@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <optional>
 #include <unordered_map>
 
@@ -173,6 +174,15 @@ class FaceRefiner {
     return sign_ * unitOrZero(n);
   }
 
+  // Whether p is within a thousandth of the deflection of one of `corners`: a point there adds no
+  // accuracy, and where the surface is singular (a side drawn nearly to a point) inserting it only
+  // piles points onto the spot, folding triangles smaller than any tolerance.
+  bool nearAny(glm::dvec3 p, std::initializer_list<const Vertex*> corners) const {
+    for (const Vertex* c : corners)
+      if (glm::length(p - c->point) < 1e-3 * tol_.deflection) return true;
+    return false;
+  }
+
   // The centroids of the triangles and the midpoints of the inner edges where the mesh is too far
   // from the surface or turns too much, as new vertices (evaluated once, here).
   std::vector<std::pair<glm::dvec2, Vertex>> refinementPoints(const std::vector<std::array<int, 3>>& triangles) {
@@ -233,7 +243,7 @@ class FaceRefiner {
       for (const Vertex* corner : {&a, &b, &c})
         if (!split && longest > tol_.deflection && normal != glm::dvec3(0.0) && corner->normal != glm::dvec3(0.0))
           split = angleBetweenUnits(normal, corner->normal) > tol_.angle;
-      if (split) added.push_back({uv[k], {uv[k], s[k].point, normal, 0}});
+      if (split && !nearAny(s[k].point, {&a, &b, &c})) added.push_back({uv[k], {uv[k], s[k].point, normal, 0}});
     }
     // An inner edge's midpoint is measured from the edge along the surface normal there: where the
     // parameters run unevenly (a plane whose net is no parallelogram) the surface point slides along
@@ -245,7 +255,8 @@ class FaceRefiner {
       const glm::dvec3 normal = normalOf(s[at]);
       const double off = normal == glm::dvec3(0.0) ? distanceToSegment3(s[at].point, a, b)
                                                    : std::abs(glm::dot(normal, s[at].point - nearestOnSegment(s[at].point, a, b)));
-      if (off > tol_.deflection) added.push_back({uv[at], {uv[at], s[at].point, normal, 0}});
+      if (off > tol_.deflection && !nearAny(s[at].point, {&vertices_[size_t(inner[k].a)], &vertices_[size_t(inner[k].b)]}))
+        added.push_back({uv[at], {uv[at], s[at].point, normal, 0}});
     }
     return added;
   }

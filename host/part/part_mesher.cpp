@@ -115,7 +115,7 @@ PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& e
         sets.join(coedgeVertices(loop[c]).back(), coedgeVertices(loop[(c + 1) % loop.size()]).front());
   // Where the face's surface collapses along an edge the file does not call degenerate (a side
   // drawn to a point), the edge's consecutive vertices meet: they are one vertex, as at a pole.
-  const double coincident = 1e-12 * partDiagonal(part);
+  const double coincident = 1e-9 * partDiagonal(part);
   for (size_t e = 0; e < edges.size(); ++e)
     for (size_t k = 0; k + 1 < edges[e].points.size(); ++k)
       if (glm::length(edges[e].points[k] - edges[e].points[k + 1]) <= coincident)

@@ -242,6 +242,44 @@ TEST(PartMesher, ASideDrawnToAPointLeavesNoTriangleWithoutArea) {
   }
 }
 
+// The same face with its apex row spread over 1e-7 (a side drawn nearly to a point, as real parts
+// have): refinement near the spot does not fold the mesh. No two triangles that share an edge face
+// opposite ways, and no triangle is without area.
+TEST(PartMesher, ASideDrawnNearlyToAPointFoldsNothing) {
+  SurfaceModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = 4;
+  m.orderV = 4;
+  m.knotsU = m.knotsV = {0, 0, 0, 0, 1, 1, 1, 1};
+  m.rows = m.cols = 4;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double r = i == 0 ? 1e-7 : i / 3.0, a = 1.5 * j / 3.0;
+      m.points.push_back({r * std::cos(a), r * std::sin(a), 0.4 * r * r});
+    }
+  m.trim.loops = {{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}}};
+  m.trim.tolerance = 1e-9;
+  const Part part = faceAsPart("near_apex.json", Surface::create(std::move(m)));
+  CpuFaceEvaluator cpu;
+  MeshOptions options;
+  options.deflection = 1e-4;
+  const PartMesh mesh = meshPart(part, options, cpu);
+  EXPECT_EQ(mesh.nonManifoldEdges, 0);
+  const auto& p = mesh.mesh.positions;
+  std::map<std::pair<uint32_t, uint32_t>, glm::dvec3> normalBeside;  // by directed edge
+  for (const auto& t : mesh.mesh.triangles) {
+    const glm::dvec3 n = glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
+    ASSERT_GT(glm::length(n), 0.0);
+    for (int k = 0; k < 3; ++k) normalBeside[{t[size_t(k)], t[size_t((k + 1) % 3)]}] = glm::normalize(n);
+  }
+  size_t folds = 0;
+  for (const auto& [edge, n] : normalBeside) {
+    const auto other = normalBeside.find({edge.second, edge.first});
+    folds += other != normalBeside.end() && glm::dot(n, other->second) < -0.5;
+  }
+  EXPECT_EQ(folds, 0u);
+}
+
 TEST(PartMesher, CrossingLoopsAndTheBudgetAreRefused) {
   CpuFaceEvaluator cpu;
   MeshOptions options;
