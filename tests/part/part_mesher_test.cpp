@@ -209,10 +209,9 @@ TEST(PartMesher, TrimmedFaceIsWithinTheDeflection) {
   }
 }
 
-// A bicubic face whose whole side u = 0 is one point (a cone's apex drawn as a B-spline, its edge
-// not marked degenerate): the points the refinement puts at the apex are the apex's one vertex,
-// and no triangle is left without area.
-TEST(PartMesher, ASideDrawnToAPointLeavesNoTriangleWithoutArea) {
+// A bicubic face over [0, 1]^2, a quarter of a bowl, whose side u = 0 is drawn to (nearly) a
+// point: its first row of control points on a circle of radius `apexRadius` (0: one point).
+Surface apexFace(double apexRadius) {
   SurfaceModel m;
   m.family.construction = Construction::BSpline;
   m.family.order = 4;
@@ -221,12 +220,19 @@ TEST(PartMesher, ASideDrawnToAPointLeavesNoTriangleWithoutArea) {
   m.rows = m.cols = 4;
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) {
-      const double r = i / 3.0, a = 1.5 * j / 3.0;
+      const double r = i == 0 ? apexRadius : i / 3.0, a = 1.5 * j / 3.0;
       m.points.push_back({r * std::cos(a), r * std::sin(a), 0.4 * r * r});
     }
   m.trim.loops = {{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}}};
   m.trim.tolerance = 1e-9;
-  const Part part = faceAsPart("apex.json", Surface::create(std::move(m)));
+  return Surface::create(std::move(m));
+}
+
+// A bicubic face whose whole side u = 0 is one point (a cone's apex drawn as a B-spline, its edge
+// not marked degenerate): the points the refinement puts at the apex are the apex's one vertex,
+// and no triangle is left without area.
+TEST(PartMesher, ASideDrawnToAPointLeavesNoTriangleWithoutArea) {
+  const Part part = faceAsPart("apex.json", apexFace(0.0));
   CpuFaceEvaluator cpu;
   MeshOptions options;
   options.deflection = 1e-4;
@@ -246,20 +252,7 @@ TEST(PartMesher, ASideDrawnToAPointLeavesNoTriangleWithoutArea) {
 // have): refinement near the spot does not fold the mesh. No two triangles that share an edge face
 // opposite ways, and no triangle is without area.
 TEST(PartMesher, ASideDrawnNearlyToAPointFoldsNothing) {
-  SurfaceModel m;
-  m.family.construction = Construction::BSpline;
-  m.family.order = 4;
-  m.orderV = 4;
-  m.knotsU = m.knotsV = {0, 0, 0, 0, 1, 1, 1, 1};
-  m.rows = m.cols = 4;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) {
-      const double r = i == 0 ? 1e-7 : i / 3.0, a = 1.5 * j / 3.0;
-      m.points.push_back({r * std::cos(a), r * std::sin(a), 0.4 * r * r});
-    }
-  m.trim.loops = {{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}}};
-  m.trim.tolerance = 1e-9;
-  const Part part = faceAsPart("near_apex.json", Surface::create(std::move(m)));
+  const Part part = faceAsPart("near_apex.json", apexFace(1e-7));
   CpuFaceEvaluator cpu;
   MeshOptions options;
   options.deflection = 1e-4;
