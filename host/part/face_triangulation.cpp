@@ -12,7 +12,9 @@
 namespace shapespline::part {
 namespace {
 
-constexpr int kMaxRounds = 48;
+// Rounds of refinement at most: each inserts an independent set of points, so a face converges in
+// tens of rounds (70 on the largest real face seen); the cap only stops a surface that never does.
+constexpr int kMaxRounds = 400;
 // Twice a sliver's area in the scaled plane over its longest side squared: corners within 5e-10
 // of the side's length from one line.
 constexpr double kSliver = 1e-9;
@@ -207,12 +209,15 @@ class FaceRefiner {
     struct EdgeUse {
       int triangles = 0;
       bool sliver = false;
+      size_t first = 0;
     };
     struct InnerEdge {
       int a, b;
+      size_t left, right;  // its two triangles
     };
     std::unordered_map<uint64_t, EdgeUse> seen;
     std::vector<InnerEdge> inner;
+    std::vector<std::vector<size_t>> neighbours(triangles.size());
     seen.reserve(triangles.size() * 3);
     for (size_t k = 0; k < triangles.size(); ++k)
       for (int j = 0; j < 3; ++j) {
@@ -220,13 +225,24 @@ class FaceRefiner {
         const int a = std::min(t[j], t[(j + 1) % 3]), b = std::max(t[j], t[(j + 1) % 3]);
         EdgeUse& use = seen[(uint64_t(uint32_t(a)) << 32) | uint32_t(b)];
         use.sliver = use.sliver || sliver[k];
-        if (++use.triangles == 2 && !use.sliver) inner.push_back({a, b});
+        if (++use.triangles == 1) use.first = k;
+        if (use.triangles == 2) {
+          neighbours[k].push_back(use.first);
+          neighbours[use.first].push_back(k);
+          if (!use.sliver) inner.push_back({a, b, use.first, k});
+        }
       }
     for (const InnerEdge& e : inner) uv.push_back(0.5 * (vertices_[size_t(e.a)].uv + vertices_[size_t(e.b)].uv));
     std::vector<SurfaceFirst> s(uv.size());
     evaluator_.evaluate(surface_, uv, s);
 
     std::vector<std::pair<glm::dvec2, Vertex>> added;
+    struct Candidate {
+      double score;             // how far past the tolerance, in its units
+      size_t triangle, other;   // the triangles it splits (other: SIZE_MAX for a centroid)
+      std::pair<glm::dvec2, Vertex> point;
+    };
+    std::vector<Candidate> candidates;
     for (size_t k = 0; k < triangles.size(); ++k) {
       const Vertex& a = vertices_[size_t(triangles[k][0])];
       const Vertex& b = vertices_[size_t(triangles[k][1])];
@@ -243,7 +259,9 @@ class FaceRefiner {
       for (const Vertex* corner : {&a, &b, &c})
         if (!split && longest > tol_.deflection && normal != glm::dvec3(0.0) && corner->normal != glm::dvec3(0.0))
           split = angleBetweenUnits(normal, corner->normal) > tol_.angle;
-      if (split && !nearAny(s[k].point, {&a, &b, &c})) added.push_back({uv[k], {uv[k], s[k].point, normal, 0}});
+      if (split && !nearAny(s[k].point, {&a, &b, &c}))
+        candidates.push_back({distanceToTriangle(s[k].point, a.point, b.point, c.point) / tol_.deflection, k, SIZE_MAX,
+                              {uv[k], {uv[k], s[k].point, normal, 0}}});
     }
     // An inner edge's midpoint is measured from the edge along the surface normal there: where the
     // parameters run unevenly (a plane whose net is no parallelogram) the surface point slides along
@@ -256,7 +274,22 @@ class FaceRefiner {
       const double off = normal == glm::dvec3(0.0) ? distanceToSegment3(s[at].point, a, b)
                                                    : std::abs(glm::dot(normal, s[at].point - nearestOnSegment(s[at].point, a, b)));
       if (off > tol_.deflection && !nearAny(s[at].point, {&vertices_[size_t(inner[k].a)], &vertices_[size_t(inner[k].b)]}))
-        added.push_back({uv[at], {uv[at], s[at].point, normal, 0}});
+        candidates.push_back({off / tol_.deflection, inner[k].left, inner[k].right, {uv[at], {uv[at], s[at].point, normal, 0}}});
+    }
+    // The worst first, and none beside a triangle split this round: one point often mends its
+    // neighbours too, and splitting them all at once over-refines (twice BRepMesh's count on a
+    // sphere). Those left wait for the next round, which looks at them again.
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& x, const Candidate& y) { return x.score > y.score; });
+    std::vector<bool> locked(triangles.size(), false);
+    for (const Candidate& c : candidates) {
+      if (locked[c.triangle] || (c.other != SIZE_MAX && locked[c.other])) continue;
+      for (size_t t : {c.triangle, c.other}) {
+        if (t == SIZE_MAX) continue;
+        locked[t] = true;
+        for (size_t n : neighbours[t]) locked[n] = true;
+      }
+      added.push_back(c.point);
     }
     return added;
   }
