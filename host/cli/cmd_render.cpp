@@ -16,7 +16,11 @@
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/part_manifest.h>
 #include <shapespline/io/png_writer.h>
+#include <shapespline/core/tess_topology.h>
+#include <shapespline/core/value_text.h>
+#include <shapespline/part/shaded_mesh.h>
 #include <shapespline/render/painter.h>
 
 #include <algorithm>
@@ -247,6 +251,42 @@ std::vector<render::Image> curveTiles(const RenderArgs& a, const RenderPlan& p, 
   return tiles;
 }
 
+const glm::vec3 kPartColour{0.62f, 0.66f, 0.72f};  // a light steel grey, as CAD viewers shade parts
+const glm::vec3 kPartEdgeColour{0.05f, 0.05f, 0.08f};
+
+// A part (or a trimmed face): its mesh at about half a pixel's deflection unless one is given, shaded
+// with each face's own normals, with its edges and the triangles' edges where asked.
+render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter& painter, const TileHeaders& headers) {
+  const part::Part& part = *p.part;
+  // The camera fits the part into the smaller side, so the diagonal spans at most that many pixels.
+  const double halfPixel = 0.5 / double(std::min(p.width, p.height));
+  PartMeshSettings settings = partMeshSettings(a.mesh, part, halfPixel, a.model);
+  settings.options.cornerNormals = true;
+  part::CpuFaceEvaluator evaluator;
+  const part::PartMesh mesh = meshOrRefuse(part, settings, a.mesh, evaluator);
+  const part::ShadedMesh shaded = part::shadedMesh(mesh);
+  std::vector<uint32_t> lines;
+  if (a.edges) lines = shaded.edgeLines;
+  if (a.wireframe) {
+    const std::vector<uint32_t> wire = triangleEdges(shaded.triangles);
+    lines.insert(lines.end(), wire.begin(), wire.end());
+  }
+  const auto drawing = painter.upload(shaded.positions, shaded.normals, shaded.triangles, lines);
+  const render::PixelRect target = fitTarget(p.width, p.height, headers.band());
+  const std::vector<glm::dvec3> fitted(mesh.mesh.positions.begin(), mesh.mesh.positions.end());
+  const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, p.width, p.height, target);
+  render::Scene scene;
+  render::MeshDraw draw = drawing->draw(true);
+  draw.color = kPartColour;
+  draw.wireColor = kPartEdgeColour;
+  scene.meshes.push_back(draw);
+  if (!a.quiet)
+    std::fprintf(stderr, "shapespline: %d faces, %zu triangles, deflection %s, %lld open edges\n", mesh.faces,
+                 mesh.mesh.triangles.size(), shortestText(settings.options.deflection).c_str(),
+                 static_cast<long long>(mesh.boundaryEdges));
+  return headers.apply(painter.draw(scene, cam), 0, target.x0);
+}
+
 // Up to 4 tiles in one row, else ceil(sqrt(n)) columns.
 int sheetColumns(size_t tiles) { return tiles <= 4 ? int(tiles) : int(std::ceil(std::sqrt(double(tiles)))); }
 
@@ -261,9 +301,23 @@ RenderPlan planRender(const RenderArgs& a) {
   if (a.rate < 1 || a.rate > 256) throw InputError("--rate", std::to_string(a.rate), "expected 1..256 segments per patch edge");
   if (!std::all_of(a.title.begin(), a.title.end(), [](char c) { return c >= ' ' && c <= '~'; }) || a.title.size() > 80)
     throw InputError("--title", a.title, "expected up to 80 printable ASCII characters (the label font has no others)");
-  p.model = loadModel(a.model);
-  if (a.lambda) std::visit([&](auto& m) { m.family.lambda = *a.lambda; }, p.model);
-  const bool isSurface = std::holds_alternative<SurfaceModel>(p.model);
+  if (io::isPartManifest(a.model)) {
+    p.part.emplace(loadPartManifest(a.model, nullptr));
+  } else {
+    p.model = loadModel(a.model);
+    if (auto* face = std::get_if<SurfaceModel>(&p.model); face && !face->trim.empty())
+      p.part.emplace(part::faceAsPart(a.model, Surface::create(*face)));
+  }
+  const std::string partOnly = "a model that is not a part or a trimmed face (it applies to their meshes)";
+  for (const char* o : {"--deflection", "--relative-deflection", "--angle", "--max-triangles", "--edges"})
+    if (!p.part) refuseOption(a.given, o, partOnly);
+  if (p.part) {
+    const std::string what = "a part or a trimmed face (drawn as its mesh; --deflection sets how fine)";
+    for (const char* o : {"--rate", "--control-net", "--lambda", "--overlay", "--distance"}) refuseOption(a.given, o, what);
+    if (!p.values.empty()) throw InputError("--sweep", a.sweep, "does not apply to " + what);
+  }
+  if (a.lambda && !p.part) std::visit([&](auto& m) { m.family.lambda = *a.lambda; }, p.model);
+  const bool isSurface = p.part || std::holds_alternative<SurfaceModel>(p.model);
   if (!isSurface) {
     for (const char* o : {"--rate", "--wireframe", "--control-net"})
       refuseOption(a.given, o, "curves (drawn as lines with their control polygon and data points)");
@@ -282,7 +336,7 @@ RenderPlan planRender(const RenderArgs& a) {
       refuseOption(a.given, o, "a distance map (the surface is evaluated on the CPU, its patch lines drawn)");
   }
   const Construction construction = std::visit([](const auto& m) { return m.family.construction; }, p.model);
-  if (!familyOf(construction).usesLambda) {
+  if (!p.part && !familyOf(construction).usesLambda) {
     const std::string what = "a '" + std::string(constructionName(construction)) + "' model, which has no lambda";
     refuseOption(a.given, "--lambda", what);
     if (!p.values.empty() && !p.alphaSweep) throw InputError("--sweep", a.sweep, "lambda sweeps do not apply to " + what);
@@ -318,6 +372,7 @@ std::vector<render::Image> renderTiles(const RenderArgs& a, const RenderPlan& pl
     return {distanceTile(plan, mesh, painter, headers)};
   }
   const TileHeaders headers(a, plan);
+  if (plan.part) return {partTile(a, plan, painter, headers)};
   if (std::holds_alternative<SurfaceModel>(plan.model)) return surfaceTiles(a, plan, sweep, painter, headers);
   return curveTiles(a, plan, sweep, painter, headers);
 }
@@ -341,6 +396,9 @@ void renderModel(const RenderArgs& a, io::OutputSet& outputs) {
   // Opened before any rendering: a bad -o is bad input (exit 2), and the old PNG is replaced only
   // by a complete new one.
   outputs.reads(a.model, "MODEL");
+  if (plan.part)
+    for (const part::PartFace& face : plan.part->faces)
+      if (face.model != std::filesystem::path(a.model)) outputs.reads(face.model, "MODEL's face");
   io::AtomicFile& png = outputs.add(a.output, "-o");
   render::Painter painter(plan.width, plan.height);
   const std::vector<render::Image> tiles = renderTiles(a, plan, painter);
@@ -364,12 +422,12 @@ void registerRender(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* sub = app.add_subcommand(
       "render", "Render a model headlessly (Vulkan graphics pipeline) to a PNG: shaded surfaces, curves as lines.");
-  sub->add_option("MODEL", args->model, "model file (docs/format.md)")->required();
+  sub->add_option("MODEL", args->model, "model file (docs/format.md), or a part's part.json (`import`)")->required();
   sub->add_option("-o,--output", args->output, "PNG file to write")->required();
   sub->add_option("--size", args->size, "image (tile) size WxH")->capture_default_str();
   sub->add_option("--lambda", args->lambda, "override the model's lambda");
   sub->add_option("--rate", args->rate, "tessellation: segments per patch edge")->capture_default_str();
-  sub->add_flag("--wireframe", args->wireframe, "draw the tessellation's edges over the surface");
+  sub->add_flag("--wireframe", args->wireframe, "draw the tessellation's (or the part mesh's) edges over the surface");
   sub->add_flag("--control-net", args->controlNet, "draw the control net and its points");
   sub->add_option("--view", args->view, "camera azimuth,elevation in degrees (surfaces 35,30; 2-D curves -90,90)");
   sub->add_option("--sweep", args->sweep, "contact sheet: lambda=v1,v2,... or alpha=v1,v2,... (one tile per value)");
@@ -377,6 +435,8 @@ void registerRender(CLI::App& app) {
   sub->add_flag("--distance", args->distance,
                 "surfaces: with --sweep of two values, the surface at the second coloured by its distance from the first");
   sub->add_option("--title", args->title, "a title over the picture (over each tile of a --sweep)");
+  sub->add_flag("--edges", args->edges, "a part or a trimmed face: draw its edges (where faces meet, or a face ends)");
+  addPartMeshOptions(sub, args->mesh, "half a pixel: 0.5 / the image's smaller side");
   addQuietFlag(sub, args->quiet, "no notices on stderr");
   sub->footer(kExitCodeHelp);
   sub->callback([args, sub] {

@@ -1,6 +1,7 @@
 #pragma once
 // The `render` command's arguments and its work, also used by `demo` (its contact sheet).
 #include <shapespline/cli/common.h>
+#include <shapespline/cli/part_mesh_options.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/render/renderer.h>
 
@@ -22,12 +23,15 @@ struct RenderArgs {
   std::optional<double> lambda;
   bool wireframe = false, controlNet = false, overlay = false, distance = false, quiet = false;
   int rate = 16;
+  PartMeshArgs mesh;   // a part or a trimmed face: the mesh drawn (default: half a pixel's deflection)
+  bool edges = false;  // a part or a trimmed face: draw its edges (where faces meet, or a face ends)
   GivenOptions given;  // the options given on the command line (refused where they do not apply)
 };
 
 // A render's inputs read and checked: bad input is an InputError before anything is drawn.
 struct RenderPlan {
-  io::Model model;
+  io::Model model;                 // unless `part` is set
+  std::optional<part::Part> part;  // a part manifest, or a surface model with trim loops as a part of one face
   bool alphaSweep = false;     // the sweep's values are α (else λ)
   std::vector<double> values;  // empty: one frame at the model's parameters
   int width = 0, height = 0;   // of one tile

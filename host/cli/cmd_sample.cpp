@@ -351,8 +351,8 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   // one point cloud (part_sample.cpp).
   const bool part = io::isPartManifest(args.model);
   if (meshesTrimmed(args, format, part)) return meshPartInto(args, format, request, outputs, summary, session);
-  for (const auto& [option, value] : {std::pair{"--deflection", args.deflection},
-                                      {"--relative-deflection", args.relativeDeflection}, {"--angle", args.angle}})
+  for (const auto& [option, value] : {std::pair{"--deflection", args.mesh.deflection},
+                                      {"--relative-deflection", args.mesh.relativeDeflection}, {"--angle", args.mesh.angle}})
     if (!value.empty())
       throw InputError(option, value, "applies to the mesh of a part or a trimmed face (.ply, .obj, .stl, .glb, .gltf)");
   std::vector<std::filesystem::path> arrayFiles;  // the .npy files the model read
@@ -996,13 +996,7 @@ void registerSample(CLI::App& app) {
   sub->add_option("--chunk-points", args->chunkPoints,
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 32768 "
                   "on the CPU, 4 MiB planes on the GPU; output is identical)");
-  sub->add_option("--deflection", args->deflection,
-                  "a part's or trimmed face's mesh: largest distance from the surfaces, in model units");
-  sub->add_option("--relative-deflection", args->relativeDeflection,
-                  "the same as a fraction of the part's diagonal (default 1e-3)");
-  sub->add_option("--angle", args->angle, "a trimmed mesh's largest turn across a triangle or edge, radians (default 0.5)");
-  sub->add_option("--max-triangles", args->maxTriangles,
-                  "a trimmed mesh needing more triangles is refused (default 50000000)");
+  addPartMeshOptions(sub, args->mesh, "1e-3");
   sub->add_flag("--trim", args->trim,
                 "keep only the samples inside the model's trim loops (a face from `import`), written as a point cloud "
                 "(.npy, .f32, .f64, .csv, .ply with --grid) with each sample's (U, V), or as a mesh (.ply, .obj, .stl, "

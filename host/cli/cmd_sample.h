@@ -3,7 +3,7 @@
 // sampling a whole part (cli/part_sample.cpp) shares.
 #include <shapespline/core/sample_grid.h>
 #include <shapespline/io/sample_writer.h>
-#include <shapespline/part/part_mesher.h>
+#include <shapespline/cli/part_mesh_options.h>
 #include <shapespline/sampling/report.h>
 
 #include <functional>
@@ -40,8 +40,7 @@ struct SampleArgs {
   bool trim = false;                // --trim: only the samples inside the model's trim loops
   bool meshLayoutGiven = false;  // --mesh-layout given (it applies to mesh outputs only)
   // A trimmed mesh (a part or a face with --trim to .ply, .obj, .stl, .glb, .gltf): as given.
-  std::string deflection, relativeDeflection, angle;
-  long long maxTriangles = part::kDefaultTriangleBudget;
+  PartMeshArgs mesh;
 };
 
 // Samples one job and commits its files (data, sidecar, shard record) as one output set; with

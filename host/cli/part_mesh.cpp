@@ -4,6 +4,7 @@
 #include <shapespline/cli/cmd_sample.h>
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/exit_codes.h>
+#include <shapespline/cli/part_mesh_options.h>
 #include <shapespline/core/model.h>
 #include <shapespline/core/value_text.h>
 #include <shapespline/io/job_metadata.h>
@@ -15,24 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cmath>
-#include <cstdlib>
-#include <numbers>
 #include <optional>
 
 namespace shapespline::cli {
-namespace {
-
-// A positive finite number from an option's text.
-double positiveOption(const std::string& text, const std::string& option, const std::string& what) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || !(v > 0.0))
-    throw InputError(option, text, "must be a finite number > 0 (" + what + ")");
-  return v;
-}
-
-}  // namespace
 
 bool meshesTrimmed(const SampleArgs& args, io::OutputFormat format, bool part) {
   if (!(part || args.trim) || !io::triangleMeshFormat(format)) return false;
@@ -57,15 +43,6 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
   refuse(!args.fields.empty(), "--fields", args.fields, meshOnly);
   refuse(args.meshLayoutGiven, "--mesh-layout", args.meshLayout, meshOnly);
   refuse(!args.saveModel.empty(), "--save-model", args.saveModel, meshOnly);
-  refuse(!args.deflection.empty() && !args.relativeDeflection.empty(), "--deflection", args.deflection,
-         "give --deflection (absolute) or --relative-deflection (of the part's diagonal), not both");
-
-  part::MeshOptions options;
-  options.angle = args.angle.empty() ? 0.5 : positiveOption(args.angle, "--angle", "radians, below pi");
-  if (options.angle >= std::numbers::pi) throw InputError("--angle", args.angle, "must be below pi (radians)");
-  options.maxTriangles = args.maxTriangles;
-  if (options.maxTriangles <= 0) throw InputError("--max-triangles", std::to_string(args.maxTriangles), "must be > 0");
-  options.threads = args.threads;
 
   const std::filesystem::path modelPath(args.model);
   std::optional<part::Part> part;
@@ -75,22 +52,13 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
     if (!surface || surface->trim.empty())
       throw InputError("--trim", args.model, "the model has no trim loops (the faces `shapespline import` writes have them)");
     part.emplace(part::faceAsPart(modelPath, Surface::create(std::move(*surface))));
+    outputs.reads(modelPath, "MODEL");
   } else {
-    part.emplace(part::loadPart(modelPath));
+    part.emplace(loadPartManifest(modelPath, &outputs));
   }
-  if (part->faces.empty()) throw InputError("MODEL", args.model, "the part has no converted face to mesh");
-  outputs.reads(modelPath, "MODEL");
-  for (const part::PartFace& face : part->faces)
-    if (face.model != modelPath) outputs.reads(face.model, "MODEL's face");
-
-  const double diagonal = part::partDiagonal(*part);
-  const double relative = args.relativeDeflection.empty()
-                              ? 1e-3
-                              : positiveOption(args.relativeDeflection, "--relative-deflection", "of the diagonal");
-  options.deflection = !args.deflection.empty() ? positiveOption(args.deflection, "--deflection", "model units")
-                                                : relative * diagonal;
-  if (!(options.deflection > 0.0) || !std::isfinite(options.deflection))
-    throw InputError("MODEL", args.model, "the part has no extent to take a relative deflection of");
+  const PartMeshSettings settings = partMeshSettings(args.mesh, *part, 1e-3, args.model);
+  part::MeshOptions options = settings.options;
+  options.threads = args.threads;
 
   const sampling::DeviceRequest meshRequest = part::meshDeviceRequest(request);
   const sampling::Report report = session.plan(part->faces.front().surface, meshRequest);
@@ -99,14 +67,7 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
   std::optional<part::SessionFaceEvaluator> gpu;
   part::FaceEvaluator& evaluator =
       report.gpu ? static_cast<part::FaceEvaluator&>(gpu.emplace(session, meshRequest, report.device)) : cpu.emplace();
-  part::PartMesh mesh;
-  try {
-    mesh = part::meshPart(*part, options, evaluator);
-  } catch (const part::TriangleBudgetExceeded& e) {
-    throw InputError(args.deflection.empty() ? "--relative-deflection" : "--deflection",
-                     args.deflection.empty() ? shortestText(relative) : args.deflection,
-                     std::string(e.what()) + "; raise the deflection or --max-triangles");
-  }
+  part::PartMesh mesh = meshOrRefuse(*part, {options, settings.relative}, args.mesh, evaluator);
   if (!args.normals) mesh.mesh.normals.clear();
 
   nlohmann::json description = {{"source", modelPath.filename().string()},
@@ -121,7 +82,7 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
                                 {"open_edges", mesh.boundaryEdges},
                                 {"non_manifold_edges", mesh.nonManifoldEdges},
                                 {"device", evaluator.device()}};
-  if (args.deflection.empty()) description["relative_deflection"] = relative;
+  if (settings.relative) description["relative_deflection"] = *settings.relative;
   io::AtomicFile& out = outputs.add(args.out, "-o");
   io::AtomicFile* bin = format == io::OutputFormat::Gltf ? &outputs.add(io::gltfBufferPath(args.out), "-o") : nullptr;
   try {

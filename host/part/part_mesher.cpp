@@ -173,8 +173,13 @@ PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& e
     mesh.positions.insert(mesh.positions.end(), face.points.begin(), face.points.end());
     normalSums.insert(normalSums.end(), face.normals.begin(), face.normals.end());
     size_t k = 0;
+    std::unordered_map<uint32_t, glm::dvec3> loopNormal;  // this face's own, by part-wide vertex id
     for (const auto& loop : faceLoops[f])
-      for (const LoopVertex& v : loop) normalSums[shared(v.vertex)] += face.loopNormals[k++];
+      for (const LoopVertex& v : loop) {
+        normalSums[shared(v.vertex)] += face.loopNormals[k];
+        if (options.cornerNormals) loopNormal.emplace(v.vertex, face.loopNormals[k]);
+        ++k;
+      }
     for (const auto& t : face.triangles) {
       std::array<uint32_t, 3> out{};
       for (int j = 0; j < 3; ++j)
@@ -183,6 +188,10 @@ PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& e
       if (out[0] == out[1] || out[1] == out[2] || out[0] == out[2]) continue;  // collapsed at a pole
       mesh.triangles.push_back(out);
       mesh.faceIds.push_back(part.faces[f].id);
+      if (options.cornerNormals)
+        for (uint32_t v : t)  // zero where the face has none: the vertex's mean, filled in below
+          result.cornerNormals.emplace_back(v >= FaceTriangles::kInterior ? face.normals[v - FaceTriangles::kInterior]
+                                                                          : loopNormal.at(v));
     }
   }
   // Normals: the faces' mean at shared vertices; where the surfaces give none (a pole), the
@@ -198,6 +207,11 @@ PartMesh meshPart(const Part& part, const MeshOptions& options, FaceEvaluator& e
     if (!(glm::length(n) > 1e-12)) n = areaSums[v];
     const double l = glm::length(n);
     mesh.normals[v] = l > 0.0 && std::isfinite(l) ? n / l : glm::dvec3(0.0, 0.0, 1.0);
+  }
+  for (size_t c = 0; c < result.cornerNormals.size(); ++c) {
+    const glm::vec3 n = result.cornerNormals[c];
+    const float l = glm::length(n);
+    result.cornerNormals[c] = l > 1e-6f && std::isfinite(l) ? n / l : glm::vec3(mesh.normals[mesh.triangles[c / 3][c % 3]]);
   }
   // Edges used by one triangle (open) or more than two (non-manifold).
   std::unordered_map<uint64_t, int> uses;

@@ -8,7 +8,10 @@
 #include <shapespline/part/face_evaluator.h>
 #include <shapespline/part/part_model.h>
 
+#include <glm/vec3.hpp>
+
 #include <cstdint>
+#include <vector>
 
 namespace shapespline::part {
 
@@ -20,10 +23,16 @@ struct MeshOptions {
   double angle = 0.5;       // radians, in (0, pi)
   int64_t maxTriangles = kDefaultTriangleBudget;
   int threads = 0;  // 0: every core of the process
+  // Also keep each face's own normal at every triangle corner (PartMesh::cornerNormals): pictures
+  // shade a face up to its edges with its own normals, not with the mean across a sharp edge.
+  bool cornerNormals = false;
 };
 
 struct PartMesh {
   io::TriangleMesh mesh;  // normals: the mean of the faces' unit normals at each vertex
+  // With MeshOptions::cornerNormals: the unit normal of the triangle's face at each of its corners
+  // (3 per triangle, in the triangles' order); the vertex's mean where the face has none (a pole).
+  std::vector<glm::vec3> cornerNormals;
   int64_t boundaryEdges = 0;     // mesh edges used by one triangle (a closed shell has none)
   int64_t nonManifoldEdges = 0;  // mesh edges used by more than two triangles
   int faces = 0;

@@ -45,6 +45,11 @@ std::unique_ptr<SurfaceDrawing> Painter::tessellate(const Surface& surface, int 
   return std::unique_ptr<SurfaceDrawing>(new SurfaceDrawing(std::move(impl)));
 }
 
+std::unique_ptr<StaticMesh> Painter::upload(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                                            std::span<const uint32_t> triangles, std::span<const uint32_t> lines) {
+  return std::make_unique<StaticMesh>(*ctx_, positions, normals, triangles, lines);
+}
+
 Image Painter::draw(SurfaceDrawing& surface, const Scene& overlay, const Camera& camera) {
   Scene scene = overlay;
   scene.prepare = [&](VkCommandBuffer cmd) { surface.record(cmd); };

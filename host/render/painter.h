@@ -6,6 +6,7 @@
 #include <shapespline/core/surface.h>
 #include <shapespline/render/camera.h>
 #include <shapespline/render/renderer.h>
+#include <shapespline/render/static_mesh.h>
 
 #include <memory>
 #include <stdexcept>
@@ -36,9 +37,13 @@ class Painter {
   // `wireframe`: also upload the triangle edges.
   std::unique_ptr<SurfaceDrawing> tessellate(const Surface& surface, int rate, bool wireframe);
 
+  // A mesh made on the host (a part's shaded mesh), uploaded once; draw it as one of a Scene's meshes.
+  std::unique_ptr<StaticMesh> upload(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                                     std::span<const uint32_t> triangles, std::span<const uint32_t> lines);
+
   // The surface (tessellated in the frame's command buffer) under `overlay`'s lines and markers.
   Image draw(SurfaceDrawing& surface, const Scene& overlay, const Camera& camera);
-  // Only the overlay (curves, nets, markers).
+  // Only the scene's own meshes and overlay (curves, nets, markers, uploaded meshes).
   Image draw(const Scene& overlay, const Camera& camera);
 
  private:

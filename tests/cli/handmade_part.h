@@ -38,22 +38,38 @@ inline std::string handmadeFace(int intervalsU, int intervalsV, double shift) {
 }
 
 // DIR/part.json naming `models` in order as faces 0, 1, ... (a "" model is a face not converted).
-inline void writePartManifest(const std::filesystem::path& dir, const std::vector<std::string>& models) {
-  json faces = json::array();
-  for (size_t i = 0; i < models.size(); ++i)
-    faces.push_back({{"id", i}, {"model", models[i].empty() ? json(nullptr) : json(models[i])}});
-  writeText(dir / "part.json", json{{"format", "shapespline-part"}, {"faces", faces}, {"edges", json::array()}}.dump(1));
+// `handmadeCoedges`: each face's two loops (handmadeFace's 4-point square and hole) run along one
+// edge of their own, as part::faceAsPart makes them, so that the part can be meshed.
+inline void writePartManifest(const std::filesystem::path& dir, const std::vector<std::string>& models,
+                              bool handmadeCoedges = false) {
+  json faces = json::array(), edges = json::array();
+  for (size_t i = 0; i < models.size(); ++i) {
+    json face = {{"id", i}, {"model", models[i].empty() ? json(nullptr) : json(models[i])}};
+    if (handmadeCoedges && !models[i].empty()) {
+      json loops = json::array();
+      for (int l = 0; l < 2; ++l) {
+        const int edge = static_cast<int>(2 * i) + l + 1;
+        edges.push_back({{"id", edge}});
+        loops.push_back(json::array({{{"edge", edge}, {"start", 0}, {"t", {0, 1, 2, 3, 4}}}}));
+      }
+      face["coedges"] = loops;
+    }
+    faces.push_back(face);
+  }
+  writeText(dir / "part.json", json{{"format", "shapespline-part"}, {"faces", faces}, {"edges", edges}}.dump(1));
 }
 
-// DIR/face_I.json for each face's knot intervals, and DIR/part.json naming them.
-inline void writeHandmadePart(const std::filesystem::path& dir, const std::vector<std::pair<int, int>>& intervals) {
+// DIR/face_I.json for each face's knot intervals, and DIR/part.json naming them (with coedges when
+// `coedges`: a part the mesher takes).
+inline void writeHandmadePart(const std::filesystem::path& dir, const std::vector<std::pair<int, int>>& intervals,
+                              bool coedges = false) {
   std::filesystem::create_directories(dir);
   std::vector<std::string> names;
   for (size_t i = 0; i < intervals.size(); ++i) {
     names.push_back("face_" + std::to_string(i) + ".json");
     writeText(dir / names.back(), handmadeFace(intervals[i].first, intervals[i].second, static_cast<double>(i)));
   }
-  writePartManifest(dir, names);
+  writePartManifest(dir, names, coedges);
 }
 
 }  // namespace shapespline::test

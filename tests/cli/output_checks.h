@@ -1,9 +1,10 @@
 #pragma once
-// Checks shared by the CLI tests: the Vulkan probe, folder listings, and reading every number of
+// Checks shared by the CLI tests: the Vulkan probe, PNG pictures read back, folder listings, and reading every number of
 // an output file back (text, binary, PLY, SVG) to prove that no NaN or Inf was written.
 #include "cli_runner.h"
 
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +30,26 @@ inline bool vulkanDevice() {
 
 #define REQUIRE_VULKAN() \
   if (!::shapespline::test::vulkanDevice()) GTEST_SKIP() << "no Vulkan device"
+
+struct Rgb {
+  int width = 0, height = 0;
+  std::vector<uint8_t> px;
+  const uint8_t* at(int x, int y) const { return px.data() + (size_t(y) * width + x) * 3; }
+};
+
+// A PNG read back as RGB, top row first; empty (width 0) when it cannot be read.
+inline Rgb readPng(const std::filesystem::path& path) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  Rgb out;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) return out;
+  image.format = PNG_FORMAT_RGB;
+  out.px.resize(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, out.px.data(), 0, nullptr)) return {};
+  out.width = int(image.width);
+  out.height = int(image.height);
+  return out;
+}
 
 // Entries of a folder other than the runner's capture files, sorted.
 inline std::vector<std::string> entries(const std::filesystem::path& folder) {

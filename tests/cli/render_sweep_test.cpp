@@ -10,7 +10,6 @@
 #include "output_checks.h"
 
 #include <gtest/gtest.h>
-#include <png.h>
 
 #include <algorithm>
 #include <array>
@@ -26,25 +25,6 @@ namespace fs = std::filesystem;
 constexpr double kMinFill = 0.85;  // of the tile's width or height, in the tighter direction
 constexpr int kMinEdgeGap = 2;     // pixels between the model and a tile edge
 constexpr int kMinLabelPixels = 30;
-
-struct Rgb {
-  int width = 0, height = 0;
-  std::vector<uint8_t> px;
-  const uint8_t* at(int x, int y) const { return px.data() + (size_t(y) * width + x) * 3; }
-};
-
-Rgb readPng(const fs::path& path) {
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  Rgb out;
-  if (!png_image_begin_read_from_file(&image, path.c_str())) return out;
-  image.format = PNG_FORMAT_RGB;
-  out.px.resize(PNG_IMAGE_SIZE(image));
-  if (!png_image_finish_read(&image, nullptr, out.px.data(), 0, nullptr)) return {};
-  out.width = int(image.width);
-  out.height = int(image.height);
-  return out;
-}
 
 // Label text is grey (ink blended over the header band: r = g = b); nothing the model draws is (the
 // surface is blue or brown, curves blue or a legend colour, the net blue-grey, points red, distance
