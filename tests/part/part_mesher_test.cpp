@@ -7,6 +7,7 @@
 #include <shapespline/part/face_triangulation.h>
 #include <shapespline/part/part_mesher.h>
 #include <shapespline/part/part_model.h>
+#include <shapespline/part/shaded_mesh.h>
 
 #include <support/temp_files.h>
 
@@ -118,6 +119,37 @@ TEST(PartMesher, CubeIsTwelveTrianglesOnEightSharedVertices) {
   for (int f : mesh.mesh.faceIds) ++perFace[f];
   EXPECT_EQ(perFace.size(), 6u);
   for (const auto& [f, n] : perFace) EXPECT_EQ(n, 2) << "face " << f;
+}
+
+// The picture's mesh of the cube: each face on 4 vertices of its own with the face's own normal
+// (the welded mean would be a corner's diagonal), and the 12 cube edges as lines.
+TEST(PartMesher, ShadedCubeKeepsEachFacesNormalAndDrawsItsTwelveEdges) {
+  const std::filesystem::path dir = test::processTempFile("part", "shaded_cube");
+  writeCube(dir, 2.0);
+  const Part part = loadPart(dir / "part.json");
+  CpuFaceEvaluator cpu;
+  MeshOptions options;
+  options.deflection = 1e-3;
+  EXPECT_THROW(shadedMesh(meshPart(part, options, cpu)), std::invalid_argument);
+  options.cornerNormals = true;
+  const PartMesh mesh = meshPart(part, options, cpu);
+  const ShadedMesh shaded = shadedMesh(mesh);
+  ASSERT_EQ(shaded.positions.size(), 24u);
+  ASSERT_EQ(shaded.triangles.size(), 36u);
+  EXPECT_EQ(shaded.faceIds, mesh.mesh.faceIds);
+  for (size_t t = 0; t < 12; ++t) {
+    const glm::vec3 a = shaded.positions[shaded.triangles[3 * t]], b = shaded.positions[shaded.triangles[3 * t + 1]],
+                    c = shaded.positions[shaded.triangles[3 * t + 2]];
+    const glm::vec3 outward = glm::normalize(glm::cross(b - a, c - a));
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(glm::dot(shaded.normals[shaded.triangles[3 * t + j]], outward), 1.0f, 1e-6f);
+  }
+  ASSERT_EQ(shaded.edgeLines.size(), 24u);
+  // Each line is a whole cube edge: two coordinates shared, the third 2 apart.
+  for (size_t l = 0; l < 12; ++l) {
+    const glm::vec3 d = glm::abs(shaded.positions[shaded.edgeLines[2 * l]] - shaded.positions[shaded.edgeLines[2 * l + 1]]);
+    EXPECT_FLOAT_EQ(d.x + d.y + d.z, 2.0f);
+    EXPECT_FLOAT_EQ(std::max({d.x, d.y, d.z}), 2.0f);
+  }
 }
 
 TEST(PartMesher, RefusesAFaceWithoutCoedges) {
