@@ -251,9 +251,6 @@ std::vector<render::Image> curveTiles(const RenderArgs& a, const RenderPlan& p, 
   return tiles;
 }
 
-const glm::vec3 kPartColour{0.62f, 0.66f, 0.72f};  // a light steel grey, as CAD viewers shade parts
-const glm::vec3 kPartEdgeColour{0.05f, 0.05f, 0.08f};
-
 // A part (or a trimmed face): its mesh at about half a pixel's deflection unless one is given, shaded
 // with each face's own normals, with its edges and the triangles' edges where asked.
 render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter& painter, const TileHeaders& headers) {
@@ -276,9 +273,9 @@ render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter
   const std::vector<glm::dvec3> fitted(mesh.mesh.positions.begin(), mesh.mesh.positions.end());
   const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, p.width, p.height, target);
   render::Scene scene;
-  render::MeshDraw draw = drawing->draw(true);
-  draw.color = kPartColour;
-  draw.wireColor = kPartEdgeColour;
+  render::MeshDraw draw = drawing->draw();
+  draw.color = render::kPartColour;
+  draw.wireColor = render::kPartEdgeColour;
   scene.meshes.push_back(draw);
   if (!a.quiet)
     std::fprintf(stderr, "shapespline: %d faces, %zu triangles, deflection %s, %lld open edges\n", mesh.faces,

@@ -2,7 +2,10 @@
 // only parses and maps errors; every window and Vulkan call is in the viewer library, which is
 // built when GLFW and Dear ImGui were found at configure time.
 #include <shapespline/cli/common.h>
+#include <shapespline/cli/part_mesh_options.h>
+#include <shapespline/core/surface.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/part_manifest.h>
 
 #ifdef SHAPESPLINE_HAS_VIEWER
 #include <shapespline/viewer/viewer.h>
@@ -11,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <system_error>
 
 namespace shapespline::cli {
@@ -54,12 +58,25 @@ void runView(const ViewArgs& a) {
   std::filesystem::create_directories(o.screenshotDir, ec);
   if (ec || !std::filesystem::is_directory(o.screenshotDir))
     throw InputError("--screenshot-dir", a.screenshotDir, "must be a folder that exists or can be created");
-  const io::Model model = loadModel(a.model);
-  if (!std::holds_alternative<SurfaceModel>(model))
-    throw InputError("MODEL", a.model, "view draws surfaces; draw curves with `shapespline render`");
+  // A part (`import`'s part.json) or a face with trim loops is shown as its mesh, trimmed.
+  std::optional<part::Part> part;
+  io::Model model;
+  if (io::isPartManifest(a.model)) {
+    part.emplace(loadPartManifest(a.model, nullptr));
+  } else {
+    model = loadModel(a.model);
+    if (!std::holds_alternative<SurfaceModel>(model))
+      throw InputError("MODEL", a.model, "view draws surfaces and parts; draw curves with `shapespline render`");
+    if (const auto& face = std::get<SurfaceModel>(model); !face.trim.empty())
+      part.emplace(part::faceAsPart(a.model, Surface::create(face)));
+  }
   o.title = "shapespline view " + std::filesystem::path(a.model).filename().string();
   try {
-    viewer::runViewer(std::get<SurfaceModel>(model), o);
+    if (part) {
+      viewer::runViewer(std::move(*part), o);
+    } else {
+      viewer::runViewer(std::get<SurfaceModel>(model), o);
+    }
   } catch (const viewer::ScriptError& e) {
     throw InputError("--script", a.script, e.what());
   } catch (const viewer::DisplayError& e) {
@@ -81,8 +98,8 @@ void runView(const ViewArgs&) {
 void registerView(CLI::App& app) {
   auto args = std::make_shared<ViewArgs>();
   CLI::App* sub = app.add_subcommand(
-      "view", "Open an interactive window on a surface model (Vulkan swapchain, orbit camera, Dear ImGui controls).");
-  sub->add_option("MODEL", args->model, "surface model file (docs/format.md)")->required();
+      "view", "Open an interactive window on a surface model or a part (Vulkan swapchain, orbit camera, Dear ImGui controls).");
+  sub->add_option("MODEL", args->model, "surface model file (docs/format.md), a trimmed face, or a part's part.json")->required();
   sub->add_option("--size", args->size, "window size WxH")->capture_default_str();
   sub->add_option("--script", args->script, "run the commands of this file (docs/viewer.md), e.g. for tests");
   sub->add_option("--screenshot-dir", args->screenshotDir, "folder of the script's screenshots")->capture_default_str();

@@ -40,7 +40,7 @@ Part loadPart(const std::filesystem::path& manifestPath) {
                        "must give the coedges of each of the face's " + std::to_string(surface->trim.loops.size()) +
                            " trim loops");
     PartFace face{entry.id, entry.field, *entry.model, Surface::create(std::move(*surface)), entry.reversed,
-                  std::move(entry.coedges)};
+                  std::move(entry.coedges), entry.surface};
     part.faces.push_back(std::move(face));
   }
   return part;

@@ -20,6 +20,7 @@ struct PartFace {
   Surface surface;
   bool reversed = false;
   std::vector<std::vector<io::PartCoedge>> coedges;  // per trim loop, in the loop's order
+  std::string surfaceClass;  // the OCCT class of the face's own surface (part.json's `surface`); may be empty
 };
 
 struct Part {

@@ -47,6 +47,9 @@ struct MeshDraw {
   VkBuffer indirectBuffer = VK_NULL_HANDLE;
   VkDeviceSize indirectOffset = 0;
   bool wireframe = false;
+  // The first index of each buffer drawn (direct draws): a range of a mesh drawn on its own, as a
+  // picked face in another colour.
+  uint32_t firstIndex = 0, wireFirstIndex = 0;
 };
 
 struct Scene {

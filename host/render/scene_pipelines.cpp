@@ -257,25 +257,29 @@ void ScenePipelines::record(VkCommandBuffer cmd, const std::vector<MeshDraw>& me
   const VkDeviceSize zero = 0;
   for (const MeshDraw& m : meshes) {
     const bool indirect = m.indirectBuffer != VK_NULL_HANDLE;
-    if (!indirect && m.indexCount == 0) continue;
+    const bool triangles = indirect || m.indexCount > 0;
+    const bool lines = m.wireIndexBuffer != VK_NULL_HANDLE && m.wireIndexCount > 0;
+    if (!triangles && !lines) continue;
     auto drawTriangles = [&] {
       if (indirect) {
         vkCmdDrawIndexedIndirect(cmd, m.indirectBuffer, m.indirectOffset, 1, sizeof(VkDrawIndexedIndirectCommand));
       } else {
-        vkCmdDrawIndexed(cmd, m.indexCount, 1, 0, 0, 0);
+        vkCmdDrawIndexed(cmd, m.indexCount, 1, m.firstIndex, 0, 0);
       }
     };
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.get());
     vkCmdBindVertexBuffers(cmd, 0, 1, &m.vertexBuffer, &zero);
-    vkCmdBindIndexBuffer(cmd, m.indexBuffer, 0, VK_INDEX_TYPE_UINT32);
-    push(m.color, kModeShaded, 0.0f);
-    drawTriangles();
-    if (m.wireIndexBuffer != VK_NULL_HANDLE && m.wireIndexCount > 0) {
+    if (triangles) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, surface_.get());
+      vkCmdBindIndexBuffer(cmd, m.indexBuffer, 0, VK_INDEX_TYPE_UINT32);
+      push(m.color, kModeShaded, 0.0f);
+      drawTriangles();
+    }
+    if (lines) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, wire_.get());
       vkCmdBindIndexBuffer(cmd, m.wireIndexBuffer, 0, VK_INDEX_TYPE_UINT32);
       push(m.wireColor, kModeWire, kWirePull);
-      vkCmdDrawIndexed(cmd, m.wireIndexCount, 1, 0, 0, 0);
-    } else if (m.wireframe && triangleWireframe()) {
+      vkCmdDrawIndexed(cmd, m.wireIndexCount, 1, m.wireFirstIndex, 0, 0);
+    } else if (triangles && m.wireframe && triangleWireframe()) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lineFill_.get());
       push(m.wireColor, kModeWire, kWirePull);
       drawTriangles();

@@ -46,14 +46,18 @@ StaticMesh::StaticMesh(vk::Context& ctx, std::span<const glm::vec3> positions, s
   lineIndices_ = static_cast<uint32_t>(lines.size());
 }
 
-MeshDraw StaticMesh::draw(bool withLines) const {
+MeshDraw StaticMesh::draw(Range triangles, Range lines) const {
+  if (triangles.first + uint64_t(triangles.count) > triangleCount() || lines.first + uint64_t(lines.count) > lineCount())
+    throw std::out_of_range("StaticMesh::draw: a range beyond the mesh");
   MeshDraw d;
   d.vertexBuffer = vertices_.handle();
   d.indexBuffer = triangles_.handle();
-  d.indexCount = triangleIndices_;
-  if (withLines && lineIndices_ > 0) {
+  d.firstIndex = triangles.first * 3;
+  d.indexCount = triangles.count * 3;
+  if (lines.count > 0) {
     d.wireIndexBuffer = lines_.handle();
-    d.wireIndexCount = lineIndices_;
+    d.wireFirstIndex = lines.first * 2;
+    d.wireIndexCount = lines.count * 2;
   }
   return d;
 }

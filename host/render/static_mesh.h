@@ -13,6 +13,12 @@
 
 namespace shapespline::render {
 
+// The colours parts are drawn in (`render part.json`, `view part.json`): a light steel grey, as CAD
+// viewers shade parts, nearly black edges, and an orange picked face.
+inline constexpr glm::vec3 kPartColour{0.62f, 0.66f, 0.72f};
+inline constexpr glm::vec3 kPartEdgeColour{0.05f, 0.05f, 0.08f};
+inline constexpr glm::vec3 kPickedFaceColour{0.95f, 0.55f, 0.15f};
+
 class StaticMesh {
  public:
   // positions and normals one per vertex; triangles 3 and lines 2 indices each, all below the
@@ -20,9 +26,15 @@ class StaticMesh {
   StaticMesh(vk::Context& ctx, std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
              std::span<const uint32_t> triangles, std::span<const uint32_t> lines);
 
-  // The triangles, with the lines as their wireframe when `withLines` (and there are any).
-  MeshDraw draw(bool withLines) const;
+  // Triangles first .. first + count - 1 and lines likewise (counted in triangles and lines, not
+  // indices), drawn as one MeshDraw; the whole mesh by default.
+  struct Range {
+    uint32_t first = 0, count = 0;
+  };
+  MeshDraw draw(Range triangles, Range lines) const;
+  MeshDraw draw() const { return draw({0, triangleCount()}, {0, lineCount()}); }
   uint32_t triangleCount() const { return triangleIndices_ / 3; }
+  uint32_t lineCount() const { return lineIndices_ / 2; }
 
  private:
   vk::Buffer vertices_, triangles_, lines_;

@@ -27,12 +27,14 @@ const std::map<std::string, Syntax, std::less<>>& commands() {
       {"alpha", {Kind::Alpha, "alpha V (the picked point) or alpha I J V"}},
       {"pick", {Kind::Pick, "pick X Y (pixels)"}},
       {"pick-point", {Kind::PickPoint, "pick-point I J (point indices)"}},
+      {"pick-face", {Kind::PickFace, "pick-face ID (a part's face id)"}},
       {"orbit", {Kind::Orbit, "orbit DAZ DEL (degrees)"}},
       {"pan", {Kind::Pan, "pan DX DY (pixels)"}},
       {"zoom", {Kind::Zoom, "zoom F (F > 0)"}},
       {"tolerance", {Kind::Tolerance, "tolerance PX (PX > 0)"}},
       {"wireframe", {Kind::Wireframe, "wireframe on|off"}},
       {"net", {Kind::Net, "net on|off"}},
+      {"edges", {Kind::Edges, "edges on|off"}},
       {"panel", {Kind::Panel, "panel on|off"}},
       {"frames", {Kind::Frames, "frames N (1..100000)"}},
       {"screenshot", {Kind::Screenshot, "screenshot NAME.png"}},
@@ -74,6 +76,7 @@ ScriptCommand parseLine(const std::string& line, int number) {
     case Kind::Lambda:
     case Kind::Zoom:
     case Kind::Tolerance:
+    case Kind::PickFace:
     case Kind::Frames: numbers({1}); break;
     case Kind::Alpha: numbers({1, 3}); break;
     case Kind::Pick:
@@ -92,6 +95,7 @@ ScriptCommand parseLine(const std::string& line, int number) {
     }
     case Kind::Wireframe:
     case Kind::Net:
+    case Kind::Edges:
     case Kind::Panel:
       if (args.size() != 1 || (args[0] != "on" && args[0] != "off")) throw ScriptError(number, line, usage);
       c.on = args[0] == "on";
@@ -116,6 +120,8 @@ ScriptCommand parseLine(const std::string& line, int number) {
     for (int k = 0; k < 2; ++k)
       if (c.numbers[k] < 0 || c.numbers[k] != std::floor(c.numbers[k]))
         throw ScriptError(number, line, usage + "; I and J are point indices (integers >= 0)");
+  if (c.kind == Kind::PickFace && (c.numbers[0] < 0 || c.numbers[0] > 2147483647.0 || c.numbers[0] != std::floor(c.numbers[0])))
+    throw ScriptError(number, line, usage + "; ID is a face id of part.json (an integer >= 0)");
   return c;
 }
 

@@ -14,12 +14,14 @@ struct ScriptCommand {
     Alpha,       // alpha V                 (the picked point) | alpha I J V
     Pick,        // pick X Y                (a click at pixel X, Y)
     PickPoint,   // pick-point I J          (a click where control point (I, J) projects now)
+    PickFace,    // pick-face ID            (a part: a click where face ID is drawn now)
     Orbit,       // orbit DAZ DEL           (degrees)
     Pan,         // pan DX DY               (pixels)
     Zoom,        // zoom F                  (distance x F)
     Tolerance,   // tolerance PX
     Wireframe,   // wireframe on|off
     Net,         // net on|off
+    Edges,       // edges on|off            (a part's edges)
     Panel,       // panel on|off            (the ImGui panel; off for clean screenshots)
     Frames,      // frames N
     Screenshot,  // screenshot NAME.png     (a file name, written under --screenshot-dir)
@@ -27,7 +29,7 @@ struct ScriptCommand {
   };
   Kind kind;
   std::vector<double> numbers;  // the numeric arguments in order
-  bool on = false;              // wireframe / net / panel
+  bool on = false;              // wireframe / net / edges / panel
   std::string name;             // screenshot
   int line = 0;
   std::string text;             // the line as written (error messages)

@@ -1,15 +1,12 @@
 #include <shapespline/viewer/viewer.h>
 
-#include <shapespline/core/family.h>
-#include <shapespline/core/surface.h>
-#include <shapespline/core/validate.h>
-#include <shapespline/gpu/gpu_model.h>
 #include <shapespline/io/png_writer.h>
 #include <shapespline/render/scene_pipelines.h>
 #include <shapespline/viewer/gui.h>
 #include <shapespline/viewer/orbit_camera.h>
-#include <shapespline/viewer/picking.h>
-#include <shapespline/viewer/surface_mesh.h>
+#include <shapespline/viewer/part_subject.h>
+#include <shapespline/viewer/subject.h>
+#include <shapespline/viewer/surface_subject.h>
 #include <shapespline/viewer/swapchain.h>
 #include <shapespline/viewer/window.h>
 #include <shapespline/vk/buffer.h>
@@ -19,9 +16,6 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <nlohmann/json.hpp>
-
-#include <glm/common.hpp>
-#include <glm/vec2.hpp>
 
 #include <algorithm>
 #include <array>
@@ -44,21 +38,17 @@ constexpr uint32_t kFramesInFlight = 2;
 constexpr double kDegreesPerPixel = 0.4;   // left drag
 constexpr double kZoomPerWheelStep = 0.9;  // one wheel notch towards the target
 constexpr double kStatsSeconds = 0.25;     // triangle count read back at most this often
-constexpr float kPointPx = 6.0f, kPickedPx = 11.0f;
-const glm::vec4 kNetColour{0.45f, 0.45f, 0.5f, 1.0f};
-const glm::vec4 kPointColour{0.2f, 0.2f, 0.25f, 1.0f};
-const glm::vec4 kPickedColour{0.9f, 0.1f, 0.1f, 1.0f};
 const glm::vec3 kBackground{1.0f, 1.0f, 1.0f};
 
-// What the panel and the script edit; applied to the GPU surface between frames.
+// The controls every subject has (its own are in the subject); applied between frames.
 struct Controls {
-  FamilySpec family;
-  std::vector<double> alpha;  // rows * cols (α-EB), row-major
-  int picked = -1;            // control point index, -1: none
   float tolerancePx = 1.0f;
-  bool wireframe = false, net = true;
+  bool wireframe = false;
   bool panel = true;  // the ImGui panel is drawn
 };
+
+// Makes the subject once the device and the pipelines exist.
+using SubjectFactory = std::function<std::unique_ptr<Subject>(std::shared_ptr<vk::Context>, const render::ScenePipelines&)>;
 
 std::string messagesText(const std::vector<vk::ValidationMessage>& messages) {
   std::string text;
@@ -66,41 +56,19 @@ std::string messagesText(const std::vector<vk::ValidationMessage>& messages) {
   return text;
 }
 
-// One element of GUBP's half vector μ moved, the nearest element of the same parity takes up the
-// difference so that the full symmetric vector keeps its even and odd sums (docs/math.md §9).
-// Returns false when there is no such element (μ_i cannot move alone).
-bool moveMu(std::vector<double>& mu, int order, size_t i, double value) {
-  auto weight = [&](size_t j) { return 2 * int(j) == order ? 1.0 : 2.0; };  // copies in the full vector
-  for (size_t d = 2; d < mu.size() + 2; d += 2)
-    for (size_t j : {i + d, i - d}) {
-      if (j >= mu.size()) continue;  // i - d wrapped below zero as well
-      mu[j] -= (value - mu[i]) * weight(i) / weight(j);
-      mu[i] = value;
-      return true;
-    }
-  return false;
-}
-
 class Viewer {
  public:
-  Viewer(std::shared_ptr<vk::Context> ctx, Window& window, const SurfaceModel& model, const ViewerOptions& options)
+  Viewer(std::shared_ptr<vk::Context> ctx, Window& window, const SubjectFactory& makeSubject, const ViewerOptions& options)
       : ctx_(std::move(ctx)),
         window_(window),
         options_(options),
-        traits_(familyOf(model.family.construction)),
-        cpu_(Surface::create(model)),
-        gpuSurface_(ctx_, cpu_, Precision::Float),
         surface_(ctx_->instance(), window.createSurface(ctx_->instance())),
         swapchain_(*ctx_, surface_.get(), window.framebufferSize()),
         pipelines_(*ctx_, swapchain_.renderPass()),
         gui_(window.handle(), *ctx_, swapchain_.renderPass(), swapchain_.minImageCount(), swapchain_.imageCount()),
-        orbit_(bounds(model).first, bounds(model).second) {
-    controls_.family = model.family;
-    controls_.alpha = model.alpha;
-    applied_ = controls_;
-    mesh_ = makeSurfaceMesh(ctx_, gpuSurface_, controls_.tolerancePx, pipelines_.triangleWireframe());
+        subject_(makeSubject(ctx_, pipelines_)),
+        orbit_(subject_->bounds().first, subject_->bounds().second) {
     createFrames();
-    uploadOverlay();
     lastFrame_ = lastStats_ = Clock::now();
   }
 
@@ -151,15 +119,6 @@ class Viewer {
     SemaphoreHandle acquired;
   };
 
-  static std::pair<glm::dvec3, glm::dvec3> bounds(const SurfaceModel& m) {
-    glm::dvec3 lo(INFINITY), hi(-INFINITY);
-    for (const glm::dvec3& p : m.points) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-    }
-    return {lo, hi};
-  }
-
   void createFrames() {
     VkDevice dev = ctx_->device();
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -205,138 +164,29 @@ class Viewer {
     readback_ = vk::Buffer();
   }
 
-  // The control net and its points (the picked one larger, red): rebuilt when the pick changes,
-  // after the frames in flight that read the old buffers.
-  void uploadOverlay() {
-    ctx_->waitIdle();
-    const SurfaceShape& m = cpu_.model();
-    std::vector<render::OverlayVertex> lines, markers;
-    for (int i = 0; i < m.rows; ++i) {
-      std::vector<glm::dvec3> row;
-      for (int j = 0; j < m.cols; ++j) row.push_back(cpu_.controlPoint(i, j));
-      if (m.closedV) row.push_back(cpu_.controlPoint(i, 0));
-      render::addPolyline(lines, row, kNetColour);
-    }
-    for (int j = 0; j < m.cols; ++j) {
-      std::vector<glm::dvec3> col;
-      for (int i = 0; i < m.rows; ++i) col.push_back(cpu_.controlPoint(i, j));
-      if (m.closedU) col.push_back(cpu_.controlPoint(0, j));
-      render::addPolyline(lines, col, kNetColour);
-    }
-    int k = 0;
-    cpu_.forEachControlPoint([&](const glm::dvec3& p) {
-      const bool picked = k++ == controls_.picked;
-      render::addMarker(markers, p, picked ? kPickedPx : kPointPx, picked ? kPickedColour : kPointColour);
-    });
-    auto upload = [&](const std::vector<render::OverlayVertex>& v, const char* label) {
-      vk::Buffer b = vk::Buffer::create(*ctx_, std::max<size_t>(1, v.size()) * sizeof(render::OverlayVertex),
-                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                        vk::MemoryUse::Upload, label);
-      if (!v.empty()) b.uploadSpan(std::span<const render::OverlayVertex>(v));
-      return b;
-    };
-    netLines_ = upload(lines, "viewer.net");
-    netMarkers_ = upload(markers, "viewer.points");
-    lineCount_ = uint32_t(lines.size());
-    markerCount_ = uint32_t(markers.size());
+  View view() const {
+    const VkExtent2D e = swapchain_.extent();
+    return {orbit_.camera(int(e.width), int(e.height)), e};
   }
 
-  // Brings the GPU surface to controls_ (λ/μ through setParameters, α point by point). The setters
-  // write memory the frames in flight read: they wait first. Returns the model rule a value broke
-  // (and puts controls_ back to the applied state), or an empty string.
+  // Brings the subject to its controls and to the common ones for the current view. Returns the
+  // rule a value broke, or "".
   std::string applyControls() {
-    std::string error;
-    const bool familyChanged = controls_.family.lambda != applied_.family.lambda || controls_.family.mu != applied_.family.mu;
-    const bool alphaChanged = controls_.alpha != applied_.alpha;
-    if (familyChanged || alphaChanged) {
-      ctx_->waitIdle();
-      try {
-        if (familyChanged) gpuSurface_.setParameters(controls_.family);
-        applied_.family = controls_.family;
-        const int cols = cpu_.model().cols;
-        for (size_t k = 0; k < controls_.alpha.size(); ++k)
-          if (controls_.alpha[k] != applied_.alpha[k]) {
-            gpuSurface_.setAlpha(int(k) / cols, int(k) % cols, controls_.alpha[k]);
-            applied_.alpha[k] = controls_.alpha[k];
-          }
-      } catch (const ModelError& e) {
-        error = e.what();
-        controls_.family = applied_.family;
-        controls_.alpha = applied_.alpha;
-      }
-    }
-    if (controls_.tolerancePx != applied_.tolerancePx) {
-      mesh_->setTolerance(controls_.tolerancePx);
-      applied_.tolerancePx = controls_.tolerancePx;
-    }
-    if (controls_.picked != applied_.picked) {
-      applied_.picked = controls_.picked;
-      uploadOverlay();
-    }
-    applied_.wireframe = controls_.wireframe;
-    applied_.net = controls_.net;
+    const std::string error = subject_->apply(controls_.tolerancePx, view());
+    applied_ = controls_;
     return error;
   }
 
-  render::Camera camera() const {
-    const VkExtent2D e = swapchain_.extent();
-    return orbit_.camera(int(e.width), int(e.height));
-  }
-
-  // A click at pixel (x, y): picks the nearest control point within kPickRadiusPx, or none.
-  // Returns whether a point was picked.
-  bool click(double x, double y) {
-    const VkExtent2D e = swapchain_.extent();
-    controls_.picked = pickPoint(cpu_.controlPoints(), camera(), int(e.width), int(e.height), x, y);
-    return controls_.picked >= 0;
-  }
-
-  void setPickedAlpha(double a) {
-    if (controls_.picked >= 0 && size_t(controls_.picked) < controls_.alpha.size()) controls_.alpha[controls_.picked] = a;
-  }
-
-  // A script line: sets what the widgets and the mouse set, through the same functions.
+  // A script line: sets what the widgets and the mouse set, through the same functions; the
+  // subject's own commands go to the subject.
   void execute(const ScriptCommand& c) {
-    const SurfaceShape& m = cpu_.model();
     auto fail = [&](const std::string& rule) { throw ScriptError(c.line, c.text, rule); };
+    std::string notice;
     switch (c.kind) {
-      case Kind::Lambda:
-        if (!traits_.usesLambda) fail(std::string(traits_.name) + " has no lambda");
-        controls_.family.lambda = c.numbers[0];
-        break;
-      case Kind::Mu:
-        if (!traits_.usesMu) fail(std::string(traits_.name) + " has no mu");
-        controls_.family.mu = c.numbers;
-        break;
-      case Kind::Alpha:
-        if (!traits_.usesAlpha) fail(std::string(traits_.name) + " has no per-point alpha");
-        if (c.numbers.size() == 3) {
-          const int i = int(c.numbers[0]), j = int(c.numbers[1]);
-          if (i >= m.rows || j >= m.cols)
-            fail("point (" + std::to_string(i) + ", " + std::to_string(j) + ") is outside the " +
-                 std::to_string(m.rows) + " x " + std::to_string(m.cols) + " net");
-          controls_.picked = i * m.cols + j;
-          setPickedAlpha(c.numbers[2]);
-        } else {
-          if (controls_.picked < 0) fail("no point is picked (pick X Y first)");
-          setPickedAlpha(c.numbers[0]);
-        }
-        break;
-      case Kind::Pick:
-      case Kind::PickPoint: {
-        glm::dvec2 at(c.numbers[0], c.numbers[1]);
-        if (c.kind == Kind::PickPoint) {
-          const int i = int(c.numbers[0]), j = int(c.numbers[1]);
-          if (i >= m.rows || j >= m.cols) fail("the point is outside the " + std::to_string(m.rows) + " x " +
-                                               std::to_string(m.cols) + " net");
-          const VkExtent2D e = swapchain_.extent();
-          at = glm::dvec2(camera().toPixel(cpu_.controlPoint(i, j), int(e.width), int(e.height)));
-        }
-        if (!click(at.x, at.y))
-          fail("no control point projects within " + std::to_string(int(kPickRadiusPx)) + " px of the pixel");
-        if (!options_.quiet)
-          std::fprintf(stderr, "shapespline: view: picked control point (%d, %d)\n", controls_.picked / m.cols,
-                       controls_.picked % m.cols);
+      case Kind::Pick: {
+        const std::string picked = subject_->pick(c.numbers[0], c.numbers[1], view());
+        if (picked.empty()) fail(subject_->pickMiss());
+        notice = "picked " + picked;
         break;
       }
       case Kind::Orbit: orbit_.rotate(c.numbers[0], c.numbers[1]); break;
@@ -344,13 +194,14 @@ class Viewer {
       case Kind::Zoom: orbit_.zoom(c.numbers[0]); break;
       case Kind::Tolerance: controls_.tolerancePx = float(c.numbers[0]); break;
       case Kind::Wireframe: controls_.wireframe = c.on; break;
-      case Kind::Net: controls_.net = c.on; break;
       case Kind::Panel: controls_.panel = c.on; break;
       case Kind::Frames:
       case Kind::Screenshot:
       case Kind::Quit: break;
+      default: notice = subject_->execute(c, view());
     }
     if (const std::string error = applyControls(); !error.empty()) fail(error);
+    if (!notice.empty() && !options_.quiet) std::fprintf(stderr, "shapespline: view: %s\n", notice.c_str());
   }
 
   // The mouse over the scene (not over the panel): left drag orbits, right or shift+left drag pans,
@@ -370,12 +221,11 @@ class Viewer {
     const float threshold = io.MouseDragThreshold;
     if (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && !io.KeyShift &&
         io.MouseDragMaxDistanceSqr[ImGuiMouseButton_Left] < threshold * threshold)
-      click(io.MousePos.x, io.MousePos.y);
+      subject_->pick(io.MousePos.x, io.MousePos.y, view());
   }
 
   void panel() {
     if (!controls_.panel) return;
-    const SurfaceShape& m = cpu_.model();
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     // The panel takes the size of its content (no label or widget clipped at any window size), with
     // sliders of a fixed width in font units and wrapped text no wider than the sliders' rows.
@@ -384,55 +234,24 @@ class Viewer {
     ImGui::PushItemWidth(14 * em);
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 22 * em);
     ImVec2 contentMax(0, 0);  // the lower right corner of everything drawn, for panelBounds_
-    auto note = [&] {
+    const PanelNote note = [&] {
       const ImVec2 q = ImGui::GetItemRectMax();
       contentMax = ImVec2(std::max(contentMax.x, q.x), std::max(contentMax.y, q.y));
     };
-    ImGui::Text("%s, %d x %d net", std::string(traits_.name).c_str(), m.rows, m.cols);
-    note();
-    ImGui::Text("mesh: %s", mesh_->name().c_str());
+    subject_->panelTitle(note);
+    ImGui::Text("mesh: %s", subject_->meshName().c_str());
     note();
     ImGui::Text("frame %.2f ms, %llu triangles", frameMs_, static_cast<unsigned long long>(triangles_));
     note();
     ImGui::Separator();
-    if (traits_.usesLambda) {
-      const LambdaDomain d = lambdaDomain(controls_.family);
-      const double hi = std::isfinite(d.hi) ? d.hi : d.lo + 16.0;  // GB: no upper bound, the slider needs one
-      ImGui::SliderScalar("lambda", ImGuiDataType_Double, &controls_.family.lambda, &d.lo, &hi, "%.3f");
-      note();
-    }
-    if (traits_.usesMu) {
-      std::vector<double>& mu = controls_.family.mu;
-      for (size_t i = 0; i < mu.size(); ++i) {
-        double v = mu[i];
-        const double lo = 0.0, hi = 1.0;
-        if (ImGui::SliderScalar(("mu" + std::to_string(i)).c_str(), ImGuiDataType_Double, &v, &lo, &hi, "%.4f"))
-          moveMu(mu, controls_.family.order, i, v);
-        note();
-      }
-    }
-    if (traits_.usesAlpha) {
-      if (controls_.picked >= 0) {
-        ImGui::Text("point (%d, %d)", controls_.picked / m.cols, controls_.picked % m.cols);
-        note();
-        double a = controls_.alpha[controls_.picked];
-        const double lo = 0.001, hi = 1.0;
-        if (ImGui::SliderScalar("alpha", ImGuiDataType_Double, &a, &lo, &hi, "%.3f")) setPickedAlpha(a);
-        note();
-      } else {
-        ImGui::TextDisabled("click a control point to edit its alpha");
-        note();
-      }
-    }
+    subject_->panelControls(note);
     ImGui::SliderFloat("tolerance (px)", &controls_.tolerancePx, 0.25f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
     note();
-    const bool canWire = pipelines_.triangleWireframe() || mesh_->name().rfind("fixed", 0) == 0;
-    ImGui::BeginDisabled(!canWire);
+    ImGui::BeginDisabled(!subject_->wireframeAvailable(pipelines_));
     ImGui::Checkbox("wireframe", &controls_.wireframe);
     note();
     ImGui::EndDisabled();
-    ImGui::Checkbox("control net", &controls_.net);
-    note();
+    subject_->panelToggles(note);
     if (!error_.empty()) {
       ImGui::TextWrapped("%s", error_.c_str());
       note();
@@ -452,7 +271,7 @@ class Viewer {
     if (frameCount_ == 2) frameMs_ = ms;
     if (frameCount_ > 2) frameMs_ = 0.9 * frameMs_ + 0.1 * ms;
     if (frameCount_ == 1 || std::chrono::duration<double>(now - lastStats_).count() >= kStatsSeconds) {
-      triangles_ = mesh_->triangleCount();  // may wait for idle: a few times a second only
+      triangles_ = subject_->triangleCount();  // may wait for idle: a few times a second only
       lastStats_ = now;
     }
   }
@@ -500,7 +319,7 @@ class Viewer {
     if (panelBounds_.shown) savePanelBounds(path, e);
     if (!options_.quiet)
       std::fprintf(stderr, "shapespline: view: wrote %s (%u x %u, %llu triangles)\n", path.c_str(), e.width, e.height,
-                   static_cast<unsigned long long>(mesh_->triangleCount()));
+                   static_cast<unsigned long long>(subject_->triangleCount()));
   }
 
   // NAME.png's panel as NAME.panel.json: {"framebuffer": [w, h], "window": [x0, y0, x1, y1],
@@ -555,9 +374,9 @@ class Viewer {
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     vk::check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer (viewer frame)");
-    const render::Camera cam = camera();
-    const VkExtent2D extent = swapchain_.extent();
-    mesh_->record(cmd, cam, extent);
+    const View frame = view();
+    const VkExtent2D extent = frame.extent;
+    subject_->record(cmd, frame);
 
     VkClearValue clears[2];
     clears[0].color = {{kBackground.r, kBackground.g, kBackground.b, 1.0f}};
@@ -569,9 +388,7 @@ class Viewer {
     rp.clearValueCount = 2;
     rp.pClearValues = clears;
     vkCmdBeginRenderPass(cmd, &rp, VK_SUBPASS_CONTENTS_INLINE);
-    render::OverlayDraw overlay;
-    if (applied_.net) overlay = {netLines_.handle(), lineCount_, netMarkers_.handle(), markerCount_};
-    pipelines_.record(cmd, {mesh_->draw(applied_.wireframe)}, overlay, cam, extent);
+    pipelines_.record(cmd, subject_->meshes(applied_.wireframe), subject_->overlay(), frame.camera, extent);
     gui_.record(cmd);
     vkCmdEndRenderPass(cmd);
     if (capture) recordCapture(cmd, swapchain_.image(image));
@@ -625,23 +442,19 @@ class Viewer {
   std::shared_ptr<vk::Context> ctx_;
   Window& window_;
   const ViewerOptions& options_;
-  const FamilyTraits& traits_;
-  Surface cpu_;
-  gpu::GpuSurface gpuSurface_;
   SurfaceHandle surface_;
   Swapchain swapchain_;
   render::ScenePipelines pipelines_;
   Gui gui_;
+  std::unique_ptr<Subject> subject_;  // after the pipelines it is made for, before the camera framing it
   OrbitCamera orbit_;
-  std::unique_ptr<SurfaceMesh> mesh_;
   Controls controls_, applied_;
   std::string error_;
   vk::CommandPoolHandle pool_;
   std::array<Frame, kFramesInFlight> frames_;
   std::vector<SemaphoreHandle> rendered_;
   uint32_t frameIndex_ = 0;
-  vk::Buffer netLines_, netMarkers_, readback_;
-  uint32_t lineCount_ = 0, markerCount_ = 0;
+  vk::Buffer readback_;
   uint64_t frameCount_ = 0, triangles_ = 0;
   double frameMs_ = 0.0;
   Clock::time_point lastFrame_, lastStats_;
@@ -653,9 +466,7 @@ class Viewer {
   } panelBounds_;
 };
 
-}  // namespace
-
-void runViewer(const SurfaceModel& model, const ViewerOptions& options) {
+void runViewer(const SubjectFactory& makeSubject, const ViewerOptions& options) {
   Window window(options.width, options.height, options.title);
   vk::ContextOptions co;
   co.validation = options.validation;
@@ -669,7 +480,7 @@ void runViewer(const SurfaceModel& model, const ViewerOptions& options) {
     throw DisplayError("no Vulkan device can draw into the window: " + e.reason());
   }
   {
-    Viewer viewer(ctx, window, model, options);
+    Viewer viewer(ctx, window, makeSubject, options);
     viewer.run();
     if (!options.quiet)
       std::fprintf(stderr, "shapespline: view: %llu frames, %.2f ms a frame, %llu triangles\n",
@@ -682,6 +493,25 @@ void runViewer(const SurfaceModel& model, const ViewerOptions& options) {
     if (!messages.empty())
       throw ValidationFailure(std::to_string(messages.size()) + " Vulkan validation message(s):" + messagesText(messages));
   }
+}
+
+}  // namespace
+
+void runViewer(const SurfaceModel& model, const ViewerOptions& options) {
+  runViewer(
+      [&](std::shared_ptr<vk::Context> ctx, const render::ScenePipelines& pipelines) {
+        return std::make_unique<SurfaceSubject>(std::move(ctx), model, Controls{}.tolerancePx,
+                                                pipelines.triangleWireframe());
+      },
+      options);
+}
+
+void runViewer(part::Part part, const ViewerOptions& options) {
+  runViewer(
+      [&](std::shared_ptr<vk::Context> ctx, const render::ScenePipelines&) {
+        return std::make_unique<PartSubject>(std::move(ctx), std::move(part));
+      },
+      options);
 }
 
 }  // namespace shapespline::viewer

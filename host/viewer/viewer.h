@@ -1,10 +1,12 @@
 #pragma once
-// `shapespline view`: an interactive window on a surface model (docs/viewer.md). A GLFW window with
-// a Vulkan swapchain; the surface tessellated on the GPU every frame for the camera (SurfaceMesh)
-// and drawn with render::ScenePipelines; an orbit camera; a Dear ImGui panel for λ, μ, per-point
-// α, the pixel tolerance, wireframe and control net, with the frame time and triangle count. A
-// script (script.h) drives the same controls for tests and saves screenshots.
+// `shapespline view`: an interactive window on a surface model or a part (docs/viewer.md). A GLFW
+// window with a Vulkan swapchain, an orbit camera and a Dear ImGui panel with the frame time and
+// triangle count; what it shows is a Subject (subject.h): a surface tessellated on the GPU every
+// frame for the camera, with λ, μ, per-point α and its control net, or a part meshed on the host,
+// whose faces a click picks. Both take the pixel tolerance and the wireframe. A script (script.h)
+// drives the same controls for tests and saves screenshots.
 #include <shapespline/core/model.h>
+#include <shapespline/part/part_model.h>
 #include <shapespline/viewer/errors.h>
 #include <shapespline/viewer/script.h>
 
@@ -32,5 +34,9 @@ struct ViewerOptions {
 // rule, e.g. an α out of (0, 1]), DisplayError, ValidationFailure, std::invalid_argument for a model
 // the GPU tessellators do not take, vk::VulkanError / std::runtime_error otherwise.
 void runViewer(const SurfaceModel& model, const ViewerOptions& options);
+// A part, or one trimmed face (part::faceAsPart), meshed on the host (viewer/part_subject.h): the
+// same window and controls, a click picks a face. Also std::invalid_argument for a part the mesher
+// refuses (ModelError: crossing trim loops, a face without coedges).
+void runViewer(part::Part part, const ViewerOptions& options);
 
 }  // namespace shapespline::viewer

@@ -3,7 +3,10 @@ first one, each edit (lambda, alpha of a picked point, camera, wireframe) change
 panel draws where it stands. Usage: check_screenshots.py DIR.
 check_screenshots.py DIR NAME...: the views of one model only (check_views).
 check_screenshots.py --panel DIR NAME...: the panel of NAME.png fits its content and the window
-(check_panel, from NAME.panel.json, which the viewer writes beside a screenshot with the panel)."""
+(check_panel, from NAME.panel.json, which the viewer writes beside a screenshot with the panel).
+check_screenshots.py --picked DIR BEFORE AFTER: AFTER shows a picked face in its orange, BEFORE none.
+check_screenshots.py --hole DIR TRIMMED UNTRIMMED: the centre of the picture (a trimmed face's hole)
+is background in TRIMMED and drawn in UNTRIMMED (the same surface without its trim loops)."""
 import json
 import sys
 from pathlib import Path
@@ -79,7 +82,44 @@ def check_panel(folder, names):
     return failures
 
 
+MIN_PICKED = 50  # pixels of the picked face's orange
+
+
+def picked_pixels(img):
+    """Pixels of render::kPickedFaceColour (0.95, 0.55, 0.15) under any shading: red well above
+    green, green well above blue. Nothing else the viewer draws for a part is orange."""
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    return int(((r > g + 0.15) & (g > b + 0.15) & (r > 0.3)).sum())
+
+
+def check_picked(folder, before, after):
+    counts = [picked_pixels(load(folder, n + ".png")) for n in (before, after)]
+    print(f"picked-face pixels: {before} {counts[0]}, {after} {counts[1]}")
+    if counts[0] != 0 or counts[1] < MIN_PICKED:
+        return [f"want no picked-face pixels in {before} and >= {MIN_PICKED} in {after}, got {counts}"]
+    return []
+
+
+def check_hole(folder, trimmed, untrimmed):
+    failures = []
+    for name, want_background in ((trimmed, True), (untrimmed, False)):
+        img = load(folder, name + ".png")
+        h, w = img.shape[:2]
+        centre = img[h // 2 - 2:h // 2 + 3, w // 2 - 2:w // 2 + 3]
+        background = bool((centre.min(axis=2) > 1 - VISIBLE).all())
+        print(f"{name}: the centre is {'background' if background else 'drawn'}")
+        if background != want_background:
+            failures.append(f"{name}: the centre should be {'background' if want_background else 'drawn'}")
+    return failures
+
+
 def main():
+    if sys.argv[1] in ("--picked", "--hole"):
+        check = check_picked if sys.argv[1] == "--picked" else check_hole
+        failures = check(Path(sys.argv[2]), sys.argv[3], sys.argv[4])
+        for f in failures:
+            print("FAIL:", f)
+        return 1 if failures else 0
     if sys.argv[1] == "--panel":  # check_screenshots.py --panel FOLDER NAME...
         failures = check_panel(Path(sys.argv[2]), sys.argv[3:])
         for f in failures:

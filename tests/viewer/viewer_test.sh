@@ -5,6 +5,7 @@
 # panel is drawn). --validation makes any Vulkan validation message fail the run. A bad script line
 # must fail with exit 2 before any window opens. A NURBS torus session follows, then the panel at
 # 1024 x 640 and 1920 x 1080 with every control it can show: it fits its content and the window.
+# Then a part (two trimmed faces) and a trimmed face on its own (see the end).
 # Usage: viewer_test.sh SHAPESPLINE SOURCE_DIR. Exit 77 (skip) only when Xvfb is missing.
 set -euo pipefail
 bin=$1
@@ -116,4 +117,54 @@ for size in 1024x640 1920x1080; do
     >"$tmp/panel_$size.out" 2>&1 || { cat "$tmp/panel_$size.out"; echo "FAIL: the $size panel session failed"; exit 1; }
   if grep -qi "validation\|\[vulkan" "$tmp/panel_$size.out"; then cat "$tmp/panel_$size.out"; echo "FAIL: validation output"; exit 1; fi
   /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" --panel "$tmp/panel_$size" panel
+done
+
+# A part (make_part.py: two trimmed faces with coedges) meshed on the host: it is drawn, picking a
+# face shows it in orange, edges off, a finer tolerance with the wireframe change the picture, and
+# the panel fits. A trimmed face alone shows its hole where its untrimmed surface is drawn.
+/usr/bin/python3 "$src/tests/viewer/make_part.py" "$tmp/part"
+cat >"$tmp/part.txt" <<'SCRIPT'
+panel off
+zoom 0.6
+frames 2
+screenshot part.png
+pick-face 2
+screenshot picked.png
+edges off
+screenshot no_edges.png
+tolerance 0.3
+wireframe on
+screenshot wire.png
+panel on
+frames 2
+screenshot part_panel.png
+quit
+SCRIPT
+"$bin" view "$tmp/part/part.json" --size 480x360 --script "$tmp/part.txt" --screenshot-dir "$tmp/part_shots" \
+  --validation >"$tmp/part.out" 2>&1 || { cat "$tmp/part.out"; echo "FAIL: the part session failed"; exit 1; }
+cat "$tmp/part.out"
+if grep -qi "validation\|\[vulkan" "$tmp/part.out"; then echo "FAIL: validation output"; exit 1; fi
+grep -q "picked face 2 (Geom_BSplineSurface)" "$tmp/part.out" || { echo "FAIL: pick-face 2 did not pick face 2"; exit 1; }
+/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" "$tmp/part_shots" part picked no_edges wire
+/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" --picked "$tmp/part_shots" part picked
+/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" --panel "$tmp/part_shots" part_panel
+printf 'panel off\nframes 2\nscreenshot trimmed.png\nquit\n' >"$tmp/trimmed.txt"
+printf 'panel off\nnet off\nframes 2\nscreenshot untrimmed.png\nquit\n' >"$tmp/untrimmed.txt"
+for face in trimmed untrimmed; do
+  model="$tmp/part/face_1.json"
+  [[ $face == untrimmed ]] && model="$tmp/part/untrimmed.json"
+  "$bin" view "$model" --size 320x240 --script "$tmp/$face.txt" --screenshot-dir "$tmp/face_shots" --validation \
+    >"$tmp/$face.out" 2>&1 || { cat "$tmp/$face.out"; echo "FAIL: the $face face session failed"; exit 1; }
+done
+/usr/bin/python3 "$src/tests/viewer/check_screenshots.py" --hole "$tmp/face_shots" trimmed untrimmed
+# A part takes no surface control, and a face it lacks is refused: exit 2 naming the line.
+for bad in 'lambda 0.5' 'pick-face 9' 'net off'; do
+  printf 'frames 1\n%s\nquit\n' "$bad" >"$tmp/bad_part.txt"
+  set +e
+  "$bin" view "$tmp/part/part.json" --size 320x240 --script "$tmp/bad_part.txt" >"$tmp/bad_part.out" 2>&1
+  rc=$?
+  set -e
+  if [[ $rc -ne 2 ]] || ! grep -q "line 2" "$tmp/bad_part.out"; then
+    cat "$tmp/bad_part.out"; echo "FAIL: '$bad' on a part gave exit $rc (want 2, naming line 2)"; exit 1
+  fi
 done
