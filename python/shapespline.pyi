@@ -319,6 +319,12 @@ class Part:
         triangles (M, 3) uint32, face_ids (M,) int32, open_edges, non_manifold_edges, deflection, device
         (and report with with_report). deflection in model units or relative_deflection of the diagonal
         (default 1e-3); ValueError past max_triangles."""
+    def sample(self, grid: Union[int, tuple[int, int], None] = None, *, fields: Union[str, Sequence[str], None] = None,
+               device: str = "auto", precision: str = "double", require: bool = False,
+               report: bool = False) -> Any:
+        """The trimmed point cloud (docs/cad.md 'Sampling a part'): each face's grid with only the samples
+        inside its trim loops, face after face: uv (K, 2) float64, face_ids (K,) int32 and each field
+        (K, 3). report=True: (dict, Report)."""
 
 def load_part(dir: str) -> Part:
     """A part `shapespline import` wrote: DIR or DIR/part.json."""

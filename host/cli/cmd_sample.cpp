@@ -299,23 +299,6 @@ struct StartAgainWhole {};
 
 }  // namespace
 
-void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
-  SurfaceGridItems items = surfaceGridItems(sm);
-  layout.totalItems = items.size();
-  layout.spanU = std::move(items.u);
-  layout.spanV = std::move(items.v);
-  layout.itemsV = layout.spanV.size();
-  layout.closedU = sm.closedU;
-  layout.closedV = sm.closedV;
-  const bool knotVector = parameterizationOf(sm) == Parameterization::KnotVector;
-  auto interval = [&](int i, const std::vector<double>& knots) {
-    return knotVector ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
-                      : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
-  };
-  for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
-  for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
-}
-
 namespace {
 
 // What a file of `format` stores of values computed for `precision`: the job metadata's precision.
@@ -468,13 +451,13 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
   layout.welded = meshFormat && args.meshLayout == "welded" && !args.trim;
   size_t bandCount = 0;  // bands sampled as the net streamed
   if (streamed && isSurface) {
-    setSurfaceItems(std::get<SurfaceModel>(model), layout);
+    io::setSurfaceItems(std::get<SurfaceModel>(model), layout);
   } else if (streamed) {
     const CurveModel& shape = std::get<CurveModel>(model);
     setCurveItems(shape, *streamedCurveSpans(shape, outline, format, bands), layout);
   } else if (isSurface) {
     surface.emplace(Surface::create(std::get<SurfaceModel>(std::move(model))));
-    setSurfaceItems(surface->model(), layout);
+    io::setSurfaceItems(surface->model(), layout);
   } else {
     curve.emplace(Curve::create(std::get<CurveModel>(std::move(model))));
     layout.spanU = curveGridItems(*curve);

@@ -57,9 +57,6 @@ void runSample(const SampleArgs& args);
 bool sampleInto(const SampleArgs& args, io::OutputSet& outputs, std::string& summary,
                 sampling::Session* session = nullptr);
 
-// The grid items of a surface job (patch indices and parameter intervals per row and column).
-void setSurfaceItems(const SurfaceShape& shape, io::SampleLayout& layout);
-
 // What `sample` parsed for a job, handed to the part sampler.
 struct PartJob {
   io::OutputFormat format;

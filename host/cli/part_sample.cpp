@@ -76,7 +76,7 @@ bool samplePartInto(const SampleArgs& args, const PartJob& job, io::OutputSet& o
     layout.fields = job.fields;
     layout.precision = job.precision;
     layout.source = face.model.string();
-    setSurfaceItems(face.surface->model(), layout);
+    io::setSurfaceItems(face.surface->model(), layout);
     layout.itemCount = layout.totalItems;
     const TrimLoops& trim = face.surface->model().trim;
     const std::vector<uint64_t> kept = io::samplesInsideByItem(layout, trim);

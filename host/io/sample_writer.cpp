@@ -1,4 +1,6 @@
 #include <shapespline/io/sample_writer.h>
+#include <shapespline/core/grid_sampler.h>
+#include <shapespline/core/surface.h>
 #include <shapespline/core/value_text.h>
 #include <shapespline/io/welded_mesh.h>
 
@@ -9,6 +11,24 @@
 #include <cmath>
 
 namespace shapespline::io {
+
+void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
+  SurfaceGridItems items = surfaceGridItems(sm);
+  layout.totalItems = items.size();
+  layout.spanU = std::move(items.u);
+  layout.spanV = std::move(items.v);
+  layout.itemsV = layout.spanV.size();
+  layout.closedU = sm.closedU;
+  layout.closedV = sm.closedV;
+  const bool knotVector = parameterizationOf(sm) == Parameterization::KnotVector;
+  auto interval = [&](int i, const std::vector<double>& knots) {
+    return knotVector ? std::pair{knots[static_cast<size_t>(i)], knots[static_cast<size_t>(i) + 1]}
+                      : std::pair{static_cast<double>(i), static_cast<double>(i) + 1.0};
+  };
+  for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
+  for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
+}
+
 
 OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option) {
   std::string ext = path.extension().string();

@@ -112,6 +112,10 @@ struct SampleLayout {
   void checkDerivedValues() const;
 };
 
+// The grid items of a surface job: its patch indices and parameter intervals per row and column
+// (the non-empty knot intervals of a knot-vector surface), into `layout`.
+void setSurfaceItems(const SurfaceShape& shape, SampleLayout& layout);
+
 // A value a writer derives itself (global parameter, texture coordinate, SVG coordinate) is not
 // finite. The writers of makeSampleWriter rethrow it as OutputWriteError (exit 3, nothing written);
 // model validation (knot differences must be finite) keeps valid models from reaching it.

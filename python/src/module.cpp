@@ -4,6 +4,7 @@
 #include "chunks.h"
 #include "convert.h"
 #include "handle.h"
+#include "surface_args.h"
 
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/huge_pages.h>
@@ -765,6 +766,16 @@ void bindCommon(Class& cls) {
 }
 
 }  // namespace
+
+GridSpec parseSurfaceGrid(py::object grid) { return parseGrid<Surface>(grid, py::none()); }
+FieldMask parseSurfaceFields(py::object fields) { return parseFields<Surface>(fields); }
+std::vector<std::pair<std::string, Field>> surfaceFieldsOf(FieldMask mask) {
+  std::vector<std::pair<std::string, Field>> out;
+  for (const FieldName& f : fieldNames<Surface>())
+    if (mask & fieldBit(f.field)) out.emplace_back(f.name, f.field);
+  return out;
+}
+
 }  // namespace shapespline::python
 
 PYBIND11_MODULE(shapespline, m) {

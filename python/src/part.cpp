@@ -1,8 +1,14 @@
-// `shapespline.load_part(DIR)`: a part `shapespline import` wrote, and its watertight mesh as NumPy
-// arrays (host/part; docs/python.md "Parts", docs/cad.md "Meshing a part"). The mesh's surface
-// points go through the module's session on the device asked for, or core's fp64 list kernel.
+// `shapespline.load_part(DIR)`: a part `shapespline import` wrote, its watertight mesh and its
+// trimmed point cloud as NumPy arrays (host/part; docs/python.md "Parts", docs/cad.md "Meshing a
+// part" and "Sampling a part"). The mesh's surface points go through the module's session on the
+// device asked for, or core's fp64 list kernel; the point cloud is each face's grid job, the
+// samples outside its trim loops left out, as `sample part.json -o cloud.npy` writes it.
 #include "convert.h"
 #include "handle.h"
+#include "surface_args.h"
+
+#include <shapespline/io/sample_writer.h>
+#include <shapespline/io/trimmed_points.h>
 
 #include <shapespline/part/face_evaluator.h>
 #include <shapespline/part/face_triangulation.h>
@@ -95,6 +101,82 @@ py::dict meshOf(const PartHandle& h, py::object deflection, py::object relative,
   return out;
 }
 
+// Every face's grid, only the samples inside its trim loops: their (U, V), face id and fields.
+py::object sampleOf(const PartHandle& h, py::object grid, py::object fields, const std::string& device,
+                    const std::string& precision, bool require, bool withReport) {
+  GridSpec spec = parseSurfaceGrid(grid);
+  const std::vector<std::pair<std::string, Field>> wanted = surfaceFieldsOf(parseSurfaceFields(fields));
+  FieldMask mask = 0;
+  for (const auto& [name, field] : wanted) mask |= fieldBit(field);
+  sampling::DeviceRequest request = deviceRequest(device, precision, require);
+  request.grid = true;
+  // Each face's items, and the samples each keeps: the arrays are sized before anything is sampled.
+  std::vector<io::SampleLayout> layouts(h.part.faces.size());
+  uint64_t total = 0, gridPoints = 0;
+  for (size_t f = 0; f < h.part.faces.size(); ++f) {
+    io::SampleLayout& layout = layouts[f];
+    layout.surface = true;
+    layout.samplesU = spec.samplesU;
+    layout.samplesV = spec.samplesV;
+    io::setSurfaceItems(h.part.faces[f].surface.model(), layout);
+    layout.itemCount = layout.totalItems;
+    for (uint64_t kept : io::samplesInsideByItem(layout, h.part.faces[f].surface.model().trim)) total += kept;
+    gridPoints += layout.pointCount();
+  }
+  if (gridPoints > (uint64_t{1} << 40) / 24) argumentError("grid", "the part's grids are too large for arrays in memory");
+  const auto n = static_cast<py::ssize_t>(total);
+  const bool dbl = request.precision == Precision::Double;
+  py::array_t<double> uv({n, py::ssize_t(2)});
+  py::array_t<int32_t> faceIds({n});
+  std::vector<std::pair<Field, void*>> planes;
+  py::dict out;
+  out["uv"] = uv;
+  out["face_ids"] = faceIds;
+  for (const auto& [name, field] : wanted) {
+    py::array a = dbl ? py::array(py::array_t<double>({n, py::ssize_t(3)})) : py::array(py::array_t<float>({n, py::ssize_t(3)}));
+    planes.emplace_back(field, a.mutable_data());
+    out[name.c_str()] = a;
+  }
+  double* uvOut = uv.mutable_data();
+  int32_t* faceOut = faceIds.mutable_data();
+  sampling::Report report;
+  {
+    py::gil_scoped_release release;
+    report = plan(h.part.faces.front().surface, request);
+    uint64_t next = 0;
+    for (size_t f = 0; f < h.part.faces.size(); ++f) {
+      const part::PartFace& face = h.part.faces[f];
+      const io::SampleLayout& layout = layouts[f];
+      const TrimClassifier inside(face.surface.model().trim);
+      GridSpec g = spec;
+      g.firstItem = 0;
+      g.itemCount = layout.totalItems;
+      // Chunks come in item order, so the records keep the grid's order, face after face.
+      session().sampleGrid(face.surface, request, g, mask, [&](const GridChunk& c) {
+        for (size_t p = 0; p < c.pointCount(); ++p) {
+          const size_t in = c.pointInItem(p), sv = static_cast<size_t>(layout.samplesV);
+          const auto [u, v] = layout.parameter(c.itemOf(p), static_cast<int>(in / sv), static_cast<int>(in % sv));
+          if (!inside.inside({u, v})) continue;
+          if (next == total) throw std::logic_error("Part.sample: more samples inside than counted");
+          uvOut[2 * next] = u;
+          uvOut[2 * next + 1] = v;
+          faceOut[next] = face.id;
+          for (const auto& [field, dst] : planes)
+            for (int k = 0; k < 3; ++k) {
+              const double x = c.coord(field, p, k);
+              if (dbl) static_cast<double*>(dst)[3 * next + size_t(k)] = x;
+              else static_cast<float*>(dst)[3 * next + size_t(k)] = static_cast<float>(x);
+            }
+          ++next;
+        }
+      });
+    }
+    if (next != total) throw std::logic_error("Part.sample: fewer samples inside than counted");
+  }
+  if (withReport) return py::make_tuple(out, py::cast(report));
+  return out;
+}
+
 }  // namespace
 
 void bindPart(py::module_& m) {
@@ -118,6 +200,13 @@ void bindPart(py::module_& m) {
            "(N, 3), triangles (M, 3) uint32, face_ids (M,) int32, open_edges, non_manifold_edges, deflection and "
            "device. deflection in model units, or relative_deflection of the diagonal (default 1e-3); angle in "
            "radians; a mesh needing more than max_triangles raises ValueError.")
+      .def("sample", &sampleOf, py::arg("grid") = py::none(), py::kw_only(), py::arg("fields") = py::none(),
+           py::arg("device") = "auto", py::arg("precision") = "double", py::arg("require") = false,
+           py::arg("report") = false,
+           "The part's point cloud (docs/cad.md 'Sampling a part'): each face's grid (grid=N or (Su, Sv) samples per "
+           "patch, default 16) with only the samples inside its trim loops, face after face in the manifest's "
+           "order: a dict of uv (K, 2) float64 (the face's knot parameters), face_ids (K,) int32 and each field "
+           "(K, 3) ('point' by default; float32 with precision='float'). report=True: (dict, Report).")
       .def("__repr__", [](const PartHandle& h) {
         return "<shapespline.Part " + h.dir.string() + ": " + std::to_string(h.part.faces.size()) + " faces, " +
                std::to_string(h.part.edges.size()) + " edges>";

@@ -50,6 +50,15 @@ def gpu():
     return _GPU
 
 
+@pytest.fixture(scope="session")
+def shapespline_bin():
+    """The command-line tool of the same build (ctest sets SHAPESPLINE_CLI), to compare with."""
+    exe = os.environ.get("SHAPESPLINE_CLI") or str(REPO / "build" / "host" / "cli" / "shapespline")
+    if not pathlib.Path(exe).is_file():
+        pytest.skip(f"no shapespline executable at {exe} (set SHAPESPLINE_CLI)")
+    return exe
+
+
 def scale_of(points):
     p = np.asarray(points, dtype=np.float64).reshape(-1, np.asarray(points).shape[-1])
     return max(float(np.linalg.norm(p.max(axis=0) - p.min(axis=0))), 1e-300)

@@ -1,7 +1,9 @@
-"""ss.load_part(DIR) and Part.mesh (docs/python.md "Parts"): a part written here as `shapespline
-import` writes one (a cube of six planar faces with their coedges), meshed into NumPy arrays that
-are welded, closed and wound outwards; bad arguments raise ValueError naming the argument."""
+"""ss.load_part(DIR), Part.mesh and Part.sample (docs/python.md "Parts"): a part written here as
+`shapespline import` writes one (a cube of six planar faces with their coedges), meshed into NumPy
+arrays that are welded, closed and wound outwards, and sampled into the trimmed point cloud the
+command line writes (a hole's samples left out); bad arguments raise ValueError naming the argument."""
 import json
+import subprocess
 
 import numpy as np
 import pytest
@@ -112,3 +114,65 @@ def test_a_missing_part_or_faces_without_coedges_raise(tmp_path):
     with pytest.raises(ss.ModelError) as e:
         part.mesh(device="cpu")
     assert e.value.field == "faces[0].coedges"
+
+
+def sample_params(n):
+    """A patch's n sample parameters a / (n - 1), as the grid sampler spaces them."""
+    return np.arange(n) / (n - 1)
+
+
+def test_sample_keeps_every_grid_sample_of_whole_faces_on_the_cube(tmp_path):
+    part = ss.load_part(str(write_cube(tmp_path)))
+    c = part.sample(grid=(5, 4), fields=("point", "normal"), device="cpu")
+    assert c["uv"].shape == (6 * 20, 2) and c["point"].shape == (120, 3) and c["face_ids"].dtype == np.int32
+    assert c["face_ids"].tolist() == [f for f in range(1, 7) for _ in range(20)]
+    u, v = np.meshgrid(sample_params(5), sample_params(4), indexing="ij")
+    axes = np.eye(3)
+    for fid in range(1, 7):
+        a, side = (fid - 1) // 2, (fid - 1) % 2
+        mine = c["face_ids"] == fid
+        assert np.array_equal(c["uv"][mine], np.stack([u.ravel(), v.ravel()], axis=1))
+        # The face's plane o + U u + V v, evaluated here.
+        want = side * 2.0 * axes[a] + np.outer(c["uv"][mine, 0], 2.0 * axes[(a + 1) % 3]) + \
+            np.outer(c["uv"][mine, 1], 2.0 * axes[(a + 2) % 3])
+        assert np.allclose(c["point"][mine], want, rtol=0, atol=1e-12)
+        assert np.allclose(np.abs(c["normal"][mine] @ axes[a]), 1.0)
+
+
+def test_sample_leaves_out_a_hole_and_matches_the_cli_point_cloud(tmp_path, shapespline_bin):
+    folder = write_cube(tmp_path)
+    face = json.loads((folder / "face_1.json").read_text())
+    face["trim"]["loops"].append([[0.3, 0.3], [0.7, 0.3], [0.7, 0.7], [0.3, 0.7]])
+    (folder / "face_1.json").write_text(json.dumps(face))
+    manifest = json.loads((folder / "part.json").read_text())  # the hole is one edge of its own
+    manifest["edges"].append({"id": 13, "curve": "Geom_BSplineCurve", "model": None})
+    manifest["faces"][0]["coedges"].append([{"edge": 13, "start": 0, "t": [0, 1, 2, 3, 4]}])
+    (folder / "part.json").write_text(json.dumps(manifest))
+    part = ss.load_part(str(folder))
+    c = part.sample(grid=11, device="cpu")
+    u, v = np.meshgrid(sample_params(11), sample_params(11), indexing="ij")
+    in_hole = (u > 0.3) & (u < 0.7) & (v > 0.3) & (v < 0.7)
+    assert int((c["face_ids"] == 1).sum()) == 121 - int(in_hole.sum())
+    uv = c["uv"][c["face_ids"] == 1]
+    assert not ((uv[:, 0] > 0.3 + 1e-9) & (uv[:, 0] < 0.7 - 1e-9) & (uv[:, 1] > 0.3 + 1e-9) & (uv[:, 1] < 0.7 - 1e-9)).any()
+    # `sample part.json -o cloud.npy` keeps the same records, read back by NumPy.
+    subprocess.run([shapespline_bin, "sample", str(folder / "part.json"), "--grid", "11", "--device", "cpu",
+                    "-o", str(tmp_path / "cloud.npy"), "-q"], check=True)
+    cloud = np.load(tmp_path / "cloud.npy")
+    assert np.array_equal(cloud["face"].ravel(), c["face_ids"])
+    assert np.array_equal(cloud["uv"], c["uv"])
+    assert np.array_equal(cloud["point"], c["point"])
+    f32 = part.sample(grid=11, device="cpu", precision="float")
+    assert f32["point"].dtype == np.float32 and np.allclose(f32["point"], c["point"], rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("kwargs, named", [
+    (dict(grid=1), "grid"),
+    (dict(fields="bogus"), "fields"),
+    (dict(device="tpu"), "device"),
+])
+def test_sample_bad_arguments_raise_value_error_naming_them(tmp_path, kwargs, named):
+    part = ss.load_part(str(write_cube(tmp_path)))
+    with pytest.raises(ValueError) as e:
+        part.sample(**kwargs)
+    assert named in str(e.value)
