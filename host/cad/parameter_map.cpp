@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace shapespline::cad {
 namespace {
@@ -55,6 +56,9 @@ ParameterMap::Axis::Axis(std::function<gp_Pnt(double)> sourcePoint, double s0, d
   table_.resize(kTableNodes);
   table_.front() = t0;
   table_.back() = t1;
+  // The iso-curve's search points, evaluated once for every node.
+  std::vector<gp_Pnt> searched(kSearchPoints + 1);
+  for (int k = 0; k <= kSearchPoints; ++k) searched[static_cast<size_t>(k)] = iso_->Value(lerp(t0, t1, double(k) / kSearchPoints));
   for (int i = 1; i + 1 < kTableNodes; ++i) {
     // The nearest of kSearchPoints points of the iso-curve (between equally near ones, the two ends
     // of a closed iso-curve, the one nearest the linear guess); operator() refines it by Newton.
@@ -63,7 +67,7 @@ ParameterMap::Axis::Axis(std::function<gp_Pnt(double)> sourcePoint, double s0, d
     double best = guess, bestDistance = 1e300;
     for (int k = 0; k <= kSearchPoints; ++k) {
       const double t = lerp(t0, t1, double(k) / kSearchPoints);
-      const double d = iso_->Value(t).Distance(target);
+      const double d = searched[static_cast<size_t>(k)].Distance(target);
       if (d < bestDistance - kMapTolerance * scale_ ||
           (d < bestDistance + kMapTolerance * scale_ && std::abs(t - guess) < std::abs(best - guess))) {
         best = t;

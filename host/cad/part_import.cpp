@@ -12,8 +12,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <optional>
+#include <thread>
 
 namespace shapespline::cad {
 namespace {
@@ -50,6 +55,37 @@ json coedgesJson(const std::vector<std::vector<TrimCoedge>>& loops, const TopToo
   return out;
 }
 
+// A face converted, with its model file's text, or what stopped it.
+struct FaceResult {
+  std::optional<ConvertedFace> face;
+  std::string text;
+  std::exception_ptr error;
+};
+
+// Every face converted on every core the process may use. Each conversion reads its own face and
+// the geometry it shares with others (OCCT's geometry is read-only here, as BRepMesh reads it in
+// parallel: its handles count references atomically) and builds its own B-spline, map and loops.
+std::vector<FaceResult> convertFaces(const TopTools_IndexedMapOfShape& faces, double trimTolerance) {
+  std::vector<FaceResult> results(static_cast<size_t>(faces.Extent()));
+  std::atomic<size_t> next{0};
+  const auto work = [&] {
+    for (size_t i; (i = next.fetch_add(1)) < results.size();) {
+      try {
+        results[i].face.emplace(convertFace(TopoDS::Face(faces(static_cast<int>(i) + 1)), trimTolerance));
+        results[i].text = io::toJson(results[i].face->model).dump(1) + "\n";
+      } catch (...) {
+        results[i].error = std::current_exception();
+      }
+    }
+  };
+  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), results.size());
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  return results;
+}
+
 }  // namespace
 
 ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions& options) {
@@ -74,14 +110,17 @@ ConvertedPart convertPart(const std::filesystem::path& part, const ImportOptions
     summary.skipped.push_back(what + " " + std::to_string(id) + ": " + e.what());
     ++count;
   };
+  std::vector<FaceResult> convertedFaces = convertFaces(faces, options.trimTolerance);
   for (int i = 1; i <= faces.Extent(); ++i) {
     const TopoDS_Face& face = TopoDS::Face(faces(i));
     json entry = {{"id", i}, {"edges", idsIn(face, TopAbs_EDGE, edges)}};
+    FaceResult& result = convertedFaces[static_cast<size_t>(i) - 1];
     try {
-      const ConvertedFace converted = convertFace(face, options.trimTolerance);
+      if (result.error) std::rethrow_exception(result.error);
+      const ConvertedFace& converted = *result.face;
       json coedges = coedgesJson(converted.coedges, edges);
       const std::string name = numbered("face", i);
-      files.push_back({name, io::toJson(converted.model).dump(1) + "\n"});
+      files.push_back({name, std::move(result.text)});
       entry["model"] = name;
       entry["surface"] = converted.surfaceType;
       entry["reversed"] = converted.reversed;

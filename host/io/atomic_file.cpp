@@ -389,8 +389,11 @@ void commitFiles(AtomicFile* const* files, size_t count) {
 
   // Phase 2: signals held back, folders locked; modes, backups, renames.
   SignalHold hold;
-  std::vector<fs::path> folders;
-  for (size_t i = 0; i < count; ++i) folders.push_back(folderOf(files[i]->target_));
+  std::vector<fs::path> folders;  // each once (a set may put thousands of files in one folder)
+  for (size_t i = 0; i < count; ++i) {
+    fs::path folder = folderOf(files[i]->target_);
+    if (std::find(folders.begin(), folders.end(), folder) == folders.end()) folders.push_back(std::move(folder));
+  }
   FolderLocks locks(folders);
   std::optional<mode_t> umask;  // read once a commit, when a new file needs it
   for (size_t i = 0; i < count; ++i) {

@@ -12,15 +12,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The identity of an output's directory entry: its folder with symlinks and `..` resolved, and
-// its file name. (Two names of one inode are different entries: each rename replaces its own.)
-fs::path entryKey(const fs::path& path) {
+// An output's folder with symlinks and `..` resolved.
+fs::path resolvedFolder(const fs::path& folder) {
   std::error_code ec;
-  fs::path folder = path.parent_path();
-  if (folder.empty()) folder = ".";
   fs::path resolved = fs::weakly_canonical(fs::absolute(folder, ec), ec);
   if (ec) resolved = fs::absolute(folder, ec).lexically_normal();
-  return resolved / path.filename();
+  return resolved;
 }
 
 OutputPathError overwritesInput(const fs::path& output, const std::string& option, const fs::path& input,
@@ -49,16 +46,21 @@ AtomicFile& OutputSet::add(const fs::path& path, const std::string& option) {
   for (const Input& in : inputs_) {
     if (sameFile(path, in.path)) throw overwritesInput(path, option, in.path, in.what);
   }
-  const fs::path key = entryKey(path);
-  for (size_t i = 0; i < keys_.size(); ++i) {
-    if (keys_[i] == key) {
-      throw OutputPathError(option, path.string(),
-                            "is the same file as " + files_[i].option() + " ('" + files_[i].target().string() +
-                                "'); give each output its own path");
-    }
+  // The identity of the output's directory entry: its folder resolved (once per folder: an import
+  // adds thousands of files to one) and its name. Two names of one inode are different entries:
+  // each rename replaces its own.
+  const std::string folder = path.parent_path().empty() ? std::string(".") : path.parent_path().string();
+  auto resolved = resolvedFolders_.find(folder);
+  if (resolved == resolvedFolders_.end()) resolved = resolvedFolders_.emplace(folder, resolvedFolder(folder)).first;
+  const std::string key = (resolved->second / path.filename()).string();
+  if (const auto same = keys_.find(key); same != keys_.end()) {
+    const AtomicFile& other = files_[same->second];
+    throw OutputPathError(option, path.string(),
+                          "is the same file as " + other.option() + " ('" + other.target().string() +
+                              "'); give each output its own path");
   }
   files_.emplace_back(path, option);
-  keys_.push_back(key);
+  keys_.emplace(key, files_.size() - 1);
   return files_.back();
 }
 
@@ -76,6 +78,7 @@ void OutputSet::clear() noexcept {
   discard();
   files_.clear();
   keys_.clear();
+  resolvedFolders_.clear();
   inputs_.clear();
 }
 

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 namespace shapespline::io {
@@ -48,7 +49,10 @@ class OutputSet {
 
  private:
   std::deque<AtomicFile> files_;
-  std::deque<std::filesystem::path> keys_;  // folder resolved + file name, for the duplicate check
+  // Each output's folder resolved + file name -> its index in files_, for the duplicate check; the
+  // folders as resolved the first time (by the folder as given).
+  std::unordered_map<std::string, size_t> keys_;
+  std::unordered_map<std::string, std::filesystem::path> resolvedFolders_;
   struct Input {
     std::filesystem::path path;
     std::string what;
