@@ -1,7 +1,8 @@
 #pragma once
 // The files of one job (raw data + its .json sidecar, -o + --svg, a PNG) committed together: all
 // of them appear, or none changes. add() opens each temporary file (io::AtomicFile, so a bad path
-// fails before any work); commit() first flushes and fsyncs every temporary file, then, holding an
+// fails before any work); commit() first flushes and fsyncs every temporary file (a set of 64 or
+// more: one syncfs per filesystem, io/atomic_file.cpp commitFiles), then, holding an
 // exclusive flock on each target folder (so two processes writing the same outputs never
 // interleave their renames) and with SIGINT/SIGTERM/SIGHUP held back, keeps the previous version
 // of each target as a hidden hard link, renames every temporary file onto its target and on a

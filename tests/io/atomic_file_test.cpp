@@ -177,6 +177,30 @@ TEST(OutputSet, FailedRenameOfANewSetLeavesNothing) {
   EXPECT_TRUE(dir.entries().empty());
 }
 
+// Past 64 files a commit syncs the filesystem once instead of each file (an import's thousands of
+// face files): the files are all there after it, and a failed rename still restores the whole set.
+TEST(OutputSet, ALargeSetCommitsEveryFileAndAFailedRenameRestoresIt) {
+  Scratch dir("large");
+  const int files = 150;
+  const auto name = [](int i) { return "face_" + std::to_string(1000 + i) + ".json"; };
+  {
+    OutputSet set;
+    for (int i = 0; i < files; ++i) set.add(dir / name(i), "-o").write("first " + std::to_string(i));
+    set.commit();
+  }
+  ASSERT_EQ(dir.entries().size(), size_t(files));
+  for (int i = 0; i < files; ++i) EXPECT_EQ(readAll(dir / name(i)), "first " + std::to_string(i));
+  {
+    OutputSet set;
+    for (int i = 0; i < files; ++i) set.add(dir / name(i), "-o").write("second " + std::to_string(i));
+    set.add(dir / "part.json", "-o").write("{}");
+    IoFaultScope fault("rename:120");
+    EXPECT_THROW(set.commit(), OutputWriteError);
+  }
+  ASSERT_EQ(dir.entries().size(), size_t(files)) << "a temporary or backup file was left, or part.json written";
+  for (int i = 0; i < files; ++i) EXPECT_EQ(readAll(dir / name(i)), "first " + std::to_string(i));
+}
+
 TEST(OutputSet, SamePathTwiceIsRefusedNamingBothOptions) {
   Scratch dir("dup");
   fs::create_directories(dir / "sub");
