@@ -1,5 +1,6 @@
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
+#include <shapespline/core/cores.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/version.h>
@@ -78,7 +79,7 @@ std::vector<FaceResult> convertFaces(const TopTools_IndexedMapOfShape& faces, do
       }
     }
   };
-  const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), results.size());
+  const size_t threads = std::min<size_t>(static_cast<size_t>(std::max(1, availableCores())), results.size());
   std::vector<std::thread> pool;
   for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
   work();

@@ -1,9 +1,13 @@
 #include <shapespline/core/validate.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/io/input_file.h>
+#include <shapespline/part/parallel_for.h>
 #include <shapespline/part/part_model.h>
 
 #include <algorithm>
+#include <exception>
+#include <optional>
+#include <vector>
 
 namespace shapespline::part {
 
@@ -15,6 +19,32 @@ const io::PartEdgeEntry* Part::edge(int id) const {
   return it == edges.end() ? nullptr : &*it;
 }
 
+namespace {
+
+// One face of the manifest, read and built; none for a face that was not converted at import.
+std::optional<PartFace> loadFace(io::PartFaceEntry& entry) {
+  if (!entry.model) return std::nullopt;
+  const std::string key = entry.field + ".model";
+  io::Model model;
+  try {
+    model = io::loadModelFile(*entry.model);
+  } catch (const ModelError& e) {
+    throw ModelError(key + " (" + io::shortText(entry.model->filename().string()) + "): " + e.field(), e.value(),
+                     e.rule());
+  }
+  auto* surface = std::get_if<SurfaceModel>(&model);
+  if (!surface || surface->trim.empty())
+    throw ModelError(key, io::shortText(entry.model->string()), "is not a trimmed surface (a face written by import)");
+  if (!entry.coedges.empty() && entry.coedges.size() != surface->trim.loops.size())
+    throw ModelError(entry.field + ".coedges", std::to_string(entry.coedges.size()) + " loops",
+                     "must give the coedges of each of the face's " + std::to_string(surface->trim.loops.size()) +
+                         " trim loops");
+  return PartFace{entry.id,           entry.field, *entry.model, Surface::create(std::move(*surface)), entry.reversed,
+                  std::move(entry.coedges), entry.surface};
+}
+
+}  // namespace
+
 Part loadPart(const std::filesystem::path& manifestPath) {
   io::PartManifest manifest = io::readPartManifest(manifestPath);
   Part part;
@@ -22,26 +52,20 @@ Part loadPart(const std::filesystem::path& manifestPath) {
   part.edges = std::move(manifest.edges);
   part.shells = std::move(manifest.shells);
   part.skipped = manifest.skipped;
-  for (io::PartFaceEntry& entry : manifest.faces) {
-    if (!entry.model) continue;
-    const std::string key = entry.field + ".model";
-    io::Model model;
+  // The face files are read and built on every core (a part of a thousand faces is tens of MB of
+  // JSON), each into its own slot; the first face in the manifest's order that fails is the error.
+  std::vector<std::optional<PartFace>> faces(manifest.faces.size());
+  std::vector<std::exception_ptr> errors(manifest.faces.size());
+  parallelFor(manifest.faces.size(), 0, [&](size_t f) {
     try {
-      model = io::loadModelFile(*entry.model);
-    } catch (const ModelError& e) {
-      throw ModelError(key + " (" + io::shortText(entry.model->filename().string()) + "): " + e.field(), e.value(),
-                       e.rule());
+      faces[f] = loadFace(manifest.faces[f]);
+    } catch (...) {
+      errors[f] = std::current_exception();
     }
-    auto* surface = std::get_if<SurfaceModel>(&model);
-    if (!surface || surface->trim.empty())
-      throw ModelError(key, io::shortText(entry.model->string()), "is not a trimmed surface (a face written by import)");
-    if (!entry.coedges.empty() && entry.coedges.size() != surface->trim.loops.size())
-      throw ModelError(entry.field + ".coedges", std::to_string(entry.coedges.size()) + " loops",
-                       "must give the coedges of each of the face's " + std::to_string(surface->trim.loops.size()) +
-                           " trim loops");
-    PartFace face{entry.id, entry.field, *entry.model, Surface::create(std::move(*surface)), entry.reversed,
-                  std::move(entry.coedges), entry.surface};
-    part.faces.push_back(std::move(face));
+  });
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (errors[f]) std::rethrow_exception(errors[f]);
+    if (faces[f]) part.faces.push_back(std::move(*faces[f]));
   }
   return part;
 }
