@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace shapespline::part {
 namespace {
@@ -187,11 +188,27 @@ class FaceRefiner {
 
   // The centroids of the triangles and the midpoints of the inner edges where the mesh is too far
   // from the surface or turns too much, as new vertices (evaluated once, here).
+  // A triangle or inner edge found fine in an earlier round (no point to add) is not looked at
+  // again: its test depends on its own vertices alone, which do not move.
+  static std::array<int, 3> sortedCorners(const std::array<int, 3>& t) {
+    std::array<int, 3> k = t;
+    std::sort(k.begin(), k.end());
+    return k;
+  }
+  struct CornersHash {
+    size_t operator()(const std::array<int, 3>& k) const {
+      return std::hash<uint64_t>()((uint64_t(uint32_t(k[0])) << 42) ^ (uint64_t(uint32_t(k[1])) << 21) ^ uint32_t(k[2]));
+    }
+  };
+  std::unordered_set<std::array<int, 3>, CornersHash> fineTriangles_;
+  std::unordered_set<uint64_t> fineEdges_;
+
   std::vector<std::pair<glm::dvec2, Vertex>> refinementPoints(const std::vector<std::array<int, 3>>& triangles) {
+    // Each triangle's centroid, summed in the order of its sorted corners (the same bits whichever
+    // corner the triangulation lists first); -1: not evaluated (fine before, or a sliver).
     std::vector<glm::dvec2> uv;
+    std::vector<ptrdiff_t> at(triangles.size(), -1);
     uv.reserve(triangles.size() * 2);
-    for (const auto& t : triangles)
-      uv.push_back((vertices_[size_t(t[0])].uv + vertices_[size_t(t[1])].uv + vertices_[size_t(t[2])].uv) / 3.0);
     // Slivers: triangles whose corners are (nearly) on one line in the plane, as three loop
     // vertices along a straight side are after rounding. A sliver's centroid and the midpoint of
     // its long side lie on the loop, and inserting them only makes more slivers there; its surface
@@ -203,6 +220,10 @@ class FaceRefiner {
       const glm::dvec2 ab = b - a, ac = c - a, bc = c - b;
       const double longest2 = std::max({glm::dot(ab, ab), glm::dot(ac, ac), glm::dot(bc, bc)});
       sliver[k] = std::abs(ab.x * ac.y - ab.y * ac.x) <= kSliver * longest2;
+      if (sliver[k] || fineTriangles_.count(sortedCorners(triangles[k]))) continue;
+      const std::array<int, 3> c3 = sortedCorners(triangles[k]);
+      at[k] = static_cast<ptrdiff_t>(uv.size());
+      uv.push_back((vertices_[size_t(c3[0])].uv + vertices_[size_t(c3[1])].uv + vertices_[size_t(c3[2])].uv) / 3.0);
     }
     // Inner edges: those two triangles share (each listed once, from its lower vertex), unless one
     // of them is a sliver.
@@ -229,9 +250,11 @@ class FaceRefiner {
         if (use.triangles == 2) {
           neighbours[k].push_back(use.first);
           neighbours[use.first].push_back(k);
-          if (!use.sliver) inner.push_back({a, b, use.first, k});
+          if (!use.sliver && !fineEdges_.count((uint64_t(uint32_t(a)) << 32) | uint32_t(b)))
+            inner.push_back({a, b, use.first, k});
         }
       }
+    const size_t firstEdge = uv.size();
     for (const InnerEdge& e : inner) uv.push_back(0.5 * (vertices_[size_t(e.a)].uv + vertices_[size_t(e.b)].uv));
     std::vector<SurfaceFirst> s(uv.size());
     evaluator_.evaluate(surface_, uv, s);
@@ -244,12 +267,13 @@ class FaceRefiner {
     };
     std::vector<Candidate> candidates;
     for (size_t k = 0; k < triangles.size(); ++k) {
+      if (at[k] < 0) continue;
       const Vertex& a = vertices_[size_t(triangles[k][0])];
       const Vertex& b = vertices_[size_t(triangles[k][1])];
       const Vertex& c = vertices_[size_t(triangles[k][2])];
-      if (sliver[k]) continue;
-      const glm::dvec3 normal = normalOf(s[k]);
-      bool split = distanceToTriangle(s[k].point, a.point, b.point, c.point) > tol_.deflection;
+      const SurfaceFirst& centroid = s[size_t(at[k])];
+      const glm::dvec3 normal = normalOf(centroid);
+      bool split = distanceToTriangle(centroid.point, a.point, b.point, c.point) > tol_.deflection;
       // The surface's own turn across the triangle (its normals at the corners against the one at
       // the centroid), not the triangle's plane: a sliver's plane says nothing of the surface, and
       // splitting slivers for it only makes more of them.
@@ -259,22 +283,27 @@ class FaceRefiner {
       for (const Vertex* corner : {&a, &b, &c})
         if (!split && longest > tol_.deflection && normal != glm::dvec3(0.0) && corner->normal != glm::dvec3(0.0))
           split = angleBetweenUnits(normal, corner->normal) > tol_.angle;
-      if (split && !nearAny(s[k].point, {&a, &b, &c}))
-        candidates.push_back({distanceToTriangle(s[k].point, a.point, b.point, c.point) / tol_.deflection, k, SIZE_MAX,
-                              {uv[k], {uv[k], s[k].point, normal, 0}}});
+      const glm::dvec2 centre = uv[size_t(at[k])];
+      if (split && !nearAny(centroid.point, {&a, &b, &c}))
+        candidates.push_back({distanceToTriangle(centroid.point, a.point, b.point, c.point) / tol_.deflection, k, SIZE_MAX,
+                              {centre, {centre, centroid.point, normal, 0}}});
+      else
+        fineTriangles_.insert(sortedCorners(triangles[k]));
     }
     // An inner edge's midpoint is measured from the edge along the surface normal there: where the
     // parameters run unevenly (a plane whose net is no parallelogram) the surface point slides along
     // the surface, which is no distance from the mesh. Where there is no normal (a pole), the whole
     // distance.
     for (size_t k = 0; k < inner.size(); ++k) {
-      const size_t at = triangles.size() + k;
+      const size_t mid = firstEdge + k;
       const glm::dvec3 a = vertices_[size_t(inner[k].a)].point, b = vertices_[size_t(inner[k].b)].point;
-      const glm::dvec3 normal = normalOf(s[at]);
-      const double off = normal == glm::dvec3(0.0) ? distanceToSegment3(s[at].point, a, b)
-                                                   : std::abs(glm::dot(normal, s[at].point - nearestOnSegment(s[at].point, a, b)));
-      if (off > tol_.deflection && !nearAny(s[at].point, {&vertices_[size_t(inner[k].a)], &vertices_[size_t(inner[k].b)]}))
-        candidates.push_back({off / tol_.deflection, inner[k].left, inner[k].right, {uv[at], {uv[at], s[at].point, normal, 0}}});
+      const glm::dvec3 normal = normalOf(s[mid]);
+      const double off = normal == glm::dvec3(0.0) ? distanceToSegment3(s[mid].point, a, b)
+                                                   : std::abs(glm::dot(normal, s[mid].point - nearestOnSegment(s[mid].point, a, b)));
+      if (off > tol_.deflection && !nearAny(s[mid].point, {&vertices_[size_t(inner[k].a)], &vertices_[size_t(inner[k].b)]}))
+        candidates.push_back({off / tol_.deflection, inner[k].left, inner[k].right, {uv[mid], {uv[mid], s[mid].point, normal, 0}}});
+      else
+        fineEdges_.insert((uint64_t(uint32_t(inner[k].a)) << 32) | uint32_t(inner[k].b));
     }
     // The worst first, and none beside a triangle split this round: one point often mends its
     // neighbours too, and splitting them all at once over-refines (twice BRepMesh's count on a
