@@ -31,9 +31,11 @@ void CpuFaceEvaluator::evaluate(const Surface& face, std::span<const glm::dvec2>
 void SessionFaceEvaluator::evaluate(const Surface& face, std::span<const glm::dvec2> uv, std::span<SurfaceFirst> out) {
   const std::vector<SurfaceQuery> queries = clampedQueries(face, uv);
   std::lock_guard lock(mutex_);
-  auto result = session_.evaluate(face, request_, queries, ListFields::FirstDerivatives);
-  if (result.points.size() != out.size()) throw std::logic_error("the session returned a list of another size");
-  std::copy(result.points.begin(), result.points.end(), out.begin());
+  auto& resident = resident_[&face];
+  if (!resident) resident = session_.resident(face, request_);
+  const std::vector<SurfaceFirst> points = resident->evaluate(queries, ListFields::FirstDerivatives);
+  if (points.size() != out.size()) throw std::logic_error("the session returned a list of another size");
+  std::copy(points.begin(), points.end(), out.begin());
 }
 
 }  // namespace shapespline::part

@@ -8,9 +8,11 @@
 
 #include <glm/vec2.hpp>
 
+#include <memory>
 #include <mutex>
 #include <span>
 #include <string>
+#include <unordered_map>
 
 namespace shapespline::part {
 
@@ -32,7 +34,10 @@ class CpuFaceEvaluator final : public FaceEvaluator {
 };
 
 // Through a session on the device `request` names; one list at a time (the session is not
-// thread-safe), so callers on several threads take turns.
+// thread-safe), so callers on several threads take turns. Each face it is asked about stays on
+// the device (sampling::Session::ResidentSurface, found by the face's address): its net is uploaded
+// once, and each list is one evaluation. Keep one evaluator per part, while the part lives; a
+// part meshed again through the same evaluator (at another deflection) uploads nothing.
 class SessionFaceEvaluator final : public FaceEvaluator {
  public:
   SessionFaceEvaluator(sampling::Session& session, sampling::DeviceRequest request, std::string device)
@@ -45,6 +50,7 @@ class SessionFaceEvaluator final : public FaceEvaluator {
   sampling::DeviceRequest request_;
   std::string device_;
   std::mutex mutex_;
+  std::unordered_map<const Surface*, std::unique_ptr<sampling::Session::ResidentSurface>> resident_;
 };
 
 // The device a part mesh runs on for `request`: `auto` is the CPU, because the mesher asks for many

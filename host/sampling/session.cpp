@@ -384,20 +384,19 @@ void sampleOnGpuInBands(const std::shared_ptr<vk::Context>& ctx, gpu::SurfaceEva
 }
 
 // Local and global queries go to evaluateList / evaluateListAt; the results are put back in order.
+// A list on a model already on the device: local and global queries go to evaluateList /
+// evaluateListAt, and the results are put back in order, unscaled.
 template <class Model>
-std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model,
-                                                      const Report& r,
-                                                      std::span<const typename Gpu<Model>::Query> queries,
-                                                      FieldMask fields = 0) {
+std::vector<typename Gpu<Model>::Point> evaluateOnMirror(typename Gpu<Model>::Evaluator& evaluator,
+                                                         typename Gpu<Model>::Mirror& mirror, const Report& r,
+                                                         std::span<const typename Gpu<Model>::Query> queries,
+                                                         FieldMask fields) {
   using G = Gpu<Model>;
   std::vector<decltype(G::local(queries[0]))> local;
   std::vector<decltype(G::global(queries[0]))> global;
   for (const auto& q : queries) q.global ? global.push_back(G::global(q)) : local.push_back(G::local(q));
   std::vector<typename G::Point> out(queries.size()), atLocal, atGlobal;
   onDevice([&] {
-    const auto scaled = scaledOrNot(model, r.netScaleExponent);
-    typename G::Evaluator evaluator(ctx, r.computedPrecision);
-    typename G::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
     const FieldMask asked = fields ? fields : (std::is_same_v<Model, Curve> ? kCurveFields : kSurfaceFields);
     if (!local.empty()) atLocal = evaluator.evaluateList(mirror, local, asked);
     if (!global.empty()) atGlobal = evaluator.evaluateListAt(mirror, global, asked);
@@ -408,6 +407,19 @@ std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::
   }
   unscale(out, r.netScaleExponent);
   return out;
+}
+
+template <class Model>
+std::vector<typename Gpu<Model>::Point> evaluateOnGpu(const std::shared_ptr<vk::Context>& ctx, const Model& model,
+                                                      const Report& r,
+                                                      std::span<const typename Gpu<Model>::Query> queries,
+                                                      FieldMask fields = 0) {
+  return onDevice([&] {
+    const auto scaled = scaledOrNot(model, r.netScaleExponent);
+    typename Gpu<Model>::Evaluator evaluator(ctx, r.computedPrecision);
+    typename Gpu<Model>::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
+    return evaluateOnMirror<Model>(evaluator, mirror, r, queries, fields);
+  });
 }
 
 template <class Model>
@@ -530,6 +542,41 @@ auto Session::evaluateFirstFor(const Model& model, const DeviceRequest& request,
   result.points = result.report.gpu ? evaluateFirstOnGpu(ctx_, model, result.report, queries, fields)
                                     : evaluateFirstOnCpu(model, result.report, queries, fields);
   return result;
+}
+
+struct Session::ResidentSurface::Impl {
+  const Surface& model;
+  Report report;
+  std::optional<gpu::SurfaceEvaluator> evaluator;  // on the GPU path
+  std::optional<gpu::GpuSurface> mirror;
+};
+
+Session::ResidentSurface::ResidentSurface(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Session::ResidentSurface::~ResidentSurface() = default;
+const Report& Session::ResidentSurface::report() const { return impl_->report; }
+
+std::vector<SurfaceFirst> Session::ResidentSurface::evaluate(std::span<const SurfaceQuery> queries, ListFields fields) {
+  Impl& r = *impl_;
+  if (queries.empty()) return {};
+  if (!r.mirror) return evaluateFirstOnCpu(r.model, r.report, queries, fields);
+  const std::vector<SurfacePoint> all =
+      evaluateOnMirror<Surface>(*r.evaluator, *r.mirror, r.report, queries, fieldMaskOf(fields, true));
+  std::vector<SurfaceFirst> out(all.size());
+  for (size_t i = 0; i < all.size(); ++i) out[i] = Gpu<Surface>::first(all[i]);
+  return out;
+}
+
+std::unique_ptr<Session::ResidentSurface> Session::resident(const Surface& surface, const DeviceRequest& request) {
+  auto impl = std::unique_ptr<ResidentSurface::Impl>(new ResidentSurface::Impl{surface, planFor(surface, request), {}, {}});
+  if (impl->report.gpu) {
+    onDevice([&] {
+      const auto scaled = scaledOrNot(surface, impl->report.netScaleExponent);
+      impl->evaluator.emplace(ctx_, impl->report.computedPrecision);
+      impl->mirror.emplace(ctx_, pick(scaled, surface), impl->report.computedPrecision);
+      return 0;
+    });
+  }
+  return std::unique_ptr<ResidentSurface>(new ResidentSurface(std::move(impl)));
 }
 
 ListResult<CurveFirst> Session::evaluate(const Curve& curve, const DeviceRequest& request,

@@ -125,6 +125,25 @@ class Session {
   ListResult<SurfaceFirst> evaluate(const Surface& surface, const DeviceRequest& request,
                                     std::span<const SurfaceQuery> queries, ListFields fields);
 
+  // A surface kept on the session's device for many lists (the part mesher asks a few per face and
+  // refinement round): planned once, its net uploaded once, each list then one evaluation. Where
+  // the plan chose the CPU, the lists run on core's lean list kernel, as evaluate() would; the
+  // results are evaluate()'s with `fields`. The surface must outlive it; not thread-safe.
+  class ResidentSurface {
+   public:
+    ~ResidentSurface();
+    const Report& report() const;
+    std::vector<SurfaceFirst> evaluate(std::span<const SurfaceQuery> queries, ListFields fields);
+
+   private:
+    friend class Session;
+    struct Impl;
+    explicit ResidentSurface(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+  };
+  // Throws DeviceError as the jobs do.
+  std::unique_ptr<ResidentSurface> resident(const Surface& surface, const DeviceRequest& request);
+
   // The Vulkan context once a plan or job on the GPU path created it (nullptr before that and when
   // there is no device). A front end that keeps device-side models between jobs (the Python
   // module's gpu::GpuCurve/GpuSurface, so parameter changes need no net upload) builds them on it,

@@ -100,5 +100,52 @@ TEST_F(ListFieldsGpu, GpuListsWriteTheAskedFieldsWithinFp32) {
   for (size_t k = 0; k < q.size(); ++k) EXPECT_TRUE(sameBits(points.points[k].du, glm::dvec3(0.0))) << "query " << k;
 }
 
+// A resident surface gives evaluate()'s bits, list after list, on the CPU (nets scaled too) and on
+// the device, and reports the plan evaluate() makes.
+TEST(ListFieldsSession, AResidentSurfaceGivesEvaluatesBitsOnTheCpu) {
+  for (double scale : {1.0, 1e250}) {
+    SCOPED_TRACE("net scale " + std::to_string(scale));
+    SurfaceModel m = nurbsTorus(2.0, 0.5);
+    for (auto& p : m.points) p *= scale;
+    const Surface s = Surface::create(m);
+    const std::vector<SurfaceQuery> q = torusQueries();
+    sampling::Session session;
+    const sampling::DeviceRequest cpu{sampling::DeviceKind::Cpu, Precision::Double};
+    const auto want = session.evaluate(s, cpu, q, ListFields::FirstDerivatives);
+    const auto resident = session.resident(s, cpu);
+    EXPECT_FALSE(resident->report().gpu);
+    EXPECT_EQ(resident->report().netScaleExponent, want.report.netScaleExponent);
+    for (int list = 0; list < 2; ++list) {
+      const std::vector<SurfaceFirst> got = resident->evaluate(q, ListFields::FirstDerivatives);
+      ASSERT_EQ(got.size(), q.size());
+      for (size_t k = 0; k < q.size(); ++k) {
+        EXPECT_TRUE(sameBits(got[k].point, want.points[k].point)) << "list " << list << " query " << k;
+        EXPECT_TRUE(sameBits(got[k].du, want.points[k].du)) << "list " << list << " query " << k;
+        EXPECT_TRUE(sameBits(got[k].dv, want.points[k].dv)) << "list " << list << " query " << k;
+      }
+    }
+    EXPECT_TRUE(resident->evaluate({}, ListFields::FirstDerivatives).empty());
+  }
+}
+
+TEST_F(ListFieldsGpu, AResidentSurfaceGivesEvaluatesBitsOnTheDevice) {
+  const Surface s = Surface::create(nurbsTorus(2.0, 0.5));
+  const std::vector<SurfaceQuery> q = torusQueries();
+  sampling::Session session(ctx_);
+  const sampling::DeviceRequest vulkan{sampling::DeviceKind::Vulkan, Precision::Float, true};
+  const auto want = session.evaluate(s, vulkan, q, ListFields::FirstDerivatives);
+  const auto resident = session.resident(s, vulkan);
+  ASSERT_TRUE(resident->report().gpu);
+  // Two lists on the one upload: each the bits of a list with its own upload.
+  for (int list = 0; list < 2; ++list) {
+    const std::vector<SurfaceFirst> got = resident->evaluate(q, ListFields::FirstDerivatives);
+    ASSERT_EQ(got.size(), q.size());
+    for (size_t k = 0; k < q.size(); ++k) {
+      EXPECT_TRUE(sameBits(got[k].point, want.points[k].point)) << "list " << list << " query " << k;
+      EXPECT_TRUE(sameBits(got[k].du, want.points[k].du)) << "list " << list << " query " << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace shapespline::test
