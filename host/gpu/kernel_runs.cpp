@@ -203,6 +203,42 @@ std::optional<GridJob<layout::EvalPush>> knotPatchGridJob(const GpuSurface& s, c
   return GridJob<layout::EvalPush>{Kernel::SurfaceGrid, true, true, kSurfaceFields, surfacePush(s), s.gridItemCount()};
 }
 
+// How a grid job's kernel walks its points, decided once per job: which TABLE it reads (the
+// device-built basis table of the uniform families, a knot grid's host-built one, or none for
+// bspline_*_eval.comp), how many samples each invocation takes, whether that run is a
+// specialisation constant, and how many rows a chunk's row range must hold whole. (Not in an
+// anonymous namespace: runGrid, a template of this module's interface, captures it.)
+struct KernelShape {
+  enum class Table { Basis, Knot, None } table = Table::None;
+  bool gridKernel = false;       // surface_grid.comp / curve_grid.comp
+  uint32_t run = 0;              // samples per invocation of a grid or knot-grid kernel
+  bool runIsSpecialised = false;  // spec[kSpecRunLength] = run
+  uint64_t perInvocation = 0;    // points one invocation takes
+  size_t granule = 1;            // rows a chunk's row range holds whole
+};
+
+template <class Push>
+KernelShape kernelShape(const GridJob<Push>& job, const GridSpec& grid, FieldMask fields) {
+  KernelShape shape;
+  const bool knotGrid = job.knotTable != nullptr;
+  shape.table = !job.knotVector ? KernelShape::Table::Basis : knotGrid ? KernelShape::Table::Knot : KernelShape::Table::None;
+  shape.gridKernel = job.kernel == Kernel::SurfaceGrid || job.kernel == Kernel::CurveGrid;
+  const uint32_t su = uint32_t(grid.samplesU), sv = uint32_t(grid.samplesV);
+  shape.run = shape.gridKernel ? gridRunLength(grid, fields, job.surface)
+              : knotGrid       ? (job.surface ? knotRunLength(sv) : 1u)
+                               : 0u;
+  shape.runIsSpecialised = shape.gridKernel || (knotGrid && job.surface);
+  // Grid kernels: `run` samples per invocation (whole rows or spans, or runs dividing a row; the
+  // last invocation of a curve chunk may hold fewer spans).
+  shape.perInvocation = shape.gridKernel || knotGrid ? shape.run : layout::kPointsPerInvocation;
+  // Row ranges hold whole invocations of the grid kernel (rows of a patch, a run of a span).
+  shape.granule = !shape.gridKernel ? 1u
+                  : job.surface     ? std::max<size_t>(1, shape.run / sv)
+                  : shape.run < su  ? shape.run
+                                    : su;
+  return shape;
+}
+
 template <class Push>
 void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& job, const GridSpec& grid,
              FieldMask fields, const ChunkConsumer& consumer, size_t maxPlaneBytes) {
@@ -218,30 +254,24 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
   const SpanBasis& bv = m.basisV();
   const uint32_t su = uint32_t(grid.samplesU), sv = uint32_t(grid.samplesV);
   const uint32_t tableV = su * 3u * uint32_t(bu.count);
+  const KernelShape shape = kernelShape(job, grid, fields);
   vk::Buffer table;
-  const bool knotGrid = job.knotTable != nullptr;
-  if (!job.knotVector) {
+  if (shape.table == KernelShape::Table::Basis) {
     table = realBuffer(k, tableV + (job.surface ? sv * 3u * uint32_t(bv.count) : 0u), vk::MemoryUse::DeviceLocal,
                        "gpu.table");
-  } else if (knotGrid) {
+  } else if (shape.table == KernelShape::Table::Knot) {
     table = realBuffer(k, job.knotTable->values.size(), vk::MemoryUse::DeviceLocal, "gpu.knot_table");
     table.upload(toReal(job.knotTable->values, k.precision()));
   }
   std::vector<int> active;
   for (int f = 0; f < kFieldCount; ++f)
     if (fields & fieldBit(Field(f))) active.push_back(f);
-  const bool gridKernel = job.kernel == Kernel::SurfaceGrid || job.kernel == Kernel::CurveGrid;
-  const uint32_t run = gridKernel ? gridRunLength(grid, fields, job.surface)
-                       : knotGrid   ? (job.surface ? knotRunLength(sv) : 1u)
-                                    : 0u;
   SpecValues spec = evalSpec(m, fields, job.knotVector ? kNoListMode : 0u);
-  if (gridKernel || (knotGrid && job.surface)) spec[layout::kSpecRunLength] = run;
+  if (shape.runIsSpecialised) spec[layout::kSpecRunLength] = shape.run;
   const auto& pipe = k.pipeline(job.kernel, spec);
 
-  // Row ranges hold whole invocations of the grid kernel (rows of a patch, a run of a span).
-  const size_t granule = !gridKernel ? 1u : job.surface ? std::max<size_t>(1, run / sv) : run < su ? run : su;
   const size_t hardLimit = k.context().limits().maxStorageBufferRange;
-  const ChunkPlan plan = planGridChunks(grid, count, job.surface, granule, realSize(k.precision()), maxPlaneBytes,
+  const ChunkPlan plan = planGridChunks(grid, count, job.surface, shape.granule, realSize(k.precision()), maxPlaneBytes,
                                         hardLimit, k.precision());
 
   std::vector<vk::DescriptorSet> keep;  // vertex pass / tables
@@ -256,7 +286,7 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     sets[s].bind(layout::kBindingNet, m.netBuffer())
         .bind(layout::kBindingParams, m.paramBuffer())
         .bind(layout::kBindingVerts, m.vertexBuffer());
-    if (!job.knotVector || knotGrid) sets[s].bind(layout::kBindingTable, table);
+    if (shape.table != KernelShape::Table::None) sets[s].bind(layout::kBindingTable, table);
     for (int f : active) sets[s].bind(layout::kBindingOutput + f, *planes[s][f]);
   }
   vk::SubmitRing ring(k.context(), slots);  // declared last: its destructor waits before anything it uses goes
@@ -277,7 +307,7 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
       // Later chunks are later in submission order on the same queue, so this barrier orders the
       // vertex pass / tables before their dispatches too.
       recordVertexPass(k, m, job.surface, cmd, keep);
-      if (!job.knotVector) {
+      if (shape.table == KernelShape::Table::Basis) {
         recordTable(k, m, bu, layout::kParamCoefU, su, 0, table, cmd, keep);
         if (job.surface) recordTable(k, m, bv, layout::kParamCoefV, sv, tableV, table, cmd, keep);
       }
@@ -285,10 +315,7 @@ void runGrid(KernelSet& k, PlanePool& pool, GpuModel& m, const GridJob<Push>& jo
     }
     pipe.bind(cmd, sets[slot].handle());
     pipe.push(cmd, pc);
-    // Grid kernels: `run` samples per invocation (whole rows or spans, or runs dividing a row; the
-    // last invocation of a curve chunk may hold fewer spans).
-    const uint64_t perInvocation = gridKernel || knotGrid ? run : layout::kPointsPerInvocation;
-    k.dispatch(cmd, (uint64_t(c.pointCount()) + perInvocation - 1) / perInvocation);
+    k.dispatch(cmd, (uint64_t(c.pointCount()) + shape.perInvocation - 1) / shape.perInvocation);
     ring.submit(slot);
   };
 

@@ -28,12 +28,17 @@ std::vector<SurfaceQuery> torusQueries() {
   return q;
 }
 
+// The NURBS torus with its net times `scale`.
+Surface scaledTorus(double scale) {
+  SurfaceModel m = nurbsTorus(2.0, 0.5);
+  for (auto& p : m.points) p *= scale;
+  return Surface::create(m);
+}
+
 TEST(ListFieldsSession, CpuListsHaveTheFullListsBitsAtEveryScale) {
   for (double scale : {1.0, 1e250}) {  // 1e250: beyond 2^200, evaluated as 2^k * net and scaled back
     SCOPED_TRACE("net scale " + std::to_string(scale));
-    SurfaceModel m = nurbsTorus(2.0, 0.5);
-    for (auto& p : m.points) p *= scale;
-    const Surface s = Surface::create(m);
+    const Surface s = scaledTorus(scale);
     const std::vector<SurfaceQuery> q = torusQueries();
     sampling::Session session;
     const sampling::DeviceRequest cpu{sampling::DeviceKind::Cpu, Precision::Double};
@@ -105,9 +110,7 @@ TEST_F(ListFieldsGpu, GpuListsWriteTheAskedFieldsWithinFp32) {
 TEST(ListFieldsSession, AResidentSurfaceGivesEvaluatesBitsOnTheCpu) {
   for (double scale : {1.0, 1e250}) {
     SCOPED_TRACE("net scale " + std::to_string(scale));
-    SurfaceModel m = nurbsTorus(2.0, 0.5);
-    for (auto& p : m.points) p *= scale;
-    const Surface s = Surface::create(m);
+    const Surface s = scaledTorus(scale);
     const std::vector<SurfaceQuery> q = torusQueries();
     sampling::Session session;
     const sampling::DeviceRequest cpu{sampling::DeviceKind::Cpu, Precision::Double};

@@ -37,24 +37,22 @@ export SHAPESPLINE_CACHE_DIR="$tmp/cache"
 
 model="$src/examples/models/surface_aeb.json"  # alpha_eb degree 5: lambda in [-15, 1]
 
+# expect_exit2 MODEL SCRIPT_TEXT NAMED: view MODEL with a script of SCRIPT_TEXT must exit 2 and say NAMED.
+expect_exit2() {
+  printf '%b' "$2" >"$tmp/bad.txt"
+  set +e
+  "$bin" view "$1" --size 320x240 --script "$tmp/bad.txt" >"$tmp/bad.out" 2>&1
+  local rc=$?
+  set -e
+  if [[ $rc -ne 2 ]] || ! grep -q "$3" "$tmp/bad.out"; then
+    cat "$tmp/bad.out"; echo "FAIL: the script '$2' on $1 gave exit $rc (want 2, naming '$3')"; exit 1
+  fi
+}
+
 # A bad line is refused before the window opens: exit 2, naming the line.
-printf 'frames 2\nalpha 2 2 1.5x\n' >"$tmp/bad.txt"
-set +e
-"$bin" view "$model" --script "$tmp/bad.txt" --screenshot-dir "$tmp/shots" >"$tmp/bad.out" 2>&1
-rc=$?
-set -e
-if [[ $rc -ne 2 ]] || ! grep -q "line 2" "$tmp/bad.out"; then
-  cat "$tmp/bad.out"; echo "FAIL: a bad script line gave exit $rc (want 2, naming line 2)"; exit 1
-fi
+expect_exit2 "$model" 'frames 2\nalpha 2 2 1.5x\n' "line 2"
 # An alpha outside (0, 1] is the model's rule: exit 2 as well, after the window opened.
-printf 'frames 1\nalpha 2 2 1.5\nquit\n' >"$tmp/bad_alpha.txt"
-set +e
-"$bin" view "$model" --size 320x240 --script "$tmp/bad_alpha.txt" >"$tmp/bad_alpha.out" 2>&1
-rc=$?
-set -e
-if [[ $rc -ne 2 ]] || ! grep -q "alpha" "$tmp/bad_alpha.out"; then
-  cat "$tmp/bad_alpha.out"; echo "FAIL: alpha 1.5 gave exit $rc (want 2, naming alpha)"; exit 1
-fi
+expect_exit2 "$model" 'frames 1\nalpha 2 2 1.5\nquit\n' "alpha"
 
 cat >"$tmp/session.txt" <<'SCRIPT'
 # the panel is off for the edit screenshots: only the scene changes between them
@@ -159,12 +157,5 @@ done
 /usr/bin/python3 "$src/tests/viewer/check_screenshots.py" --hole "$tmp/face_shots" trimmed untrimmed
 # A part takes no surface control, and a face it lacks is refused: exit 2 naming the line.
 for bad in 'lambda 0.5' 'pick-face 9' 'net off'; do
-  printf 'frames 1\n%s\nquit\n' "$bad" >"$tmp/bad_part.txt"
-  set +e
-  "$bin" view "$tmp/part/part.json" --size 320x240 --script "$tmp/bad_part.txt" >"$tmp/bad_part.out" 2>&1
-  rc=$?
-  set -e
-  if [[ $rc -ne 2 ]] || ! grep -q "line 2" "$tmp/bad_part.out"; then
-    cat "$tmp/bad_part.out"; echo "FAIL: '$bad' on a part gave exit $rc (want 2, naming line 2)"; exit 1
-  fi
+  expect_exit2 "$tmp/part/part.json" "frames 1\\n$bad\\nquit\\n" "line 2"
 done
