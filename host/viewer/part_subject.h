@@ -22,7 +22,7 @@ inline constexpr int64_t kViewTriangleBudget = 8'000'000;
 class PartSubject final : public Subject {
  public:
   // Meshes the part at 1e-3 of its diagonal first: a part the mesher refuses (crossing trim loops,
-  // a face without coedges) is a ModelError here, before the window shows anything.
+  // a face without coedges) is a ModelError here, before the first frame.
   PartSubject(std::shared_ptr<vk::Context> ctx, part::Part part);
 
   std::pair<glm::dvec3, glm::dvec3> bounds() const override { return {lo_, hi_}; }
