@@ -17,7 +17,7 @@ set(SHAPESPLINE_PUBLIC_HEADERS
     gpu/basis_table_evaluator.h gpu/curve_evaluator.h gpu/evaluator.h gpu/evaluator_options.h gpu/gpu_model.h
     gpu/surface_evaluator.h gpu/tessellator.h gpu/adaptive_tessellator.h
     sampling/devices.h sampling/gpu_limits.h sampling/net_scale.h sampling/report.h sampling/session.h
-    render/camera.h render/painter.h render/renderer.h render/scene_pipelines.h
+    render/camera.h render/painter.h render/renderer.h render/scene_pipelines.h render/static_mesh.h
     shaders/tess_layout.h)
 foreach(header IN LISTS SHAPESPLINE_PUBLIC_HEADERS)
   get_filename_component(dir ${header} DIRECTORY)

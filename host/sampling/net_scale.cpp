@@ -1,9 +1,12 @@
 #include <shapespline/sampling/net_scale.h>
 
+#include <shapespline/core/cores.h>
 #include <shapespline/core/value_scan.h>
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <thread>
 #include <utility>
 
 namespace shapespline::sampling {
@@ -102,6 +105,51 @@ void ChunkUnscaler::operator()(const GridChunk& chunk, const ChunkConsumer& cons
     }
   }
   consumer(out);
+}
+
+namespace {
+
+// The slice stage of a chunk (valid during this call): one slice per hardware thread, run at once
+// (SliceConsumer work is order-free), so that the checks and the writer's conversion of a GPU
+// chunk take 1/T of the time the next dispatch has to run in.
+void sliceInParallel(const SliceConsumer& slice, const GridChunk& chunk) {
+  const size_t n = chunk.pointCount();
+  const size_t threads = std::min<size_t>(static_cast<size_t>(availableCores()), (n + 4095) / 4096);
+  if (threads <= 1) {
+    slice(chunk, 0, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> failures(threads);
+  for (size_t t = 1; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      try {
+        slice(chunk, n * t / threads, n * (t + 1) / threads - n * t / threads);
+      } catch (...) {
+        failures[t] = std::current_exception();
+      }
+    });
+  }
+  try {
+    slice(chunk, 0, n / threads);
+  } catch (...) {
+    failures[0] = std::current_exception();
+  }
+  for (auto& t : pool) t.join();
+  for (const auto& f : failures) {
+    if (f) std::rethrow_exception(f);
+  }
+}
+
+}  // namespace
+
+ChunkConsumer unscaledDelivery(ChunkUnscaler& unscale, const SliceConsumer& slice, const ChunkConsumer& consumer) {
+  return [&unscale, &slice, &consumer](const GridChunk& chunk) {
+    unscale(chunk, [&](const GridChunk& c) {
+      if (slice) sliceInParallel(slice, c);
+      consumer(c);
+    });
+  };
 }
 
 }  // namespace shapespline::sampling

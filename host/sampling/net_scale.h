@@ -56,4 +56,10 @@ class ChunkUnscaler {
   std::array<std::vector<float>, kFieldCount> floats_;
 };
 
+// What a chunk computed on a scaled net goes through before the caller sees it: scaled back, then
+// the slice work (`slice`, may be empty; on every core at once, SliceConsumer work being
+// order-free), then `consumer`. The three must outlive the returned consumer. The one path of the
+// CPU sampler on a scaled net, the session's GPU jobs and the Python module's resident mirrors.
+ChunkConsumer unscaledDelivery(ChunkUnscaler& unscale, const SliceConsumer& slice, const ChunkConsumer& consumer);
+
 }  // namespace shapespline::sampling

@@ -73,38 +73,6 @@ SamplerOptions samplerOptions(const GridOptions& options) {
   return s;
 }
 
-// The slice stage of a GPU chunk (read back, valid during this call): one slice per hardware
-// thread, run at once (SliceConsumer work is order-free), so that the checks and the writer's
-// conversion of a chunk take 1/T of the time the next dispatch has to run in.
-void sliceInParallel(const SliceConsumer& slice, const GridChunk& chunk) {
-  const size_t n = chunk.pointCount();
-  const size_t threads = std::min<size_t>(static_cast<size_t>(availableCores()), (n + 4095) / 4096);
-  if (threads <= 1) {
-    slice(chunk, 0, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  std::vector<std::exception_ptr> failures(threads);
-  for (size_t t = 1; t < threads; ++t) {
-    pool.emplace_back([&, t] {
-      try {
-        slice(chunk, n * t / threads, n * (t + 1) / threads - n * t / threads);
-      } catch (...) {
-        failures[t] = std::current_exception();
-      }
-    });
-  }
-  try {
-    slice(chunk, 0, n / threads);
-  } catch (...) {
-    failures[0] = std::current_exception();
-  }
-  for (auto& t : pool) t.join();
-  for (const auto& f : failures) {
-    if (f) std::rethrow_exception(f);
-  }
-}
-
 // The GPU side of each model kind: its mirror, evaluator and list sample type.
 template <class Model>
 struct Gpu;
@@ -154,12 +122,7 @@ void sampleOnCpuFor(const Model& model, const Report& r, const GridSpec& g, Fiel
   plain.records = {};
   plain.jobPlanes = {};  // the workers' values are scaled: `slice` copies the unscaled ones
   ChunkUnscaler unscale(r.netScaleExponent);
-  const ChunkConsumer sliceThenConsume = [&](const GridChunk& chunk) {
-    sliceInParallel(o.slice, chunk);
-    consumer(chunk);
-  };
-  const ChunkConsumer deliver = [&](const GridChunk& chunk) { unscale(chunk, o.slice ? sliceThenConsume : consumer); };
-  sampleCpuGrid(*scaledOrNot(model, r.netScaleExponent), g, f, deliver, plain);
+  sampleCpuGrid(*scaledOrNot(model, r.netScaleExponent), g, f, unscaledDelivery(unscale, o.slice, consumer), plain);
 }
 
 }  // namespace
@@ -325,22 +288,12 @@ Report Session::plan(const Surface& surface, const DeviceRequest& request) { ret
 
 namespace {
 
-// What a GPU chunk goes through: scaled back, then the slice work (on every core), then `consumer`.
-ChunkConsumer gpuDelivery(ChunkUnscaler& unscale, const GridOptions& options, const ChunkConsumer& consumer) {
-  return [&unscale, &options, &consumer](const GridChunk& chunk) {
-    unscale(chunk, [&](const GridChunk& c) {
-      if (options.slice) sliceInParallel(options.slice, c);
-      consumer(c);
-    });
-  };
-}
-
 template <class Model>
 void sampleOnGpu(const std::shared_ptr<vk::Context>& ctx, typename Gpu<Model>::Evaluator& evaluator, const Model& model,
                  const Report& r, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
                  const GridOptions& options) {
   ChunkUnscaler unscale(r.netScaleExponent);
-  const ChunkConsumer deliver = gpuDelivery(unscale, options, consumer);
+  const ChunkConsumer deliver = unscaledDelivery(unscale, options.slice, consumer);
   onDevice([&] {
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     typename Gpu<Model>::Mirror mirror(ctx, pick(scaled, model), r.computedPrecision);
@@ -356,7 +309,7 @@ void sampleOnGpuInBands(const std::shared_ptr<vk::Context>& ctx, gpu::SurfaceEva
                         const Report& r, const GridSpec& grid, FieldMask fields, const ChunkConsumer& consumer,
                         const GridOptions& options) {
   ChunkUnscaler unscale(r.netScaleExponent);
-  const ChunkConsumer deliver = gpuDelivery(unscale, options, consumer);
+  const ChunkConsumer deliver = unscaledDelivery(unscale, options.slice, consumer);
   onDevice([&] {
     const auto scaled = scaledOrNot(model, r.netScaleExponent);
     const Surface& s = pick(scaled, model);

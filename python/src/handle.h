@@ -125,11 +125,7 @@ class Handle {
     try {
       Resident& res = resident(r, chunkPoints);
       sampling::ChunkUnscaler unscale(r.netScaleExponent);
-      const ChunkConsumer sliceThenConsume = [&](const GridChunk& c) {
-        if (slice) slice(c, 0, c.pointCount());
-        consumer(c);
-      };
-      res.evaluator->evaluateGrid(*res.mirror, grid, fields, [&](const GridChunk& c) { unscale(c, sliceThenConsume); });
+      res.evaluator->evaluateGrid(*res.mirror, grid, fields, sampling::unscaledDelivery(unscale, slice, consumer));
     } catch (const vk::VulkanError&) {
       rethrowDeviceError();
     }
