@@ -105,6 +105,20 @@ TEST_F(ListFieldsGpu, GpuListsWriteTheAskedFieldsWithinFp32) {
   for (size_t k = 0; k < q.size(); ++k) EXPECT_TRUE(sameBits(points.points[k].du, glm::dvec3(0.0))) << "query " << k;
 }
 
+// Two lists through `resident` on its one upload: each with `want`'s bits (point and partials).
+void expectTwoListsOf(sampling::Session::ResidentSurface& resident, const std::vector<SurfaceQuery>& q,
+                      const std::vector<SurfaceFirst>& want) {
+  for (int list = 0; list < 2; ++list) {
+    const std::vector<SurfaceFirst> got = resident.evaluate(q, ListFields::FirstDerivatives);
+    ASSERT_EQ(got.size(), q.size());
+    for (size_t k = 0; k < q.size(); ++k) {
+      EXPECT_TRUE(sameBits(got[k].point, want[k].point)) << "list " << list << " query " << k;
+      EXPECT_TRUE(sameBits(got[k].du, want[k].du)) << "list " << list << " query " << k;
+      EXPECT_TRUE(sameBits(got[k].dv, want[k].dv)) << "list " << list << " query " << k;
+    }
+  }
+}
+
 // A resident surface gives evaluate()'s bits, list after list, on the CPU (nets scaled too) and on
 // the device, and reports the plan evaluate() makes.
 TEST(ListFieldsSession, AResidentSurfaceGivesEvaluatesBitsOnTheCpu) {
@@ -118,15 +132,7 @@ TEST(ListFieldsSession, AResidentSurfaceGivesEvaluatesBitsOnTheCpu) {
     const auto resident = session.resident(s, cpu);
     EXPECT_FALSE(resident->report().gpu);
     EXPECT_EQ(resident->report().netScaleExponent, want.report.netScaleExponent);
-    for (int list = 0; list < 2; ++list) {
-      const std::vector<SurfaceFirst> got = resident->evaluate(q, ListFields::FirstDerivatives);
-      ASSERT_EQ(got.size(), q.size());
-      for (size_t k = 0; k < q.size(); ++k) {
-        EXPECT_TRUE(sameBits(got[k].point, want.points[k].point)) << "list " << list << " query " << k;
-        EXPECT_TRUE(sameBits(got[k].du, want.points[k].du)) << "list " << list << " query " << k;
-        EXPECT_TRUE(sameBits(got[k].dv, want.points[k].dv)) << "list " << list << " query " << k;
-      }
-    }
+    expectTwoListsOf(*resident, q, want.points);
     EXPECT_TRUE(resident->evaluate({}, ListFields::FirstDerivatives).empty());
   }
 }
@@ -139,15 +145,7 @@ TEST_F(ListFieldsGpu, AResidentSurfaceGivesEvaluatesBitsOnTheDevice) {
   const auto want = session.evaluate(s, vulkan, q, ListFields::FirstDerivatives);
   const auto resident = session.resident(s, vulkan);
   ASSERT_TRUE(resident->report().gpu);
-  // Two lists on the one upload: each the bits of a list with its own upload.
-  for (int list = 0; list < 2; ++list) {
-    const std::vector<SurfaceFirst> got = resident->evaluate(q, ListFields::FirstDerivatives);
-    ASSERT_EQ(got.size(), q.size());
-    for (size_t k = 0; k < q.size(); ++k) {
-      EXPECT_TRUE(sameBits(got[k].point, want.points[k].point)) << "list " << list << " query " << k;
-      EXPECT_TRUE(sameBits(got[k].du, want.points[k].du)) << "list " << list << " query " << k;
-    }
-  }
+  expectTwoListsOf(*resident, q, want.points);  // each the bits of a list with its own upload
 }
 
 }  // namespace
