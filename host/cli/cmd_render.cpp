@@ -270,8 +270,7 @@ render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter
   }
   const auto drawing = painter.upload(shaded.positions, shaded.normals, shaded.triangles, lines);
   const render::PixelRect target = fitTarget(p.width, p.height, headers.band());
-  const std::vector<glm::dvec3> fitted(mesh.mesh.positions.begin(), mesh.mesh.positions.end());
-  const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, p.width, p.height, target);
+  const render::Camera cam = render::Camera::fit(mesh.mesh.positions, p.az, p.el, p.width, p.height, target);
   render::Scene scene;
   render::MeshDraw draw = drawing->draw();
   draw.color = render::kPartColour;
