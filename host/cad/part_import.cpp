@@ -1,6 +1,6 @@
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
-#include <shapespline/core/cores.h>
+#include <shapespline/core/parallel_for.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/version.h>
@@ -13,13 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <optional>
-#include <thread>
 
 namespace shapespline::cad {
 namespace {
@@ -68,22 +65,16 @@ struct FaceResult {
 // parallel: its handles count references atomically) and builds its own B-spline, map and loops.
 std::vector<FaceResult> convertFaces(const TopTools_IndexedMapOfShape& faces, double trimTolerance) {
   std::vector<FaceResult> results(static_cast<size_t>(faces.Extent()));
-  std::atomic<size_t> next{0};
-  const auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < results.size();) {
-      try {
-        results[i].face.emplace(convertFace(TopoDS::Face(faces(static_cast<int>(i) + 1)), trimTolerance));
-        results[i].text = io::toJson(results[i].face->model).dump(1) + "\n";
-      } catch (...) {
-        results[i].error = std::current_exception();
-      }
+  // Each face's failure is kept for its turn in the manifest (a face that does not convert is
+  // listed, not fatal), so no exception leaves the loop.
+  parallelFor(results.size(), 0, [&](size_t i) {
+    try {
+      results[i].face.emplace(convertFace(TopoDS::Face(faces(static_cast<int>(i) + 1)), trimTolerance));
+      results[i].text = io::toJson(results[i].face->model).dump(1) + "\n";
+    } catch (...) {
+      results[i].error = std::current_exception();
     }
-  };
-  const size_t threads = std::min<size_t>(static_cast<size_t>(std::max(1, availableCores())), results.size());
-  std::vector<std::thread> pool;
-  for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+  });
   return results;
 }
 

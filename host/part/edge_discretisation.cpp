@@ -1,6 +1,6 @@
 #include <shapespline/part/edge_discretisation.h>
-#include <shapespline/part/parallel_for.h>
 
+#include <shapespline/core/parallel_for.h>
 #include <shapespline/part/face_triangulation.h>
 
 #include <glm/geometric.hpp>

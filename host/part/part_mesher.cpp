@@ -1,9 +1,9 @@
 #include <shapespline/core/model.h>
+#include <shapespline/core/parallel_for.h>
 #include <shapespline/core/value_text.h>
 #include <shapespline/part/edge_discretisation.h>
 #include <shapespline/part/face_triangulation.h>
 #include <shapespline/part/loop_projection.h>
-#include <shapespline/part/parallel_for.h>
 #include <shapespline/part/part_mesher.h>
 
 #include <glm/geometric.hpp>

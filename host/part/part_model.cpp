@@ -1,7 +1,7 @@
+#include <shapespline/core/parallel_for.h>
 #include <shapespline/core/validate.h>
-#include <shapespline/io/model_json.h>
 #include <shapespline/io/input_file.h>
-#include <shapespline/part/parallel_for.h>
+#include <shapespline/io/model_json.h>
 #include <shapespline/part/part_model.h>
 
 #include <algorithm>
@@ -73,7 +73,7 @@ Part loadPart(const std::filesystem::path& manifestPath) {
 Part faceAsPart(const std::filesystem::path& model, Surface surface) {
   Part part;
   part.manifest = model;
-  PartFace face{1, "face", model, std::move(surface), false, {}};
+  PartFace face{1, "face", model, std::move(surface), false, {}, {}};
   const auto& loops = face.surface.model().trim.loops;
   for (size_t l = 0; l < loops.size(); ++l) {
     io::PartCoedge coedge{static_cast<int>(l) + 1, 0, {}};

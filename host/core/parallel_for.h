@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-namespace shapespline::part {
+namespace shapespline {
 
 template <typename Body>
 void parallelFor(size_t count, int threads, const Body& body) {
@@ -42,4 +42,4 @@ void parallelFor(size_t count, int threads, const Body& body) {
   if (error) std::rethrow_exception(error);
 }
 
-}  // namespace shapespline::part
+}  // namespace shapespline
