@@ -186,10 +186,9 @@ class FaceRefiner {
     return false;
   }
 
-  // The centroids of the triangles and the midpoints of the inner edges where the mesh is too far
-  // from the surface or turns too much, as new vertices (evaluated once, here).
   // A triangle or inner edge found fine in an earlier round (no point to add) is not looked at
-  // again: its test depends on its own vertices alone, which do not move.
+  // again: its test depends on its own vertices alone, which do not move. Triangles by their
+  // sorted corners, edges by edgeKey.
   static std::array<int, 3> sortedCorners(const std::array<int, 3>& t) {
     std::array<int, 3> k = t;
     std::sort(k.begin(), k.end());
@@ -202,7 +201,11 @@ class FaceRefiner {
   };
   std::unordered_set<std::array<int, 3>, CornersHash> fineTriangles_;
   std::unordered_set<uint64_t> fineEdges_;
+  // The edge between vertices a < b.
+  static uint64_t edgeKey(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
 
+  // The centroids of the triangles and the midpoints of the inner edges where the mesh is too far
+  // from the surface or turns too much, as new vertices (evaluated once, here).
   std::vector<std::pair<glm::dvec2, Vertex>> refinementPoints(const std::vector<std::array<int, 3>>& triangles) {
     // Each triangle's centroid, summed in the order of its sorted corners (the same bits whichever
     // corner the triangulation lists first); -1: not evaluated (fine before, or a sliver).
@@ -220,8 +223,9 @@ class FaceRefiner {
       const glm::dvec2 ab = b - a, ac = c - a, bc = c - b;
       const double longest2 = std::max({glm::dot(ab, ab), glm::dot(ac, ac), glm::dot(bc, bc)});
       sliver[k] = std::abs(ab.x * ac.y - ab.y * ac.x) <= kSliver * longest2;
-      if (sliver[k] || fineTriangles_.count(sortedCorners(triangles[k]))) continue;
+      if (sliver[k]) continue;
       const std::array<int, 3> c3 = sortedCorners(triangles[k]);
+      if (fineTriangles_.count(c3)) continue;
       at[k] = static_cast<ptrdiff_t>(uv.size());
       uv.push_back((vertices_[size_t(c3[0])].uv + vertices_[size_t(c3[1])].uv + vertices_[size_t(c3[2])].uv) / 3.0);
     }
@@ -244,13 +248,13 @@ class FaceRefiner {
       for (int j = 0; j < 3; ++j) {
         const auto& t = triangles[k];
         const int a = std::min(t[j], t[(j + 1) % 3]), b = std::max(t[j], t[(j + 1) % 3]);
-        EdgeUse& use = seen[(uint64_t(uint32_t(a)) << 32) | uint32_t(b)];
+        EdgeUse& use = seen[edgeKey(a, b)];
         use.sliver = use.sliver || sliver[k];
         if (++use.triangles == 1) use.first = k;
         if (use.triangles == 2) {
           neighbours[k].push_back(use.first);
           neighbours[use.first].push_back(k);
-          if (!use.sliver && !fineEdges_.count((uint64_t(uint32_t(a)) << 32) | uint32_t(b)))
+          if (!use.sliver && !fineEdges_.count(edgeKey(a, b)))
             inner.push_back({a, b, use.first, k});
         }
       }
@@ -303,7 +307,7 @@ class FaceRefiner {
       if (off > tol_.deflection && !nearAny(s[mid].point, {&vertices_[size_t(inner[k].a)], &vertices_[size_t(inner[k].b)]}))
         candidates.push_back({off / tol_.deflection, inner[k].left, inner[k].right, {uv[mid], {uv[mid], s[mid].point, normal, 0}}});
       else
-        fineEdges_.insert((uint64_t(uint32_t(inner[k].a)) << 32) | uint32_t(inner[k].b));
+        fineEdges_.insert(edgeKey(inner[k].a, inner[k].b));
     }
     // The worst first, and none beside a triangle split this round: one point often mends its
     // neighbours too, and splitting them all at once over-refines (twice BRepMesh's count on a
