@@ -15,11 +15,10 @@
 #include <shapespline/core/curve.h>
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
-#include <shapespline/io/output_set.h>
-#include <shapespline/io/part_manifest.h>
-#include <shapespline/io/png_writer.h>
 #include <shapespline/core/tess_topology.h>
 #include <shapespline/core/value_text.h>
+#include <shapespline/io/output_set.h>
+#include <shapespline/io/png_writer.h>
 #include <shapespline/part/shaded_mesh.h>
 #include <shapespline/render/painter.h>
 
@@ -297,13 +296,7 @@ RenderPlan planRender(const RenderArgs& a) {
   if (a.rate < 1 || a.rate > 256) throw InputError("--rate", std::to_string(a.rate), "expected 1..256 segments per patch edge");
   if (!std::all_of(a.title.begin(), a.title.end(), [](char c) { return c >= ' ' && c <= '~'; }) || a.title.size() > 80)
     throw InputError("--title", a.title, "expected up to 80 printable ASCII characters (the label font has no others)");
-  if (io::isPartManifest(a.model)) {
-    p.part.emplace(loadPartManifest(a.model, nullptr));
-  } else {
-    p.model = loadModel(a.model);
-    if (auto* face = std::get_if<SurfaceModel>(&p.model); face && !face->trim.empty())
-      p.part.emplace(part::faceAsPart(a.model, Surface::create(*face)));
-  }
+  p.part = partToDraw(a.model, p.model);
   const std::string partOnly = "a model that is not a part or a trimmed face (it applies to their meshes)";
   for (const char* o : {"--deflection", "--relative-deflection", "--angle", "--max-triangles", "--edges"})
     if (!p.part) refuseOption(a.given, o, partOnly);

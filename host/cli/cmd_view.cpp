@@ -3,9 +3,7 @@
 // built when GLFW and Dear ImGui were found at configure time.
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/part_mesh_options.h>
-#include <shapespline/core/surface.h>
 #include <shapespline/io/output_set.h>
-#include <shapespline/io/part_manifest.h>
 
 #ifdef SHAPESPLINE_HAS_VIEWER
 #include <shapespline/viewer/viewer.h>
@@ -59,17 +57,10 @@ void runView(const ViewArgs& a) {
   if (ec || !std::filesystem::is_directory(o.screenshotDir))
     throw InputError("--screenshot-dir", a.screenshotDir, "must be a folder that exists or can be created");
   // A part (`import`'s part.json) or a face with trim loops is shown as its mesh, trimmed.
-  std::optional<part::Part> part;
   io::Model model;
-  if (io::isPartManifest(a.model)) {
-    part.emplace(loadPartManifest(a.model, nullptr));
-  } else {
-    model = loadModel(a.model);
-    if (!std::holds_alternative<SurfaceModel>(model))
-      throw InputError("MODEL", a.model, "view draws surfaces and parts; draw curves with `shapespline render`");
-    if (const auto& face = std::get<SurfaceModel>(model); !face.trim.empty())
-      part.emplace(part::faceAsPart(a.model, Surface::create(face)));
-  }
+  std::optional<part::Part> part = partToDraw(a.model, model);
+  if (!part && !std::holds_alternative<SurfaceModel>(model))
+    throw InputError("MODEL", a.model, "view draws surfaces and parts; draw curves with `shapespline render`");
   o.title = "shapespline view " + std::filesystem::path(a.model).filename().string();
   try {
     if (part) {

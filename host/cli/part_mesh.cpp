@@ -56,9 +56,8 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
   } else {
     part.emplace(loadPartManifest(modelPath, &outputs));
   }
-  const PartMeshSettings settings = partMeshSettings(args.mesh, *part, 1e-3, args.model);
-  part::MeshOptions options = settings.options;
-  options.threads = args.threads;
+  PartMeshSettings settings = partMeshSettings(args.mesh, *part, 1e-3, args.model);
+  settings.options.threads = args.threads;
 
   const sampling::DeviceRequest meshRequest = part::meshDeviceRequest(request);
   const sampling::Report report = session.plan(part->faces.front().surface, meshRequest);
@@ -67,7 +66,7 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
   std::optional<part::SessionFaceEvaluator> gpu;
   part::FaceEvaluator& evaluator =
       report.gpu ? static_cast<part::FaceEvaluator&>(gpu.emplace(session, meshRequest, report.device)) : cpu.emplace();
-  part::PartMesh mesh = meshOrRefuse(*part, {options, settings.relative}, args.mesh, evaluator);
+  part::PartMesh mesh = meshOrRefuse(*part, settings, args.mesh, evaluator);
   if (!args.normals) mesh.mesh.normals.clear();
 
   nlohmann::json description = {{"source", modelPath.filename().string()},
@@ -75,8 +74,8 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
                                 {"faces", mesh.faces},
                                 {"faces_skipped_at_import", part->skipped},
                                 {"edges", mesh.edges},
-                                {"deflection", options.deflection},
-                                {"angle", options.angle},
+                                {"deflection", settings.options.deflection},
+                                {"angle", settings.options.angle},
                                 {"triangles", mesh.mesh.triangles.size()},
                                 {"vertices", mesh.mesh.positions.size()},
                                 {"open_edges", mesh.boundaryEdges},
@@ -93,7 +92,7 @@ bool meshPartInto(const SampleArgs& args, io::OutputFormat format, const samplin
   summary = "wrote " + args.out + " (" + std::to_string(mesh.faces) + " faces, " + std::to_string(mesh.edges) +
             " edges, " + std::to_string(mesh.mesh.triangles.size()) + " triangles, " +
             std::to_string(mesh.mesh.positions.size()) + " vertices, " + std::to_string(mesh.boundaryEdges) +
-            " open edges, deflection " + shortestText(options.deflection) + ", " + evaluator.device() + ")";
+            " open edges, deflection " + shortestText(settings.options.deflection) + ", " + evaluator.device() + ")";
   return true;
 }
 

@@ -1,8 +1,10 @@
 #include <shapespline/cli/part_mesh_options.h>
 
 #include <shapespline/cli/common.h>
+#include <shapespline/core/surface.h>
 #include <shapespline/core/value_text.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/part_manifest.h>
 #include <shapespline/part/face_triangulation.h>
 
 #include <CLI/CLI.hpp>
@@ -68,6 +70,14 @@ part::Part loadPartManifest(const std::filesystem::path& manifest, io::OutputSet
       if (face.model != manifest) outputs->reads(face.model, "MODEL's face");
   }
   return part;
+}
+
+std::optional<part::Part> partToDraw(const std::string& path, io::Model& model) {
+  if (io::isPartManifest(path)) return loadPartManifest(path, nullptr);
+  model = loadModel(path);
+  if (const auto* face = std::get_if<SurfaceModel>(&model); face && !face->trim.empty())
+    return part::faceAsPart(path, Surface::create(*face));
+  return std::nullopt;
 }
 
 part::PartMesh meshOrRefuse(const part::Part& part, const PartMeshSettings& settings, const PartMeshArgs& args,

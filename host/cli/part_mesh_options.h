@@ -3,6 +3,7 @@
 // as given (--deflection, --relative-deflection, --angle, --max-triangles), checked into
 // part::MeshOptions, the part read from its manifest or from one face with trim loops, and the
 // mesher's budget refusal as the InputError of the option that asked for it.
+#include <shapespline/io/model_json.h>
 #include <shapespline/part/face_evaluator.h>
 #include <shapespline/part/part_mesher.h>
 #include <shapespline/part/part_model.h>
@@ -40,6 +41,11 @@ PartMeshSettings partMeshSettings(const PartMeshArgs& args, const part::Part& pa
 // The part of a manifest (`import`), each file it reads added to `outputs` when given; InputError
 // naming MODEL when no face of it was converted.
 part::Part loadPartManifest(const std::filesystem::path& manifest, io::OutputSet* outputs);
+
+// What `render` and `view` draw as a part's mesh: a part's manifest, or a face model with trim
+// loops (a part of one face). Any other model is read into `model` (InputError as loadModel), and
+// then there is no part.
+std::optional<part::Part> partToDraw(const std::string& path, io::Model& model);
 
 // part::meshPart, with the budget's refusal an InputError naming the deflection option.
 part::PartMesh meshOrRefuse(const part::Part& part, const PartMeshSettings& settings, const PartMeshArgs& args,

@@ -12,7 +12,7 @@
 
 namespace shapespline::io {
 
-void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
+void setSurfaceItems(const SurfaceShape& sm, SampleLayout& layout) {
   SurfaceGridItems items = surfaceGridItems(sm);
   layout.totalItems = items.size();
   layout.spanU = std::move(items.u);
@@ -28,7 +28,6 @@ void setSurfaceItems(const SurfaceShape& sm, io::SampleLayout& layout) {
   for (int i : layout.spanU) layout.paramU.push_back(interval(i, sm.knotsU));
   for (int j : layout.spanV) layout.paramV.push_back(interval(j, sm.knotsV));
 }
-
 
 OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option) {
   std::string ext = path.extension().string();
