@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <exception>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 namespace shapespline::part {
@@ -17,6 +18,21 @@ const io::PartEdgeEntry* Part::edge(int id) const {
     return &edges[static_cast<size_t>(id) - 1];
   const auto it = std::find_if(edges.begin(), edges.end(), [&](const io::PartEdgeEntry& e) { return e.id == id; });
   return it == edges.end() ? nullptr : &*it;
+}
+
+bool Part::closed() const {
+  if (skipped > 0 || faces.empty()) return false;
+  std::unordered_map<int, int> uses;
+  for (const PartFace& face : faces) {
+    if (face.coedges.empty() && !face.surface.model().trim.empty()) return false;  // no edges to match
+    for (const auto& loop : face.coedges)
+      for (const io::PartCoedge& coedge : loop) ++uses[coedge.edge];
+  }
+  for (const auto& [id, count] : uses) {
+    const io::PartEdgeEntry* entry = edge(id);
+    if (count != 2 && !(entry && entry->degenerate)) return false;
+  }
+  return true;
 }
 
 namespace {

@@ -32,6 +32,9 @@ struct Part {
 
   // The entry of edge `id`, nullptr when the part has none.
   const io::PartEdgeEntry* edge(int id) const;
+  // True when the faces close: none was skipped at import and every edge a coedge names (a point
+  // edge aside) is named by exactly two coedges, so the part bounds a solid and has an outside.
+  bool closed() const;
 };
 
 // Reads the manifest and builds every converted face. ModelError naming the manifest's key

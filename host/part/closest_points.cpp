@@ -1,0 +1,399 @@
+#include <shapespline/part/closest_points.h>
+
+#include <shapespline/core/parallel_for.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+namespace shapespline::part {
+
+namespace {
+
+constexpr int kMaxNewtonSteps = 60;
+constexpr int kMaxHalvings = 40;
+// Newton stops when a step moves the parameters by less than this, in a piece's local units (the
+// piece's patch is [0, 1]): a few hundred ulps of 1, far below what changes the distance.
+constexpr double kStepTolerance = 1e-14;
+// Boundary feet of other faces within this fraction of the diagonal of the best one are the same
+// place (an edge that two faces share meets within their trim tolerance), for the sign.
+constexpr double kSameFootFraction = 1e-6;
+// A foot this near (a fraction of the diagonal) cannot be bettered: the query is on the surface.
+constexpr double kOnSurfaceFraction = 1e-13;
+// A cell that may hold a nearer point than Newton found on it (Newton did not settle, or the query
+// is more than kFocalFraction of the way to a centre of the cell's curvature: the curvature towards
+// the query's side times the distance) is searched again by quarters, this many levels deep, while
+// its box is nearer than the best point.
+constexpr double kFocalFraction = 0.5;
+constexpr int kRefineDepth = 2;
+
+// A point of a surface piece and its partials with respect to the piece's local parameters.
+struct LocalPoint {
+  glm::dvec3 p{0.0}, u{0.0}, v{0.0}, uu{0.0}, uv{0.0}, vv{0.0};
+};
+
+LocalPoint evaluateLocal(const Surface& s, int i, int j, double u, double v) {
+  if (s.usesKnotVector()) {
+    const BSplineSurfaceData& d = s.knotData();
+    const double hu = d.knotsU[i + 1] - d.knotsU[i], hv = d.knotsV[j + 1] - d.knotsV[j];
+    const BSplineSurfacePoint e = evalBSplineSurface(d, d.knotsU[i] + u * hu, d.knotsV[j] + v * hv);
+    return {e.point, e.du * hu, e.dv * hv, e.duu * (hu * hu), e.duv * (hu * hv), e.dvv * (hv * hv)};
+  }
+  PatchDerivs out;
+  const glm::dvec3* net = &s.patchNet()[static_cast<size_t>(i + s.netOffsetU()) * s.netCols() + (j + s.netOffsetV())];
+  evalTensorPatch(s.basisU(), s.basisV(), net, s.netCols(), u, v, out);
+  return {out.p, out.u, out.v, out.uu, out.uv, out.vv};
+}
+
+// The parameter x in [lo, hi] nearest q on a curve piece, by Newton from x: eval(x) gives the
+// point, first and second derivatives. Returns the squared distance there.
+template <typename Eval>
+double newtonOnSegment(const glm::dvec3& q, double lo, double hi, double& x, glm::dvec3& foot, const Eval& eval) {
+  glm::dvec3 p, d1, d2;
+  eval(x, p, d1, d2);
+  glm::dvec3 r = p - q;
+  double f = glm::dot(r, r);
+  for (int step = 0; step < kMaxNewtonSteps; ++step) {
+    const double g = glm::dot(d1, r);
+    if ((x <= lo && g > 0.0) || (x >= hi && g < 0.0) || g == 0.0) break;
+    double h = glm::dot(d1, d1) + glm::dot(d2, r);
+    if (!(h > 0.0)) h = glm::dot(d1, d1);
+    double dx = h > 0.0 ? -g / h : (g > 0.0 ? lo - x : hi - x);
+    double xn = 0.0, fn = 0.0;
+    glm::dvec3 pn, d1n, d2n;
+    int halvings = 0;
+    for (;; dx *= 0.5) {
+      xn = std::clamp(x + dx, lo, hi);
+      eval(xn, pn, d1n, d2n);
+      fn = glm::dot(pn - q, pn - q);
+      if (fn <= f || ++halvings > kMaxHalvings) break;
+    }
+    if (fn > f) break;
+    const double moved = std::abs(xn - x);
+    x = xn, p = pn, d1 = d1n, d2 = d2n, r = pn - q, f = fn;
+    if (moved < kStepTolerance) break;
+  }
+  foot = p;
+  return f;
+}
+
+// Newton on |S - q|^2 over patch (i, j)'s local rectangle lo..hi from x: the step of Newton's matrix
+// where it is positive definite, else Gauss-Newton's; a parameter on its bound with the gradient
+// pushing outwards held there; the step clamped into the rectangle and halved until the distance
+// falls. Returns the squared distance at the final x, e the point there; `settled` when Newton's
+// matrix is positive definite there (a strict local minimum, or the nearest point of a border the
+// distance falls towards).
+double newtonOnPatch(const Surface& s, int i, int j, const double lo[2], const double hi[2], const glm::dvec3& q,
+                     double x[2], LocalPoint& e, bool& settled) {
+  e = evaluateLocal(s, i, j, x[0], x[1]);
+  glm::dvec3 r = e.p - q;
+  double f = glm::dot(r, r);
+  for (int step = 0; step < kMaxNewtonSteps; ++step) {
+    const double g[2] = {glm::dot(e.u, r), glm::dot(e.v, r)};
+    // Gauss-Newton's matrix, and Newton's (with the residual's curvature) where it is positive.
+    const double a00 = glm::dot(e.u, e.u), a01 = glm::dot(e.u, e.v), a11 = glm::dot(e.v, e.v);
+    double h00 = a00 + glm::dot(e.uu, r), h01 = a01 + glm::dot(e.uv, r), h11 = a11 + glm::dot(e.vv, r);
+    if (!(h00 > 0.0 && h00 * h11 - h01 * h01 > 0.0)) h00 = a00, h01 = a01, h11 = a11;
+    // A parameter on its bound with the gradient pushing outwards stays there; so does one on its
+    // bound that the step would push out.
+    bool held[2] = {(x[0] <= lo[0] && g[0] > 0.0) || (x[0] >= hi[0] && g[0] < 0.0),
+                    (x[1] <= lo[1] && g[1] > 0.0) || (x[1] >= hi[1] && g[1] < 0.0)};
+    double dx[2] = {0.0, 0.0};
+    for (int pass = 0; pass < 2; ++pass) {
+      const double det = h00 * h11 - h01 * h01;
+      dx[0] = dx[1] = 0.0;
+      if (!held[0] && !held[1] && det > 0.0) {
+        dx[0] = -(h11 * g[0] - h01 * g[1]) / det;
+        dx[1] = -(h00 * g[1] - h01 * g[0]) / det;
+      } else if (!held[0] && h00 > 0.0 && (held[1] || det <= 0.0)) {
+        dx[0] = -g[0] / h00;
+      } else if (!held[1] && h11 > 0.0) {
+        dx[1] = -g[1] / h11;
+      } else if (!held[0] || !held[1]) {
+        // Singular (a pole): a gradient step across the piece.
+        const double norm = std::hypot(held[0] ? 0.0 : g[0], held[1] ? 0.0 : g[1]);
+        if (norm > 0.0)
+          for (int k = 0; k < 2; ++k) dx[k] = held[k] ? 0.0 : -g[k] / norm * (hi[k] - lo[k]);
+      }
+      bool again = false;
+      for (int k = 0; k < 2; ++k)
+        if (!held[k] && ((x[k] <= lo[k] && dx[k] < 0.0) || (x[k] >= hi[k] && dx[k] > 0.0))) held[k] = again = true;
+      if (!again) break;
+    }
+    // Up to the rectangle's border, no further (still a descent direction), landing on it exactly.
+    double reach = 1.0, border = 0.0;
+    int stops = -1;
+    for (int k = 0; k < 2; ++k) {
+      const double bound = x[k] + dx[k] < lo[k] ? lo[k] : (x[k] + dx[k] > hi[k] ? hi[k] : x[k] + dx[k]);
+      if (bound != x[k] + dx[k] && (bound - x[k]) / dx[k] < reach) reach = (bound - x[k]) / dx[k], stops = k, border = bound;
+    }
+    dx[0] *= reach, dx[1] *= reach;
+    if (dx[0] == 0.0 && dx[1] == 0.0) break;
+    double xn[2], fn = 0.0;
+    LocalPoint en;
+    int halvings = 0;
+    for (;; dx[0] *= 0.5, dx[1] *= 0.5) {
+      for (int k = 0; k < 2; ++k) xn[k] = std::clamp(x[k] + dx[k], lo[k], hi[k]);
+      if (halvings == 0 && stops >= 0) xn[stops] = border;
+      en = evaluateLocal(s, i, j, xn[0], xn[1]);
+      fn = glm::dot(en.p - q, en.p - q);
+      if (fn <= f || ++halvings > kMaxHalvings) break;
+    }
+    if (fn > f) break;
+    const double moved = std::max(std::abs(xn[0] - x[0]), std::abs(xn[1] - x[1]));
+    x[0] = xn[0], x[1] = xn[1], e = en, r = en.p - q, f = fn;
+    if (moved < kStepTolerance) break;
+  }
+  const double h00 = glm::dot(e.u, e.u) + glm::dot(e.uu, r), h01 = glm::dot(e.u, e.v) + glm::dot(e.uv, r),
+               h11 = glm::dot(e.v, e.v) + glm::dot(e.vv, r);
+  settled = h00 > 0.0 && h00 * h11 - h01 * h01 > 0.0;
+  return f;
+}
+
+}  // namespace
+
+struct ClosestPoints::Candidate {
+  double d2 = std::numeric_limits<double>::infinity();
+  glm::dvec3 point{0.0};
+  double u = 0.0, v = 0.0;  // global parameters
+  int face = 0;             // index into tree.faces()
+  bool boundary = false;
+  // Where the normal is read: the patch and local parameters (cells), or the global ones (runs).
+  int i = 0, j = 0;
+  double lu = 0.0, lv = 0.0;
+};
+
+ClosestPoints::ClosestPoints(const ProjectionTree& tree) : tree_(tree) {
+  for (const ProjectionFace& face : tree.faces()) {
+    const TrimLoops& trim = face.surface->model().trim;
+    inside_.emplace_back();
+    if (!trim.empty()) inside_.back().emplace(trim);
+  }
+}
+
+bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, Candidate& out) const {
+  const Surface& s = *tree_.faces()[cell.face].surface;
+  const double lo[2] = {cell.u0, cell.v0}, hi[2] = {cell.u1, cell.v1};
+  double x[2] = {0.5, 0.5};
+  if (!fromMiddle) {
+    // Where q falls on the cell's parallelogram (least squares), kept inside it.
+    const glm::dvec3 d = q - cell.middle;
+    const double a = glm::dot(cell.alongU, cell.alongU), b = glm::dot(cell.alongU, cell.alongV),
+                 c = glm::dot(cell.alongV, cell.alongV), det = a * c - b * b;
+    if (det > 0.0) {
+      const double pu = glm::dot(d, cell.alongU), pv = glm::dot(d, cell.alongV);
+      x[0] = std::clamp(0.5 + (c * pu - b * pv) / det, 0.0, 1.0);
+      x[1] = std::clamp(0.5 + (a * pv - b * pu) / det, 0.0, 1.0);
+    }
+  }
+  x[0] = cell.u0 + x[0] * (cell.u1 - cell.u0);
+  x[1] = cell.v0 + x[1] * (cell.v1 - cell.v0);
+  const double start[2] = {x[0], x[1]};
+  LocalPoint e;
+  bool settled = false;
+  double f = newtonOnPatch(s, cell.i, cell.j, lo, hi, q, x, e, settled);
+  // On the domain's border the nearest point may be a minimum along the border that is not one of
+  // the surface: each border side of the cell is searched on its own.
+  const auto [uMin, uMax] = s.parameterRangeU();
+  const auto [vMin, vMax] = s.parameterRangeV();
+  const SurfaceShape& shape = s.model();
+  const double tiny2 = (kOnSurfaceFraction * tree_.diagonal()) * (kOnSurfaceFraction * tree_.diagonal());
+  for (int side = 0; side < 4 && f > tiny2; ++side) {
+    const bool alongV = side < 2;  // a side of fixed u, running along v
+    const double fixed = side == 0 ? cell.u0 : side == 1 ? cell.u1 : side == 2 ? cell.v0 : cell.v1;
+    const auto [U, V] = alongV ? s.parameterOf(cell.i, cell.j, fixed, cell.v0) : s.parameterOf(cell.i, cell.j, cell.u0, fixed);
+    const bool border = alongV ? !shape.closedU && (U == uMin || U == uMax) : !shape.closedV && (V == vMin || V == vMax);
+    if (!border) continue;
+    const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
+      const LocalPoint l = alongV ? evaluateLocal(s, cell.i, cell.j, fixed, t) : evaluateLocal(s, cell.i, cell.j, t, fixed);
+      p = l.p, d1 = alongV ? l.v : l.u, d2 = alongV ? l.vv : l.uu;
+    };
+    double t = alongV ? start[1] : start[0];
+    glm::dvec3 foot;
+    const double fb = newtonOnSegment(q, alongV ? cell.v0 : cell.u0, alongV ? cell.v1 : cell.u1, t, foot, eval);
+    if (fb < f) {
+      f = fb;
+      x[0] = alongV ? fixed : t, x[1] = alongV ? t : fixed;
+      e.p = foot;
+    }
+  }
+  const auto [U, V] = s.parameterOf(cell.i, cell.j, x[0], x[1]);
+  const std::optional<TrimClassifier>& inside = inside_[cell.face];
+  if (inside && !inside->inside({U, V})) return settled;
+  out = {f, e.p, U, V, cell.face, false, cell.i, cell.j, x[0], x[1]};
+  return settled;
+}
+
+void ClosestPoints::solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const {
+  const Surface& s = *tree_.faces()[run.face].surface;
+  const std::vector<glm::dvec2>& loop = s.model().trim.loops[run.loop];
+  const auto [uMin, uMax] = s.parameterRangeU();
+  const auto [vMin, vMax] = s.parameterRangeV();
+  const glm::dvec2 a = loop[run.segment], ab = loop[(run.segment + 1) % loop.size()] - a;
+  const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
+    const glm::dvec2 uv = a + t * ab;
+    const SurfacePoint e = s.evaluateAt(std::clamp(uv.x, uMin, uMax), std::clamp(uv.y, vMin, vMax));
+    p = e.point;
+    d1 = e.du * ab.x + e.dv * ab.y;
+    d2 = e.duu * (ab.x * ab.x) + 2.0 * e.duv * (ab.x * ab.y) + e.dvv * (ab.y * ab.y);
+  };
+  double t = 0.5 * (run.t0 + run.t1);
+  glm::dvec3 foot;
+  const double f = newtonOnSegment(q, run.t0, run.t1, t, foot, eval);
+  const glm::dvec2 uv = a + t * ab;
+  out = {};
+  out.d2 = f;
+  out.point = foot;
+  out.u = std::clamp(uv.x, uMin, uMax);
+  out.v = std::clamp(uv.y, vMin, vMax);
+  out.face = run.face;
+  out.boundary = true;
+}
+
+void ClosestPoints::solveSpan(const glm::dvec3& q, const ProjectionSpan& span, Candidate& out) const {
+  const Curve& curve = *tree_.curve();
+  const double h = curve.parameterOf(span.span, 1.0) - curve.parameterOf(span.span, 0.0);
+  const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
+    const CurvePoint e = curve.evaluate(span.span, t);
+    p = e.point, d1 = e.d1 * h, d2 = e.d2 * (h * h);
+  };
+  double t = 0.5 * (span.t0 + span.t1);
+  glm::dvec3 foot;
+  const double f = newtonOnSegment(q, span.t0, span.t1, t, foot, eval);
+  out = {};
+  out.d2 = f;
+  out.point = foot;
+  out.u = curve.parameterOf(span.span, t);
+}
+
+FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
+  FootPoint foot;
+  if (tree_.nodes().empty()) return foot;
+  using Entry = std::pair<double, int>;  // squared box distance, node
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  Candidate best;
+  std::vector<Candidate> boundary;  // boundary feet near the best, for the sign
+  const double sameFoot = kSameFootFraction * tree_.diagonal();
+  // Within `slack` of the best distance: boundary pieces are still visited for the sign.
+  auto within = [&](double d2, double slack) {
+    if (best.d2 == std::numeric_limits<double>::infinity()) return true;
+    const double reach = std::sqrt(best.d2) + slack;
+    return d2 <= reach * reach;
+  };
+  auto better = [&](const Candidate& c) {
+    if (c.d2 != best.d2) return c.d2 < best.d2;
+    const int a = tree_.faces().empty() ? 0 : tree_.faces()[c.face].id;
+    const int b = tree_.faces().empty() ? 0 : tree_.faces()[best.face].id;
+    return std::tie(a, c.u, c.v) < std::tie(b, best.u, best.v);
+  };
+  queue.push({tree_.nodes().front().box.distance2(q), 0});
+  // Cells to search again, with their boxes' squared distances.
+  std::vector<std::pair<double, ProjectionCell>> doubtful;
+  // Within a cell, the distance from q has one minimum when q is nearer to all of it than its
+  // radius of curvature; otherwise (q near a centre of curvature) it may have two.
+  auto nearCentreOfCurvature = [&](const ProjectionCell& cell, double d2) {
+    const bool above = glm::dot(q - cell.middle, glm::cross(cell.alongU, cell.alongV)) >= 0.0;
+    return (above ? cell.bendsUp : cell.bendsDown) * std::sqrt(d2) >= kFocalFraction;
+  };
+  while (!queue.empty()) {
+    const auto [d2, index] = queue.top();
+    queue.pop();
+    if (!within(d2, signedDistance ? sameFoot : 0.0)) break;
+    const ProjectionTree::Node& node = tree_.nodes()[index];
+    if (node.count == 0) {
+      const int children[2] = {index + 1, node.right};
+      for (const int child : children) {
+        const double c2 = tree_.nodes()[child].box.distance2(q);
+        if (within(c2, signedDistance ? sameFoot : 0.0)) queue.push({c2, child});
+      }
+      continue;
+    }
+    for (int k = node.first; k < node.first + node.count; ++k) {
+      const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
+      const double leaf2 = leaf.box.distance2(q);
+      const bool isRun = leaf.kind == ProjectionTree::LeafKind::Run;
+      if (!within(leaf2, signedDistance && isRun ? sameFoot : 0.0)) continue;
+      if (isRun) {
+        Candidate c;
+        solveRun(q, tree_.runs()[leaf.index], c);
+        if (signedDistance) boundary.push_back(c);
+        if (better(c)) best = c;
+        continue;
+      }
+      Candidate c;
+      if (leaf.kind == ProjectionTree::LeafKind::Cell) {
+        const ProjectionCell& cell = tree_.cells()[leaf.index];
+        if (!solveCell(q, cell, false, c) || nearCentreOfCurvature(cell, c.d2)) doubtful.push_back({leaf2, cell});
+      } else {
+        solveSpan(q, tree_.spans()[leaf.index], c);
+      }
+      if (c.d2 < std::numeric_limits<double>::infinity() && better(c)) best = c;
+    }
+  }
+  // The quarters of a doubtful cell, Newton from each one's middle.
+  const std::function<void(const ProjectionCell&, int)> refine = [&](const ProjectionCell& cell, int depth) {
+    const double um = 0.5 * (cell.u0 + cell.u1), vm = 0.5 * (cell.v0 + cell.v1);
+    const double us[3] = {cell.u0, um, cell.u1}, vs[3] = {cell.v0, vm, cell.v1};
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        ProjectionCell quarter = cell;
+        quarter.u0 = us[a], quarter.u1 = us[a + 1], quarter.v0 = vs[b], quarter.v1 = vs[b + 1];
+        Candidate c;
+        const bool settled = solveCell(q, quarter, true, c);
+        if (c.d2 < std::numeric_limits<double>::infinity() && better(c)) best = c;
+        if (depth < kRefineDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) refine(quarter, depth + 1);
+      }
+  };
+  for (const auto& [box2, cell] : doubtful)
+    if (within(box2, 0.0)) refine(cell, 1);
+  if (best.d2 == std::numeric_limits<double>::infinity()) return foot;  // every piece outside its loops
+  foot.point = best.point;
+  foot.u = best.u;
+  foot.v = best.v;
+  foot.distance = std::sqrt(best.d2);
+  foot.signedDistance = foot.distance;
+  foot.boundary = best.boundary;
+  if (tree_.curve()) return foot;
+
+  auto outwardNormal = [&](const Candidate& c) {
+    const ProjectionFace& face = tree_.faces()[c.face];
+    const glm::dvec3 n = c.boundary ? face.surface->evaluateAt(c.u, c.v).normal
+                                    : face.surface->evaluate(c.i, c.j, c.lu, c.lv).normal;
+    return face.reversed ? -n : n;
+  };
+  const ProjectionFace& face = tree_.faces()[best.face];
+  foot.face = face.id;
+  foot.normal = outwardNormal(best);
+  if (!signedDistance) return foot;
+  glm::dvec3 direction = foot.normal;
+  if (best.boundary) {
+    // The sum of each face's outward normal at its own nearest boundary foot here.
+    direction = glm::dvec3(0.0);
+    std::vector<int> counted;
+    std::sort(boundary.begin(), boundary.end(), [](const Candidate& a, const Candidate& b) { return a.d2 < b.d2; });
+    for (const Candidate& c : boundary) {
+      if (std::find(counted.begin(), counted.end(), c.face) != counted.end()) continue;
+      if (std::sqrt(c.d2) > foot.distance + sameFoot || glm::length(c.point - best.point) > sameFoot) continue;
+      counted.push_back(c.face);
+      direction += outwardNormal(c);
+    }
+  }
+  if (glm::dot(q - foot.point, direction) < 0.0) foot.signedDistance = -foot.distance;
+  return foot;
+}
+
+void ClosestPoints::of(std::span<const glm::dvec3> points, std::span<FootPoint> out, bool signedDistance,
+                       int threads) const {
+  constexpr size_t kBlock = 256;
+  const size_t blocks = (points.size() + kBlock - 1) / kBlock;
+  parallelFor(blocks, threads, [&](size_t b) {
+    const size_t end = std::min(points.size(), (b + 1) * kBlock);
+    for (size_t k = b * kBlock; k < end; ++k) out[k] = of(points[k], signedDistance);
+  });
+}
+
+}  // namespace shapespline::part

@@ -1,0 +1,58 @@
+#pragma once
+// Closest points on a surface, a part or a curve, in fp64 on the CPU (docs/math.md "Closest points"):
+// for each query point the global minimum of the distance, with where it is (face, parameters),
+// the distance and the normal. The pieces come from a ProjectionTree (part/projection_tree.h),
+// visited nearest box first; on each piece whose box is nearer than the best point so far, Newton's
+// method on the squared distance (second derivatives, the step held inside the piece, halved until
+// the distance falls) finds the piece's nearest point; a trimmed face's point counts only inside
+// its loops, and the loops themselves are pieces (Newton along each segment lifted onto the face),
+// so a foot point on a face's boundary lies on its trim loop.
+#include <shapespline/core/trim_classifier.h>
+#include <shapespline/part/projection_tree.h>
+
+#include <glm/vec3.hpp>
+
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace shapespline::part {
+
+struct FootPoint {
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0};  // unit; a face's outward normal (its `reversed` applied); a curve: 0
+  double u = 0.0, v = 0.0;  // the model's parameters (a curve: t in u, v = 0)
+  double distance = 0.0;
+  // Outside positive when the query asked for a sign (a closed shell), else equal to distance.
+  double signedDistance = 0.0;
+  int face = 0;           // the face's id (a model on its own: 0)
+  bool boundary = false;  // on a face's trim loop rather than inside it
+};
+
+class ClosestPoints {
+ public:
+  // The tree must outlive this object.
+  explicit ClosestPoints(const ProjectionTree& tree);
+
+  // The foot point of q. With `signedDistance`, the sign is that of q - foot along the outward
+  // normal at the foot, or, where the foot is on a boundary, along the sum of the outward normals of
+  // the faces that meet there (so that q outside a sharp edge is outside). Thread-safe.
+  FootPoint of(const glm::dvec3& q, bool signedDistance) const;
+  // out[k] = of(points[k]) on `threads` threads (0: every core).
+  void of(std::span<const glm::dvec3> points, std::span<FootPoint> out, bool signedDistance, int threads) const;
+
+  const ProjectionTree& tree() const { return tree_; }
+
+ private:
+  struct Candidate;
+  // Newton from where q falls on the cell's parallelogram, or from its middle; false when it did not
+  // settle (see newtonOnPatch). A foot outside the face's loops is not given.
+  bool solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, Candidate& out) const;
+  void solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const;
+  void solveSpan(const glm::dvec3& q, const ProjectionSpan& span, Candidate& out) const;
+
+  const ProjectionTree& tree_;
+  std::vector<std::optional<TrimClassifier>> inside_;  // per face: its loops, if it has any
+};
+
+}  // namespace shapespline::part
