@@ -75,7 +75,6 @@ std::pair<int, int> parseShard(const std::string& text) {
 }
 
 constexpr long long kMaxChunkPoints = 1LL << 22;
-constexpr int kMaxThreads = 1024;
 
 // Index of the first value of v[0, n) outside [-limit, limit] (NaN included), or n. SSE2 compares
 // 8 values a step where the compiler keeps a scalar loop (it does not vectorise the early exit),
@@ -321,10 +320,7 @@ bool sampleJob(const SampleArgs& args, io::OutputSet& outputs, std::string& summ
     throw InputError("--shard", args.shard,
                      "glTF files are re-centred fp32 meshes held in memory and are not merged; shard to .ply or .obj");
   }
-  if (args.threads < 0 || args.threads > kMaxThreads) {
-    throw InputError("--threads", std::to_string(args.threads),
-                     "must be in [0, " + std::to_string(kMaxThreads) + "] (0 = one per CPU this process may use)");
-  }
+  requireThreadCount(args.threads);
   if (args.chunkPoints < 0 || args.chunkPoints > kMaxChunkPoints) {
     throw InputError("--chunk-points", std::to_string(args.chunkPoints),
                      "must be in [1, " + std::to_string(kMaxChunkPoints) + "] (0 = default)");

@@ -136,6 +136,13 @@ std::string beyondRangeRule(Precision precision) {
                "knot intervals h); nothing was written";
 }
 
+void requireThreadCount(int threads) {
+  constexpr int kMaxThreads = 1024;
+  if (threads < 0 || threads > kMaxThreads)
+    throw InputError("--threads", std::to_string(threads),
+                     "must be in [0, " + std::to_string(kMaxThreads) + "] (0 = one per CPU this process may use)");
+}
+
 void addQuietFlag(CLI::App* sub, bool& quiet, const std::string& silences) {
   sub->add_flag("-q,--quiet", quiet, silences);
 }

@@ -33,6 +33,7 @@ void registerDemo(CLI::App& app);
 void registerMerge(CLI::App& app);
 void registerRender(CLI::App& app);  // cmd_render.cpp
 void registerView(CLI::App& app);    // cmd_view.cpp (the viewer, host/viewer)
+void registerProject(CLI::App& app);  // cmd_project.cpp
 
 // The options given on the command line (CLI11's counts), by long name ("--rate") with their values
 // joined by commas, so that a command refuses an option its input does not take instead of
@@ -41,6 +42,9 @@ using GivenOptions = std::map<std::string, std::string>;
 GivenOptions givenOptions(const CLI::App& sub);
 // InputError (exit 2) naming `option` and its value when it was given: "does not apply to <what>".
 void refuseOption(const GivenOptions& given, const std::string& option, const std::string& what);
+
+// --threads: InputError unless 0 (one per CPU this process may use) .. 1024.
+void requireThreadCount(int threads);
 
 // -q/--quiet, which every subcommand takes so that a script may pass it to each alike; `silences`
 // says what it silences in this one (help text).

@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
   registerMerge(app);
   registerRender(app);
   registerView(app);
+  registerProject(app);
 
   try {
     app.parse(argc, argv);

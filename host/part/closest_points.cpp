@@ -175,7 +175,8 @@ ClosestPoints::ClosestPoints(const ProjectionTree& tree) : tree_(tree) {
   }
 }
 
-bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, Candidate& out) const {
+bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, double bestD2,
+                              Candidate& out) const {
   const Surface& s = *tree_.faces()[cell.face].surface;
   const double lo[2] = {cell.u0, cell.v0}, hi[2] = {cell.u1, cell.v1};
   double x[2] = {0.5, 0.5};
@@ -223,9 +224,23 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, b
   }
   const auto [U, V] = s.parameterOf(cell.i, cell.j, x[0], x[1]);
   const std::optional<TrimClassifier>& inside = inside_[cell.face];
-  if (inside && !inside->inside({U, V})) return settled;
-  out = {f, e.p, U, V, cell.face, false, cell.i, cell.j, x[0], x[1]};
+  if (!inside || inside->inside({U, V})) {
+    out = {f, e.p, U, V, cell.face, false, cell.i, cell.j, x[0], x[1]};
+    return settled;
+  }
+  // Outside the loops: the nearest point of the cell inside them is on a loop piece that meets it.
+  solveRuns(q, cell.index, bestD2, out);
   return settled;
+}
+
+void ClosestPoints::solveRuns(const glm::dvec3& q, int cell, double bestD2, Candidate& out) const {
+  for (const int r : tree_.runsOf(cell)) {
+    const ProjectionRun& run = tree_.runs()[r];
+    if (run.box.distance2(q) > std::min(bestD2, out.d2)) continue;
+    Candidate c;
+    solveRun(q, run, c);
+    if (c.d2 < out.d2) out = c;
+  }
 }
 
 void ClosestPoints::solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const {
@@ -273,65 +288,69 @@ void ClosestPoints::solveSpan(const glm::dvec3& q, const ProjectionSpan& span, C
 FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   FootPoint foot;
   if (tree_.nodes().empty()) return foot;
-  using Entry = std::pair<double, int>;  // squared box distance, node
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  constexpr double kNone = std::numeric_limits<double>::infinity();
   Candidate best;
-  std::vector<Candidate> boundary;  // boundary feet near the best, for the sign
-  const double sameFoot = kSameFootFraction * tree_.diagonal();
-  // Within `slack` of the best distance: boundary pieces are still visited for the sign.
-  auto within = [&](double d2, double slack) {
-    if (best.d2 == std::numeric_limits<double>::infinity()) return true;
-    const double reach = std::sqrt(best.d2) + slack;
-    return d2 <= reach * reach;
-  };
   auto better = [&](const Candidate& c) {
     if (c.d2 != best.d2) return c.d2 < best.d2;
+    if (c.d2 == kNone) return false;
     const int a = tree_.faces().empty() ? 0 : tree_.faces()[c.face].id;
     const int b = tree_.faces().empty() ? 0 : tree_.faces()[best.face].id;
     return std::tie(a, c.u, c.v) < std::tie(b, best.u, best.v);
   };
-  queue.push({tree_.nodes().front().box.distance2(q), 0});
-  // Cells to search again, with their boxes' squared distances.
-  std::vector<std::pair<double, ProjectionCell>> doubtful;
+  // No farther than the best point so far (plus `slack`).
+  auto within = [&](double d2, double slack) {
+    if (best.d2 == kNone) return true;
+    const double reach = std::sqrt(best.d2) + slack;
+    return d2 <= reach * reach;
+  };
   // Within a cell, the distance from q has one minimum when q is nearer to all of it than its
   // radius of curvature; otherwise (q near a centre of curvature) it may have two.
   auto nearCentreOfCurvature = [&](const ProjectionCell& cell, double d2) {
     const bool above = glm::dot(q - cell.middle, glm::cross(cell.alongU, cell.alongV)) >= 0.0;
     return (above ? cell.bendsUp : cell.bendsDown) * std::sqrt(d2) >= kFocalFraction;
   };
+
+  // The cells nearest bound first (the larger of the distances to its box and its oriented box),
+  // each solved; doubtful ones kept for a second look. A queue entry is a node (index >= 0) or a
+  // leaf (-1 - index).
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  queue.push({tree_.nodes().front().box.distance2(q), 0});
+  std::vector<std::pair<double, int>> visited, doubtful;  // squared bound, cell
+  // With a sign, cells a hair farther than the best are still listed (not solved): a face that
+  // meets the best one at an edge may lie there.
+  const double listed = signedDistance ? kSameFootFraction * tree_.diagonal() : 0.0;
   while (!queue.empty()) {
     const auto [d2, index] = queue.top();
     queue.pop();
-    if (!within(d2, signedDistance ? sameFoot : 0.0)) break;
+    if (!within(d2, listed)) break;
+    if (index < 0) {
+      const ProjectionTree::Leaf& leaf = tree_.leaves()[-1 - index];
+      if (leaf.kind == ProjectionTree::LeafKind::Cell) visited.push_back({d2, leaf.index});
+      if (!within(d2, 0.0)) continue;
+      Candidate c;
+      if (leaf.kind == ProjectionTree::LeafKind::Span) {
+        solveSpan(q, tree_.spans()[leaf.index], c);
+      } else {
+        const ProjectionCell& cell = tree_.cells()[leaf.index];
+        if (!solveCell(q, cell, false, best.d2, c) || nearCentreOfCurvature(cell, c.d2)) doubtful.push_back({d2, cell.index});
+      }
+      if (better(c)) best = c;
+      continue;
+    }
     const ProjectionTree::Node& node = tree_.nodes()[index];
     if (node.count == 0) {
-      const int children[2] = {index + 1, node.right};
-      for (const int child : children) {
+      for (const int child : {index + 1, node.right}) {
         const double c2 = tree_.nodes()[child].box.distance2(q);
-        if (within(c2, signedDistance ? sameFoot : 0.0)) queue.push({c2, child});
+        if (within(c2, listed)) queue.push({c2, child});
       }
       continue;
     }
     for (int k = node.first; k < node.first + node.count; ++k) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
-      const double leaf2 = leaf.box.distance2(q);
-      const bool isRun = leaf.kind == ProjectionTree::LeafKind::Run;
-      if (!within(leaf2, signedDistance && isRun ? sameFoot : 0.0)) continue;
-      if (isRun) {
-        Candidate c;
-        solveRun(q, tree_.runs()[leaf.index], c);
-        if (signedDistance) boundary.push_back(c);
-        if (better(c)) best = c;
-        continue;
-      }
-      Candidate c;
-      if (leaf.kind == ProjectionTree::LeafKind::Cell) {
-        const ProjectionCell& cell = tree_.cells()[leaf.index];
-        if (!solveCell(q, cell, false, c) || nearCentreOfCurvature(cell, c.d2)) doubtful.push_back({leaf2, cell});
-      } else {
-        solveSpan(q, tree_.spans()[leaf.index], c);
-      }
-      if (c.d2 < std::numeric_limits<double>::infinity() && better(c)) best = c;
+      double bound = leaf.box.distance2(q);
+      if (leaf.kind == ProjectionTree::LeafKind::Cell) bound = std::max(bound, tree_.cells()[leaf.index].distance2(q));
+      if (within(bound, listed)) queue.push({bound, -1 - k});
     }
   }
   // The quarters of a doubtful cell, Newton from each one's middle.
@@ -343,14 +362,14 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
         ProjectionCell quarter = cell;
         quarter.u0 = us[a], quarter.u1 = us[a + 1], quarter.v0 = vs[b], quarter.v1 = vs[b + 1];
         Candidate c;
-        const bool settled = solveCell(q, quarter, true, c);
-        if (c.d2 < std::numeric_limits<double>::infinity() && better(c)) best = c;
+        const bool settled = solveCell(q, quarter, true, best.d2, c);
+        if (better(c)) best = c;
         if (depth < kRefineDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) refine(quarter, depth + 1);
       }
   };
   for (const auto& [box2, cell] : doubtful)
-    if (within(box2, 0.0)) refine(cell, 1);
-  if (best.d2 == std::numeric_limits<double>::infinity()) return foot;  // every piece outside its loops
+    if (within(box2, 0.0)) refine(tree_.cells()[cell], 1);
+  if (best.d2 == kNone) return foot;  // every piece outside its loops
   foot.point = best.point;
   foot.u = best.u;
   foot.v = best.v;
@@ -365,20 +384,23 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
                                     : face.surface->evaluate(c.i, c.j, c.lu, c.lv).normal;
     return face.reversed ? -n : n;
   };
-  const ProjectionFace& face = tree_.faces()[best.face];
-  foot.face = face.id;
+  foot.face = tree_.faces()[best.face].id;
   foot.normal = outwardNormal(best);
   if (!signedDistance) return foot;
   glm::dvec3 direction = foot.normal;
   if (best.boundary) {
-    // The sum of each face's outward normal at its own nearest boundary foot here.
-    direction = glm::dvec3(0.0);
-    std::vector<int> counted;
-    std::sort(boundary.begin(), boundary.end(), [](const Candidate& a, const Candidate& b) { return a.d2 < b.d2; });
-    for (const Candidate& c : boundary) {
-      if (std::find(counted.begin(), counted.end(), c.face) != counted.end()) continue;
-      if (std::sqrt(c.d2) > foot.distance + sameFoot || glm::length(c.point - best.point) > sameFoot) continue;
-      counted.push_back(c.face);
+    // On an edge: the sum of the outward normals of the faces that meet there, each at its own
+    // nearest boundary point (within kSameFootFraction of the diagonal of this one).
+    const double sameFoot = kSameFootFraction * tree_.diagonal();
+    std::vector<int> faces = {best.face};
+    for (const auto& [box2, cell] : visited) {
+      const int face = tree_.cells()[cell].face;
+      if (std::find(faces.begin(), faces.end(), face) != faces.end() || !within(box2, sameFoot)) continue;
+      Candidate c;
+      const double reach = foot.distance + sameFoot;
+      solveRuns(q, cell, reach * reach, c);
+      if (c.d2 == kNone || std::sqrt(c.d2) > reach || glm::length(c.point - best.point) > sameFoot) continue;
+      faces.push_back(face);
       direction += outwardNormal(c);
     }
   }

@@ -46,8 +46,11 @@ class ClosestPoints {
  private:
   struct Candidate;
   // Newton from where q falls on the cell's parallelogram, or from its middle; false when it did not
-  // settle (see newtonOnPatch). A foot outside the face's loops is not given.
-  bool solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, Candidate& out) const;
+  // settle (see newtonOnPatch). A foot outside the face's loops gives way to the nearest point on
+  // the loop pieces that meet the cell (those whose boxes are within bestD2).
+  bool solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, double bestD2, Candidate& out) const;
+  // The nearest point on cell `cell`'s loop pieces within bestD2 (kept in `out` if nearer).
+  void solveRuns(const glm::dvec3& q, int cell, double bestD2, Candidate& out) const;
   void solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const;
   void solveSpan(const glm::dvec3& q, const ProjectionSpan& span, Candidate& out) const;
 

@@ -112,6 +112,41 @@ std::pair<BezierNet, BezierNet> halve(const BezierNet& net, bool alongU) {
   return {std::move(lower), std::move(upper)};
 }
 
+// The cell's parallelogram from its corners (exact surface points: the net's corners) and its
+// oriented box: axes along the parallelogram's u side, across it in its plane, and its normal;
+// extents from the control points (the convex hull again).
+void orient(const BezierNet& net, ProjectionCell& c) {
+  const glm::dvec3 p00 = net.point(0, 0), p10 = net.point(net.n, 0), p01 = net.point(0, net.m),
+                   p11 = net.point(net.n, net.m);
+  c.middle = 0.25 * (p00 + p01 + p10 + p11);
+  c.alongU = 0.5 * (p10 - p00 + p11 - p01);
+  c.alongV = 0.5 * (p01 - p00 + p11 - p10);
+  glm::dvec3 e0 = c.alongU, e1 = c.alongV;
+  if (glm::length(e0) == 0.0) std::swap(e0, e1);
+  const glm::dvec3 n = glm::cross(e0, e1);
+  if (glm::length(n) > 1e-12 * glm::dot(e0, e0) + 1e-300) {
+    c.axis[0] = glm::normalize(e0);
+    c.axis[2] = glm::normalize(n);
+    c.axis[1] = glm::cross(c.axis[2], c.axis[0]);
+  }  // else the world axes stay
+  for (int k = 0; k < 3; ++k) {
+    c.lo[k] = std::numeric_limits<double>::infinity();
+    c.hi[k] = -std::numeric_limits<double>::infinity();
+  }
+  for (int a = 0; a <= net.n; ++a)
+    for (int b = 0; b <= net.m; ++b)
+      for (int k = 0; k < 3; ++k) {
+        const double t = glm::dot(net.point(a, b) - c.middle, c.axis[k]);
+        c.lo[k] = std::min(c.lo[k], t);
+        c.hi[k] = std::max(c.hi[k], t);
+      }
+  // Rounding in the dot products: a hair wider.
+  for (int k = 0; k < 3; ++k) {
+    const double pad = 1e-15 * (std::abs(c.lo[k]) + std::abs(c.hi[k]) + glm::length(c.middle));
+    c.lo[k] -= pad, c.hi[k] += pad;
+  }
+}
+
 // Appends the flat pieces of `net` (patch (i, j), local rectangle given) with their boxes.
 void cutPatch(const BezierNet& net, int face, int i, int j, double u0, double u1, double v0, double v1, int depthU,
               int depthV, std::vector<ProjectionCell>& cells, std::vector<Box>& boxes) {
@@ -123,6 +158,7 @@ void cutPatch(const BezierNet& net, int face, int i, int j, double u0, double u1
   if (!cutU && !cutV) {
     ProjectionCell cell;
     cell.face = face, cell.i = i, cell.j = j, cell.u0 = u0, cell.u1 = u1, cell.v0 = v0, cell.v1 = v1;
+    orient(net, cell);
     cells.push_back(cell);
     boxes.push_back(box);
     return;
@@ -175,14 +211,11 @@ bool principalCurvatures(const SurfacePoint& p, double& k1, double& k2) {
   return true;
 }
 
-// The cell's parallelogram and its bending, sampled on 3 x 3 points with a margin for what lies
-// between them.
-void describeCell(const Surface& s, ProjectionCell& c) {
-  glm::dvec3 corner[2][2];
+// How the cell bends, sampled on 3 x 3 points with a margin for what lies between them.
+void measureBending(const Surface& s, ProjectionCell& c) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) {
       const SurfacePoint p = s.evaluate(c.i, c.j, c.u0 + 0.5 * a * (c.u1 - c.u0), c.v0 + 0.5 * b * (c.v1 - c.v0));
-      if (a != 1 && b != 1) corner[a / 2][b / 2] = p.point;
       double k1 = 0.0, k2 = 0.0;
       if (!principalCurvatures(p, k1, k2)) {
         c.bendsUp = c.bendsDown = std::numeric_limits<double>::infinity();
@@ -191,9 +224,27 @@ void describeCell(const Surface& s, ProjectionCell& c) {
       c.bendsUp = std::max(c.bendsUp, 1.5 * k1);
       c.bendsDown = std::max(c.bendsDown, -1.5 * k2);
     }
-  c.middle = 0.25 * (corner[0][0] + corner[0][1] + corner[1][0] + corner[1][1]);
-  c.alongU = 0.5 * (corner[1][0] - corner[0][0] + corner[1][1] - corner[0][1]);
-  c.alongV = 0.5 * (corner[0][1] - corner[0][0] + corner[1][1] - corner[1][0]);
+}
+
+// The box of a trim-loop piece lifted onto the surface: its ends and middle, widened on every side
+// by twice the middle's distance from the chord (a short piece bends as a parabola, whose farthest
+// point from the chord is its middle's).
+Box sampledBox(const Surface& s, glm::dvec2 a, glm::dvec2 ab, double t0, double t1) {
+  const auto [uMin, uMax] = s.parameterRangeU();
+  const auto [vMin, vMax] = s.parameterRangeV();
+  const auto at = [&](double t) {
+    const glm::dvec2 uv = a + t * ab;
+    return s.evaluateAt(std::clamp(uv.x, uMin, uMax), std::clamp(uv.y, vMin, vMax)).point;
+  };
+  const glm::dvec3 p0 = at(t0), p1 = at(t1), pm = at(0.5 * (t0 + t1));
+  Box box;
+  box.add(p0);
+  box.add(p1);
+  box.add(pm);
+  const double bulge = 2.0 * glm::length(pm - 0.5 * (p0 + p1));
+  box.lo -= glm::dvec3(bulge);
+  box.hi += glm::dvec3(bulge);
+  return box;
 }
 
 [[noreturn]] void refuseAlphaEB(const char* what) {
@@ -254,7 +305,7 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
         }
         const size_t before = tree.cells_.size();
         cutPatch(net, static_cast<int>(f), i, j, 0.0, 1.0, 0.0, 1.0, 0, 0, tree.cells_, cellBoxes);
-        for (size_t k = before; k < tree.cells_.size(); ++k) describeCell(s, tree.cells_[k]);
+        for (size_t k = before; k < tree.cells_.size(); ++k) measureBending(s, tree.cells_[k]);
       }
     starts.push_back(static_cast<int>(tree.cells_.size()));
   }
@@ -262,7 +313,7 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
   // Trim runs, their boxes from the cells they meet; cells no run meets are kept when their middle
   // is inside the loops.
   std::vector<char> keep(tree.cells_.size(), 1), met(tree.cells_.size(), 0);
-  std::vector<Box> runBoxes;
+  std::vector<std::vector<int>> cellRuns(tree.cells_.size());
   for (size_t f = 0; f < tree.faces_.size(); ++f) {
     const Surface& s = *tree.faces_[f].surface;
     const TrimLoops& trim = s.model().trim;
@@ -310,10 +361,14 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
             addPiece(0.5 * (t0 + t1), t1, depth + 1);
             return;
           }
-          for (const int c : cells) met[c] = 1;
-          if (box.empty()) return;
-          tree.runs_.push_back({static_cast<int>(f), l, k, t0, t1});
-          runBoxes.push_back(box);
+          if (cells.empty()) return;
+          for (const int c : cells) {
+            met[c] = 1;
+            cellRuns[c].push_back(static_cast<int>(tree.runs_.size()));
+          }
+          ProjectionRun run{static_cast<int>(f), l, k, t0, t1, {}};
+          run.box = sampledBox(s, a, ab, t0, t1);
+          tree.runs_.push_back(run);
         };
         addPiece(0.0, 1.0, 0);
       }
@@ -329,8 +384,12 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
 
   for (size_t k = 0; k < tree.cells_.size(); ++k)
     if (keep[k]) tree.leaves_.push_back({cellBoxes[k], LeafKind::Cell, static_cast<int>(k)});
-  for (size_t k = 0; k < tree.runs_.size(); ++k)
-    tree.leaves_.push_back({runBoxes[k], LeafKind::Run, static_cast<int>(k)});
+  tree.cellRunStart_.assign(1, 0);
+  for (size_t k = 0; k < tree.cells_.size(); ++k) {
+    tree.cells_[k].index = static_cast<int>(k);
+    tree.cellRuns_.insert(tree.cellRuns_.end(), cellRuns[k].begin(), cellRuns[k].end());
+    tree.cellRunStart_.push_back(static_cast<int>(tree.cellRuns_.size()));
+  }
   tree.buildHierarchy();
   return tree;
 }

@@ -8,15 +8,16 @@
 // flat; each piece, a cell, keeps the box of its Bézier control points, which holds every point of
 // the piece (the convex-hull property; a rational piece's projected points, its Bézier weights
 // being positive). A trimmed face adds its trim loops' segments, halved until each piece meets few
-// cells: a piece's box is the union of the boxes of the cells its parameter rectangle meets, so it
-// too holds every point of the loop lifted onto the surface. Cells wholly outside a face's loops are left out. A
-// bounding-volume hierarchy over the cells and runs lets a query visit the pieces in the order of
-// their boxes' distance and stop at the first box farther than the best point found.
+// cells, and each cell lists the pieces that meet it: where a cell's nearest point lies outside the
+// loops, its nearest point inside them is on one of those pieces. Cells wholly outside a face's
+// loops are left out. A bounding-volume hierarchy over the cells lets a query visit them in the
+// order of their boxes' distance and stop at the first box farther than the best point found.
 #include <shapespline/core/curve.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/part/part_model.h>
 
 #include <glm/vec2.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <limits>
@@ -49,10 +50,24 @@ struct ProjectionFace {
 // one side nearer than about the inverse of that side's curvature has one nearest point on the
 // piece.
 struct ProjectionCell {
+  int index = 0;  // in ProjectionTree::cells()
   int face = 0, i = 0, j = 0;
   double u0 = 0.0, u1 = 1.0, v0 = 0.0, v1 = 1.0;
   glm::dvec3 middle{0.0}, alongU{0.0}, alongV{0.0};
   double bendsUp = 0.0, bendsDown = 0.0;  // towards +(du x dv), towards -(du x dv)
+  // The oriented box: the cell lies where lo[k] <= (p - middle) . axis[k] <= hi[k].
+  glm::dvec3 axis[3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+  double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {0.0, 0.0, 0.0};
+  // Squared distance from q to the oriented box (0 inside).
+  double distance2(const glm::dvec3& q) const {
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double t = glm::dot(q - middle, axis[k]);
+      const double out = t < lo[k] ? lo[k] - t : (t > hi[k] ? t - hi[k] : 0.0);
+      sum += out * out;
+    }
+    return sum;
+  }
 };
 
 // A piece [t0, t1] of segment `segment` of a face's trim loop (segment k runs from loop point k, at
@@ -60,6 +75,7 @@ struct ProjectionCell {
 struct ProjectionRun {
   int face = 0, loop = 0, segment = 0;
   double t0 = 0.0, t1 = 1.0;
+  Box box;  // its lifted ends and middle, widened by twice the middle's bulge (see the .cpp)
 };
 
 // A piece of a curve: span `span` over local [t0, t1].
@@ -78,11 +94,11 @@ class ProjectionTree {
   // A curve's spans, cut likewise (ModelError for α-EB).
   static ProjectionTree ofCurve(const Curve& curve);
 
-  enum class LeafKind : unsigned char { Cell, Run, Span };
+  enum class LeafKind : unsigned char { Cell, Span };
   struct Leaf {
     Box box;
     LeafKind kind = LeafKind::Cell;
-    int index = 0;  // into cells(), runs() or spans()
+    int index = 0;  // into cells() or spans()
   };
   // A node covers leaves first .. first + count - 1 when count > 0; otherwise its children are the
   // next node and node `right`.
@@ -95,6 +111,10 @@ class ProjectionTree {
   const std::vector<ProjectionCell>& cells() const { return cells_; }
   const std::vector<ProjectionRun>& runs() const { return runs_; }
   const std::vector<ProjectionSpan>& spans() const { return spans_; }
+  // The trim pieces that meet cell k: runs()[cellRuns()[cellRunStart()[k] .. cellRunStart()[k + 1])].
+  std::span<const int> runsOf(int cell) const {
+    return {cellRuns_.data() + cellRunStart_[cell], cellRuns_.data() + cellRunStart_[cell + 1]};
+  }
   const std::vector<Leaf>& leaves() const { return leaves_; }
   const std::vector<Node>& nodes() const { return nodes_; }
   const Curve* curve() const { return curve_; }
@@ -109,6 +129,7 @@ class ProjectionTree {
   std::vector<ProjectionCell> cells_;
   std::vector<ProjectionRun> runs_;
   std::vector<ProjectionSpan> spans_;
+  std::vector<int> cellRunStart_, cellRuns_;
   std::vector<Leaf> leaves_;
   std::vector<Node> nodes_;
   double diagonal_ = 0.0;

@@ -1,0 +1,147 @@
+#include <shapespline/io/projection_writer.h>
+
+#include <shapespline/io/raw_records.h>
+
+#include <charconv>
+
+namespace shapespline::io {
+
+std::vector<std::pair<std::string, int>> projectionFields(ProjectionTarget target) {
+  std::vector<std::pair<std::string, int>> fields = {{"query", 3}, {"point", 3}};
+  if (target == ProjectionTarget::Part) fields.emplace_back("face", 1);
+  if (target == ProjectionTarget::Curve) {
+    fields.emplace_back("t", 1);
+    fields.emplace_back("distance", 1);
+    return fields;
+  }
+  fields.emplace_back("uv", 2);
+  fields.emplace_back("distance", 1);
+  fields.emplace_back("signed_distance", 1);
+  fields.emplace_back("normal", 3);
+  return fields;
+}
+
+namespace {
+
+// A record's values in the order of projectionFields.
+int valuesOf(const ProjectionRecord& r, ProjectionTarget target, double out[16]) {
+  int n = 0;
+  for (int k = 0; k < 3; ++k) out[n++] = r.query[k];
+  for (int k = 0; k < 3; ++k) out[n++] = r.point[k];
+  if (target == ProjectionTarget::Part) out[n++] = r.face;
+  out[n++] = r.u;
+  if (target == ProjectionTarget::Curve) {
+    out[n++] = r.distance;
+    return n;
+  }
+  out[n++] = r.v;
+  out[n++] = r.distance;
+  out[n++] = r.signedDistance;
+  for (int k = 0; k < 3; ++k) out[n++] = r.normal[k];
+  return n;
+}
+
+// .npy and .f64: the records as fp64 values (the .npy after its header).
+class RecordWriter final : public ProjectionWriter {
+ public:
+  RecordWriter(AtomicFile& out, ProjectionTarget target) : out_(out), target_(target) {}
+  void write(std::span<const ProjectionRecord> records) override {
+    double values[16];
+    for (const ProjectionRecord& r : records) out_.write(values, sizeof(double) * valuesOf(r, target_, values));
+  }
+
+ private:
+  AtomicFile& out_;
+  ProjectionTarget target_;
+};
+
+class CsvWriter final : public ProjectionWriter {
+ public:
+  CsvWriter(AtomicFile& out, ProjectionTarget target) : out_(out), target_(target) {
+    std::string header;
+    static const char* axes[] = {"x", "y", "z"};
+    for (const auto& [name, width] : projectionFields(target)) {
+      for (int k = 0; k < width; ++k) {
+        if (!header.empty()) header += ',';
+        header += width == 3 ? name + "_" + axes[k] : width == 2 ? std::string(k ? "v" : "u") : name;
+      }
+    }
+    out_.write(header + "\n");
+  }
+  void write(std::span<const ProjectionRecord> records) override {
+    double values[16];
+    for (const ProjectionRecord& r : records) {
+      const int n = valuesOf(r, target_, values);
+      char* p = out_.space(n * 32 + 1);
+      char* start = p;
+      for (int k = 0; k < n; ++k) {
+        if (k) *p++ = ',';
+        p = std::to_chars(p, p + 32, values[k], std::chars_format::general, 17).ptr;
+      }
+      *p++ = '\n';
+      out_.advance(static_cast<size_t>(p - start));
+    }
+  }
+
+ private:
+  AtomicFile& out_;
+  ProjectionTarget target_;
+};
+
+// Binary PLY: x, y, z the query point, then every other field as double properties (`face` an int).
+class PlyWriter final : public ProjectionWriter {
+ public:
+  PlyWriter(AtomicFile& out, ProjectionTarget target, std::uint64_t count) : out_(out), target_(target) {
+    std::string h = "ply\nformat binary_little_endian 1.0\ncomment shapespline project\nelement vertex " +
+                    std::to_string(count) + "\nproperty double x\nproperty double y\nproperty double z\n";
+    static const char* axes[] = {"x", "y", "z"};
+    for (const auto& [name, width] : projectionFields(target)) {
+      if (name == "query") continue;
+      for (int k = 0; k < width; ++k) {
+        const std::string property = name == "point"    ? std::string("foot_") + axes[k]
+                                     : name == "normal" ? std::string("n") + axes[k]
+                                     : width == 2       ? std::string(k ? "v" : "u")
+                                                        : name;
+        h += (name == "face" ? "property int " : "property double ") + property + "\n";
+      }
+    }
+    out_.write(h + "end_header\n");
+  }
+  void write(std::span<const ProjectionRecord> records) override {
+    double values[16];
+    for (const ProjectionRecord& r : records) {
+      const int n = valuesOf(r, target_, values);
+      for (int k = 0; k < n; ++k) {
+        if (target_ == ProjectionTarget::Part && k == 6) {
+          const std::int32_t face = r.face;
+          out_.write(&face, sizeof face);
+        } else {
+          out_.write(&values[k], sizeof(double));
+        }
+      }
+    }
+  }
+
+ private:
+  AtomicFile& out_;
+  ProjectionTarget target_;
+};
+
+}  // namespace
+
+std::unique_ptr<ProjectionWriter> makeProjectionWriter(AtomicFile& out, const std::filesystem::path& path,
+                                                       const std::string& option, ProjectionTarget target,
+                                                       std::uint64_t count) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".npy") {
+    out.write(npyHeader(projectionFields(target), true, count));
+    return std::make_unique<RecordWriter>(out, target);
+  }
+  if (ext == ".f64") return std::make_unique<RecordWriter>(out, target);
+  if (ext == ".csv") return std::make_unique<CsvWriter>(out, target);
+  if (ext == ".ply") return std::make_unique<PlyWriter>(out, target, count);
+  throw OutputPathError(option, path.string(), "the projection's output is .npy, .f64, .csv or .ply");
+}
+
+}  // namespace shapespline::io
