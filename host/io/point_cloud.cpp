@@ -297,6 +297,11 @@ PointCloudReader::PointCloudReader(const std::filesystem::path& path, std::strin
   } catch (const std::invalid_argument& e) {
     if (dynamic_cast<const ModelError*>(&e)) throw;
     throw ModelError(field_, path.string(), e.what());  // the .npy reader's rule
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw ModelError(field_, path.string(), std::string("cannot be read: ") + e.code().message());
+  } catch (const std::runtime_error& e) {
+    // A missing or unreadable file is the argument's fault, like a missing model.
+    throw ModelError(field_, path.string(), std::string("cannot be read: ") + e.what());
   }
   if (count_ == 0) throw ModelError(field_, path.string(), "the cloud has no points");
   if (count_ > kMaxCloudPoints)

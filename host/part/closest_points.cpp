@@ -198,7 +198,8 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, b
   bool settled = false;
   double f = newtonOnPatch(s, cell.i, cell.j, lo, hi, q, x, e, settled);
   // On the domain's border the nearest point may be a minimum along the border that is not one of
-  // the surface: each border side of the cell is searched on its own.
+  // the surface: a border side of the cell is searched on its own where Newton ended on it, and
+  // every border side of a quarter of a doubtful cell (fromMiddle), where a second minimum may be.
   const auto [uMin, uMax] = s.parameterRangeU();
   const auto [vMin, vMax] = s.parameterRangeV();
   const SurfaceShape& shape = s.model();
@@ -208,7 +209,7 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, b
     const double fixed = side == 0 ? cell.u0 : side == 1 ? cell.u1 : side == 2 ? cell.v0 : cell.v1;
     const auto [U, V] = alongV ? s.parameterOf(cell.i, cell.j, fixed, cell.v0) : s.parameterOf(cell.i, cell.j, cell.u0, fixed);
     const bool border = alongV ? !shape.closedU && (U == uMin || U == uMax) : !shape.closedV && (V == vMin || V == vMax);
-    if (!border) continue;
+    if (!border || (!fromMiddle && (alongV ? x[0] : x[1]) != fixed)) continue;
     const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
       const LocalPoint l = alongV ? evaluateLocal(s, cell.i, cell.j, fixed, t) : evaluateLocal(s, cell.i, cell.j, t, fixed);
       p = l.p, d1 = alongV ? l.v : l.u, d2 = alongV ? l.vv : l.uu;

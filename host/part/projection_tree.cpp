@@ -248,7 +248,7 @@ Box sampledBox(const Surface& s, glm::dvec2 a, glm::dvec2 ab, double t0, double 
 }
 
 [[noreturn]] void refuseAlphaEB(const char* what) {
-  throw ModelError("construction", "alpha-eb",
+  throw ModelError("construction", "alpha_eb",
                    std::string("closest points on an α-EB ") + what +
                        " are not available: its pieces are not polynomials, so no control net bounds them");
 }
