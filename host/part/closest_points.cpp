@@ -25,11 +25,11 @@ constexpr double kSameFootFraction = 1e-6;
 // A foot this near (a fraction of the diagonal) cannot be bettered: the query is on the surface.
 constexpr double kOnSurfaceFraction = 1e-13;
 // A cell that may hold a nearer point than Newton found on it (Newton did not settle, or the query
-// is more than kFocalFraction of the way to a centre of the cell's curvature: the curvature towards
-// the query's side times the distance) is searched again by quarters, this many levels deep, while
-// its box is nearer than the best point.
-constexpr double kFocalFraction = 0.5;
-constexpr int kRefineDepth = 2;
+// is near a centre of the cell's curvature: the curvature towards the query's side times the
+// distance at least kFocalFraction) gets a second look while its bound is nearer than the best
+// point: Newton in each quarter, kSecondLookDepth levels deep.
+constexpr double kFocalFraction = 1.0;
+constexpr int kSecondLookDepth = 2;
 
 // A point of a surface piece and its partials with respect to the piece's local parameters.
 struct LocalPoint {
@@ -175,12 +175,15 @@ ClosestPoints::ClosestPoints(const ProjectionTree& tree) : tree_(tree) {
   }
 }
 
-bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, double bestD2,
-                              Candidate& out) const {
+bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, const glm::dvec2* from, bool everySide,
+                              double bestD2, Candidate& out) const {
   const Surface& s = *tree_.faces()[cell.face].surface;
   const double lo[2] = {cell.u0, cell.v0}, hi[2] = {cell.u1, cell.v1};
   double x[2] = {0.5, 0.5};
-  if (!fromMiddle) {
+  if (from) {
+    x[0] = (from->x - cell.u0) / (cell.u1 - cell.u0);
+    x[1] = (from->y - cell.v0) / (cell.v1 - cell.v0);
+  } else {
     // Where q falls on the cell's parallelogram (least squares), kept inside it.
     const glm::dvec3 d = q - cell.middle;
     const double a = glm::dot(cell.alongU, cell.alongU), b = glm::dot(cell.alongU, cell.alongV),
@@ -198,8 +201,8 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, b
   bool settled = false;
   double f = newtonOnPatch(s, cell.i, cell.j, lo, hi, q, x, e, settled);
   // On the domain's border the nearest point may be a minimum along the border that is not one of
-  // the surface: a border side of the cell is searched on its own where Newton ended on it, and
-  // every border side of a quarter of a doubtful cell (fromMiddle), where a second minimum may be.
+  // the surface: a border side of the cell is searched on its own where Newton ended on it, or
+  // every border side (a doubtful cell's second look, where a second minimum may be).
   const auto [uMin, uMax] = s.parameterRangeU();
   const auto [vMin, vMax] = s.parameterRangeV();
   const SurfaceShape& shape = s.model();
@@ -209,7 +212,7 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, b
     const double fixed = side == 0 ? cell.u0 : side == 1 ? cell.u1 : side == 2 ? cell.v0 : cell.v1;
     const auto [U, V] = alongV ? s.parameterOf(cell.i, cell.j, fixed, cell.v0) : s.parameterOf(cell.i, cell.j, cell.u0, fixed);
     const bool border = alongV ? !shape.closedU && (U == uMin || U == uMax) : !shape.closedV && (V == vMin || V == vMax);
-    if (!border || (!fromMiddle && (alongV ? x[0] : x[1]) != fixed)) continue;
+    if (!border || (!everySide && (alongV ? x[0] : x[1]) != fixed)) continue;
     const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
       const LocalPoint l = alongV ? evaluateLocal(s, cell.i, cell.j, fixed, t) : evaluateLocal(s, cell.i, cell.j, t, fixed);
       p = l.p, d1 = alongV ? l.v : l.u, d2 = alongV ? l.vv : l.uu;
@@ -334,7 +337,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
         solveSpan(q, tree_.spans()[leaf.index], c);
       } else {
         const ProjectionCell& cell = tree_.cells()[leaf.index];
-        if (!solveCell(q, cell, false, best.d2, c) || nearCentreOfCurvature(cell, c.d2)) doubtful.push_back({d2, cell.index});
+        if (!solveCell(q, cell, nullptr, false, best.d2, c) || nearCentreOfCurvature(cell, c.d2)) doubtful.push_back({d2, cell.index});
       }
       if (better(c)) best = c;
       continue;
@@ -354,22 +357,24 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
       if (within(bound, listed)) queue.push({bound, -1 - k});
     }
   }
-  // The quarters of a doubtful cell, Newton from each one's middle.
-  const std::function<void(const ProjectionCell&, int)> refine = [&](const ProjectionCell& cell, int depth) {
+  // A doubtful cell's second look: Newton confined to each of its quarters, from its middle, every
+  // border side searched, and the quarters' quarters where a quarter is doubtful too.
+  const std::function<void(const ProjectionCell&, int)> secondLook = [&](const ProjectionCell& cell, int depth) {
     const double um = 0.5 * (cell.u0 + cell.u1), vm = 0.5 * (cell.v0 + cell.v1);
     const double us[3] = {cell.u0, um, cell.u1}, vs[3] = {cell.v0, vm, cell.v1};
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
         ProjectionCell quarter = cell;
         quarter.u0 = us[a], quarter.u1 = us[a + 1], quarter.v0 = vs[b], quarter.v1 = vs[b + 1];
+        const glm::dvec2 middle(0.5 * (quarter.u0 + quarter.u1), 0.5 * (quarter.v0 + quarter.v1));
         Candidate c;
-        const bool settled = solveCell(q, quarter, true, best.d2, c);
+        const bool settled = solveCell(q, quarter, &middle, true, best.d2, c);
         if (better(c)) best = c;
-        if (depth < kRefineDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) refine(quarter, depth + 1);
+        if (depth < kSecondLookDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) secondLook(quarter, depth + 1);
       }
   };
   for (const auto& [box2, cell] : doubtful)
-    if (within(box2, 0.0)) refine(tree_.cells()[cell], 1);
+    if (within(box2, 0.0)) secondLook(tree_.cells()[cell], 1);
   if (best.d2 == kNone) return foot;  // every piece outside its loops
   foot.point = best.point;
   foot.u = best.u;

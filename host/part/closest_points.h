@@ -10,6 +10,7 @@
 #include <shapespline/core/trim_classifier.h>
 #include <shapespline/part/projection_tree.h>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <optional>
@@ -45,10 +46,12 @@ class ClosestPoints {
 
  private:
   struct Candidate;
-  // Newton from where q falls on the cell's parallelogram, or from its middle; false when it did not
-  // settle (see newtonOnPatch). A foot outside the face's loops gives way to the nearest point on
-  // the loop pieces that meet the cell (those whose boxes are within bestD2).
-  bool solveCell(const glm::dvec3& q, const ProjectionCell& cell, bool fromMiddle, double bestD2, Candidate& out) const;
+  // Newton from where q falls on the cell's parallelogram, or from the patch parameters `from`;
+  // false when it did not settle (see newtonOnPatch). `everySide`: every side on the domain's
+  // border is searched, not only the one Newton ended on. A foot outside the face's loops gives way
+  // to the nearest point on the loop pieces that meet the cell (those whose boxes are within bestD2).
+  bool solveCell(const glm::dvec3& q, const ProjectionCell& cell, const glm::dvec2* from, bool everySide, double bestD2,
+                 Candidate& out) const;
   // The nearest point on cell `cell`'s loop pieces within bestD2 (kept in `out` if nearer).
   void solveRuns(const glm::dvec3& q, int cell, double bestD2, Candidate& out) const;
   void solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const;
