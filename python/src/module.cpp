@@ -4,6 +4,7 @@
 #include "chunks.h"
 #include "convert.h"
 #include "handle.h"
+#include "project.h"
 #include "surface_args.h"
 
 #include <shapespline/core/grid_sampler.h>
@@ -932,6 +933,16 @@ PYBIND11_MODULE(shapespline, m) {
           py::arg("first_item") = 0, py::arg("item_count") = 0, py::arg("chunk_points") = 0, py::arg("queue") = 2,
           "Iterator of chunk dicts (first_item, item_count, first_row, row_count, first_point, and an (n, 3) array per "
           "field), produced by a thread in bounded memory.")
+      .def(
+          "project",
+          [](CurveHandle& h, py::handle points, int threads) {
+            const std::shared_ptr<const Curve> curve = h.model();
+            const part::ProjectionTree tree = part::ProjectionTree::ofCurve(*curve);
+            return projectPoints(tree, points, threads, false);
+          },
+          py::arg("points"), py::kw_only(), py::arg("threads") = 0,
+          "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the curve: a dict "
+          "of point (n, 3), t (n,) and distance (n,), fp64, CPU.")
       .def("evaluate", &curveEvaluate, py::arg("params") = py::none(), py::kw_only(), py::arg("span") = py::none(),
            py::arg("t") = py::none(), py::arg("device") = "auto", py::arg("precision") = "double",
            py::arg("require") = false, py::arg("report") = false, py::arg("fields") = py::none(),
@@ -1071,6 +1082,17 @@ PYBIND11_MODULE(shapespline, m) {
            "evaluate((n, 2) global (U, V)) or evaluate(patch=(n, 2), uv=(n, 2)) -> dict point, du, dv, duu, duv, dvv, "
            "normal of shape (n, 3). fields: a name or names (the point is always in); 'point', 'du' and 'dv' alone "
            "run the lean list kernel.")
+      .def(
+          "project",
+          [](SurfaceHandle& h, py::handle points, int threads) {
+            const std::shared_ptr<const Surface> surface = h.model();
+            const part::ProjectionTree tree = part::ProjectionTree::ofFaces({{surface.get(), 0, false}});
+            return projectPoints(tree, points, threads, false);
+          },
+          py::arg("points"), py::kw_only(), py::arg("threads") = 0,
+          "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the surface "
+          "(inside its trim loops, if it has any): a dict of point (n, 3), uv (n, 2) (global U, V), distance (n,), "
+          "signed_distance (n,) (the side of the normal) and normal (n, 3), fp64, CPU.")
       .def("tessellate", &tessellate, py::arg("rate") = 8, py::kw_only(), py::arg("device") = "auto",
            py::arg("precision") = "float", py::arg("require") = false, py::arg("report") = false,
            "Watertight triangle mesh: (vertices (V, 8) float32 [x y z nx ny nz U V], indices (T, 3) uint32).")

@@ -5,6 +5,7 @@
 // samples outside its trim loops left out, as `sample part.json -o cloud.npy` writes it.
 #include "convert.h"
 #include "handle.h"
+#include "project.h"
 #include "surface_args.h"
 
 #include <shapespline/io/sample_writer.h>
@@ -28,6 +29,9 @@ namespace {
 struct PartHandle {
   std::filesystem::path dir;
   part::Part part;
+  // The projection tree, built at the first project() (the part never changes).
+  std::once_flag treeBuilt;
+  std::unique_ptr<part::ProjectionTree> tree;
 };
 
 double positiveArgument(py::object value, const std::string& name, const std::string& unit) {
@@ -207,6 +211,16 @@ void bindPart(py::module_& m) {
            "patch, default 16) with only the samples inside its trim loops, face after face in the manifest's "
            "order: a dict of uv (K, 2) float64 (the face's knot parameters), face_ids (K,) int32 and each field "
            "(K, 3) ('point' by default; float32 with precision='float'). report=True: (dict, Report).")
+      .def(
+          "project",
+          [](PartHandle& h, py::handle points, int threads) {
+            std::call_once(h.treeBuilt, [&] { h.tree = std::make_unique<part::ProjectionTree>(part::ProjectionTree::ofPart(h.part)); });
+            return projectPoints(*h.tree, points, threads, true);
+          },
+          py::arg("points"), py::kw_only(), py::arg("threads") = 0,
+          "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the part's faces "
+          "inside their trim loops: a dict of point (n, 3), uv (n, 2), face_ids (n,) int32, distance (n,), "
+          "signed_distance (n,) (outside positive on a closed part) and normal (n, 3), fp64, CPU.")
       .def("__repr__", [](const PartHandle& h) {
         return "<shapespline.Part " + h.dir.string() + ": " + std::to_string(h.part.faces.size()) + " faces, " +
                std::to_string(h.part.edges.size()) + " edges>";
