@@ -49,6 +49,22 @@ LocalPoint evaluateLocal(const Surface& s, int i, int j, double u, double v) {
   return {out.p, out.u, out.v, out.uu, out.uv, out.vv};
 }
 
+// A point of the surface at global (U, V) (clamped into the domain) and its partials with respect to
+// U and V: evaluateAt without the normal.
+LocalPoint evaluateGlobal(const Surface& s, double U, double V) {
+  const auto [u0, u1] = s.parameterRangeU();
+  const auto [v0, v1] = s.parameterRangeV();
+  U = std::clamp(U, u0, u1), V = std::clamp(V, v0, v1);
+  if (s.usesKnotVector()) {
+    const BSplineSurfacePoint e = evalBSplineSurface(s.knotData(), U, V);
+    return {e.point, e.du, e.dv, e.duu, e.duv, e.dvv};
+  }
+  int i = 0, j = 0;
+  double u = 0.0, v = 0.0;
+  s.patchAt(U, V, i, j, u, v);
+  return evaluateLocal(s, i, j, u, v);  // uniform patches: local and global partials agree
+}
+
 // The parameter x in [lo, hi] nearest q on a curve piece, by Newton from x: eval(x) gives the
 // point, first and second derivatives. Returns the squared distance there.
 template <typename Eval>
@@ -238,11 +254,19 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, c
 }
 
 void ClosestPoints::solveRuns(const glm::dvec3& q, int cell, double bestD2, Candidate& out) const {
-  for (const int r : tree_.runsOf(cell)) {
-    const ProjectionRun& run = tree_.runs()[r];
-    if (run.box.distance2(q) > std::min(bestD2, out.d2)) continue;
+  // Nearest box first, stopping at the first box farther than the nearest point found.
+  const std::span<const int> runs = tree_.runsOf(cell);
+  thread_local std::vector<std::pair<double, int>> order;
+  order.clear();
+  for (const int r : runs) {
+    const double d2 = tree_.runs()[r].box.distance2(q);
+    if (d2 <= bestD2) order.emplace_back(d2, r);
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [d2, r] : order) {
+    if (d2 > out.d2) break;
     Candidate c;
-    solveRun(q, run, c);
+    solveRun(q, tree_.runs()[r], c);
     if (c.d2 < out.d2) out = c;
   }
 }
@@ -255,10 +279,10 @@ void ClosestPoints::solveRun(const glm::dvec3& q, const ProjectionRun& run, Cand
   const glm::dvec2 a = loop[run.segment], ab = loop[(run.segment + 1) % loop.size()] - a;
   const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
     const glm::dvec2 uv = a + t * ab;
-    const SurfacePoint e = s.evaluateAt(std::clamp(uv.x, uMin, uMax), std::clamp(uv.y, vMin, vMax));
-    p = e.point;
-    d1 = e.du * ab.x + e.dv * ab.y;
-    d2 = e.duu * (ab.x * ab.x) + 2.0 * e.duv * (ab.x * ab.y) + e.dvv * (ab.y * ab.y);
+    const LocalPoint e = evaluateGlobal(s, uv.x, uv.y);
+    p = e.p;
+    d1 = e.u * ab.x + e.v * ab.y;
+    d2 = e.uu * (ab.x * ab.x) + 2.0 * e.uv * (ab.x * ab.y) + e.vv * (ab.y * ab.y);
   };
   double t = 0.5 * (run.t0 + run.t1);
   glm::dvec3 foot;
