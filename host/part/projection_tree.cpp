@@ -39,6 +39,9 @@ constexpr int kMaxDepth = 6;
 // kMaxRunDepth times).
 constexpr size_t kRunCells = 4;
 constexpr int kMaxRunDepth = 12;
+// The most cells a tree holds (about 250 bytes each with its box and leaf): a net of millions of
+// patches is refused rather than exhausting memory.
+constexpr size_t kMaxCells = size_t{1} << 23;
 // Leaves per hierarchy leaf node.
 constexpr int kLeafSize = 4;
 
@@ -247,6 +250,12 @@ Box sampledBox(const Surface& s, glm::dvec2 a, glm::dvec2 ab, double t0, double 
   return box;
 }
 
+[[noreturn]] void refuseSize(size_t cells) {
+  throw ModelError("points", std::to_string(cells) + " pieces",
+                   "closest points take at most " + std::to_string(kMaxCells) +
+                       " flat pieces (a few per patch): the model has too many patches to hold their bounds");
+}
+
 [[noreturn]] void refuseAlphaEB(const char* what) {
   throw ModelError("construction", "alpha_eb",
                    std::string("closest points on an α-EB ") + what +
@@ -275,6 +284,12 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
   std::vector<Box> cellBoxes;
   // Per face, the first cell of each patch (row-major over the patch range) and one past the last.
   std::vector<std::vector<int>> patchCells(tree.faces_.size());
+  size_t patches = 0;
+  for (const ProjectionFace& face : tree.faces_) {
+    const PatchRange range = face.surface->patches();
+    patches += static_cast<size_t>(range.u.last - range.u.first + 1) * (range.v.last - range.v.first + 1);
+  }
+  if (patches > kMaxCells) refuseSize(patches);
   for (size_t f = 0; f < tree.faces_.size(); ++f) {
     const Surface& s = *tree.faces_[f].surface;
     if (s.parameterization() == Parameterization::AlphaEB) refuseAlphaEB("surface");
@@ -305,6 +320,7 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
         }
         const size_t before = tree.cells_.size();
         cutPatch(net, static_cast<int>(f), i, j, 0.0, 1.0, 0.0, 1.0, 0, 0, tree.cells_, cellBoxes);
+        if (tree.cells_.size() > kMaxCells) refuseSize(tree.cells_.size());
         for (size_t k = before; k < tree.cells_.size(); ++k) measureBending(s, tree.cells_[k]);
       }
     starts.push_back(static_cast<int>(tree.cells_.size()));
@@ -427,6 +443,7 @@ ProjectionTree ProjectionTree::ofCurve(const Curve& curve) {
     std::vector<ProjectionCell> pieces;
     std::vector<Box> boxes;
     cutPatch(net, 0, span, 0, 0.0, 1.0, 0.0, 1.0, 0, kMaxDepth, pieces, boxes);
+    if (tree.spans_.size() + pieces.size() > kMaxCells) refuseSize(tree.spans_.size() + pieces.size());
     for (size_t k = 0; k < pieces.size(); ++k) {
       tree.leaves_.push_back({boxes[k], LeafKind::Span, static_cast<int>(tree.spans_.size())});
       tree.spans_.push_back({span, pieces[k].u0, pieces[k].u1});
