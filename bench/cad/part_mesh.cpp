@@ -17,7 +17,7 @@
 #include <shapespline/part/part_model.h>
 #include <shapespline/sampling/session.h>
 
-#include "../../tests/cad/test_parts.h"
+#include "bench_parts.h"
 
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
@@ -310,18 +310,8 @@ int main(int argc, char** argv) {
     fs::create_directories(scratch);
     std::printf("part meshes at %.0e of the diagonal, angle %.2f, best of %d, %u threads\n", o.relative, o.angle, o.reps,
                 std::thread::hardware_concurrency());
-    nlohmann::json rows = nlohmann::json::array();
-    if (o.parts.empty()) {
-      const std::pair<const char*, TopoDS_Shape> own[] = {
-          {"filleted_box", test::filletedBox()}, {"drilled_plate", test::drilledPlate()}, {"free_form", test::freeForm()}};
-      for (const auto& [name, shape] : own) {
-        const fs::path step = scratch / (std::string(name) + ".step");
-        test::writeStep(shape, step);
-        rows.push_back(benchPart(name, step, o, scratch));
-      }
-    } else {
-      for (const fs::path& file : o.parts) rows.push_back(benchPart(file.stem().string(), file, o, scratch));
-    }
+    const nlohmann::json rows = bench::benchEachPart(
+        o.parts, scratch, [&](const std::string& name, const fs::path& file) { return benchPart(name, file, o, scratch); });
     fs::remove_all(scratch);
     if (!o.json.empty()) std::ofstream(o.json) << rows.dump(1) << "\n";
     return 0;
