@@ -2,6 +2,7 @@
 
 #include <shapespline/core/model.h>
 #include <shapespline/core/value_text.h>
+#include <shapespline/io/file_extension.h>
 #include <shapespline/io/input_file.h>
 #include <shapespline/io/npy_array.h>
 
@@ -22,12 +23,6 @@ namespace {
 constexpr std::uint64_t kMaxCloudPoints = std::uint64_t{1} << 40;
 // The longest line of a CSV or ASCII PLY file, and of a PLY header.
 constexpr std::size_t kMaxLineChars = 4096;
-
-std::string extensionOf(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // Reads one line (without '\n'), refusing an over-long one.
 bool readLine(std::istream& in, std::string& line, const std::string& field) {
@@ -287,7 +282,7 @@ std::unique_ptr<PointCloudReader::Format> openPly(const std::filesystem::path& p
 
 PointCloudReader::PointCloudReader(const std::filesystem::path& path, std::string field)
     : path_(path), field_(std::move(field)) {
-  const std::string ext = extensionOf(path);
+  const std::string ext = lowercaseExtension(path);
   try {
     if (ext == ".npy") format_ = std::make_unique<NpyFormat>(path, field_, count_);
     else if (ext == ".f64" || ext == ".f32") format_ = openRaw(path, field_, ext == ".f64", count_);

@@ -1,5 +1,6 @@
 #include <shapespline/io/projection_writer.h>
 
+#include <shapespline/io/file_extension.h>
 #include <shapespline/io/raw_records.h>
 
 #include <charconv>
@@ -132,8 +133,7 @@ class PlyWriter final : public ProjectionWriter {
 std::unique_ptr<ProjectionWriter> makeProjectionWriter(AtomicFile& out, const std::filesystem::path& path,
                                                        const std::string& option, ProjectionTarget target,
                                                        std::uint64_t count) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lowercaseExtension(path);
   if (ext == ".npy") {
     out.write(npyHeader(projectionFields(target), true, count));
     return std::make_unique<RecordWriter>(out, target);

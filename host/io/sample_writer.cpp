@@ -1,7 +1,9 @@
 #include <shapespline/io/sample_writer.h>
+
 #include <shapespline/core/grid_sampler.h>
 #include <shapespline/core/surface.h>
 #include <shapespline/core/value_text.h>
+#include <shapespline/io/file_extension.h>
 #include <shapespline/io/welded_mesh.h>
 
 #include <shapespline/io/number_text.h>
@@ -30,8 +32,7 @@ void setSurfaceItems(const SurfaceShape& sm, SampleLayout& layout) {
 }
 
 OutputFormat outputFormatFromPath(const std::filesystem::path& path, const std::string& option) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowercaseExtension(path);
   if (ext == ".obj") return OutputFormat::Obj;
   if (ext == ".ply") return OutputFormat::Ply;
   if (ext == ".csv") return OutputFormat::Csv;
