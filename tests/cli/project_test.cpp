@@ -28,7 +28,7 @@ class Project : public ::testing::Test {
 constexpr const char* kWriteClouds = R"(
 import numpy as np, sys
 rng = np.random.default_rng(7)
-p = np.column_stack([rng.uniform(-0.2, 1.2, 3000), rng.uniform(-0.2, 1.2, 3000), rng.uniform(-0.5, 1.6, 3000)])
+p = np.column_stack([rng.uniform(-0.2, 1.2, 800), rng.uniform(-0.2, 1.2, 800), rng.uniform(-0.5, 1.6, 800)])
 np.save('cloud.npy', p)
 p.astype('<f8').tofile('cloud.f64')
 np.savetxt('cloud.csv', p, delimiter=',', fmt='%.17g', header='x,y,z', comments='')
@@ -60,7 +60,7 @@ TEST_F(Project, OutputFormatsCarryTheSameNumbers) {
   for (const char* out : {"feet.npy", "feet.f64", "feet.csv", "feet.ply"}) {
     const CliResult r = project("cloud.npy", out, "--report");
     ASSERT_EQ(r.rc, 0) << out << "\n" << r.err;
-    EXPECT_TRUE(contains(r.out, "projected 3000 points onto 2 faces")) << r.out;
+    EXPECT_TRUE(contains(r.out, "projected 800 points onto 2 faces")) << r.out;
   }
   // The .npy by field; the .f64 its data; the CSV and PLY the same values; the feet lie on the
   // faces at their (U, V) within the faces' loops or on them, at the distance given.
@@ -91,7 +91,7 @@ with open('feet.ply', 'rb') as f:
     props = [l.split() for l in lines if l.startswith('property')]
     dt = np.dtype([(p[2], '<i4' if p[1] == 'int' else '<f8') for p in props])
     v = np.frombuffer(f.read(), dtype=dt)
-assert 'element vertex 3000' in lines
+assert 'element vertex 800' in lines
 assert np.array_equal(np.column_stack([v['x'], v['y'], v['z']]), q)
 assert np.array_equal(v['distance'], a['distance'][:, 0])
 assert np.array_equal(v['face'], a['face'][:, 0].astype(int))
@@ -145,12 +145,12 @@ TEST_F(Project, ReportPrintsEachFaceAndTheWhole) {
   EXPECT_TRUE(contains(r.out, "\n0 ")) << r.out;
   EXPECT_TRUE(contains(r.out, "\n1 ")) << r.out;
   writeText(dir_ / "report.txt", r.out);
-  // The overall row: 3000 points, and its max equals the largest distance in the file.
+  // The overall row: 800 points, and its max equals the largest distance in the file.
   expectPythonOk(dir_, R"(
 import numpy as np, sys
 a = np.load('feet.npy')
 row = [l.split() for l in open('report.txt') if l.startswith('all ')][0]
-assert int(row[1]) == 3000, row
+assert int(row[1]) == 800, row
 assert abs(float(row[3]) - a['distance'].max()) <= 1e-5 * a['distance'].max(), (row, a['distance'].max())
 assert abs(float(row[2]) - a['distance'].min()) <= 1e-5 * a['distance'].max() + 1e-300, row
 print('OK')
