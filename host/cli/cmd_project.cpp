@@ -3,7 +3,7 @@
 // a block of points at a time, on every core, in fp64 on the CPU; `--report` prints the deviation
 // statistics.
 #include <shapespline/cli/common.h>
-#include <shapespline/cli/exit_codes.h>
+#include <shapespline/cli/part_mesh_options.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/io/output_set.h>
@@ -45,16 +45,14 @@ struct Target {
 };
 
 void loadTarget(const std::string& path, io::OutputSet& outputs, Target& t) {
-  outputs.reads(path, "--onto");
   if (io::isPartManifest(path)) {
-    t.part.emplace(part::loadPart(path));
-    if (t.part->faces.empty()) throw InputError("--onto", path, "the part has no converted face to project onto");
-    for (const part::PartFace& face : t.part->faces) outputs.reads(face.model, "--onto's face");
+    t.part.emplace(loadPartManifest(path, &outputs, "--onto"));
     t.tree = std::make_unique<part::ProjectionTree>(part::ProjectionTree::ofPart(*t.part));
     t.kind = io::ProjectionTarget::Part;
     t.what = std::to_string(t.part->faces.size()) + " faces" + (t.part->closed() ? ", closed" : "");
     return;
   }
+  outputs.reads(path, "--onto");
   io::Model model = loadModel(path);
   if (auto* curve = std::get_if<CurveModel>(&model)) {
     t.curve.emplace(Curve::create(std::move(*curve)));

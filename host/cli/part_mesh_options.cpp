@@ -61,13 +61,13 @@ PartMeshSettings partMeshSettings(const PartMeshArgs& args, const part::Part& pa
   return s;
 }
 
-part::Part loadPartManifest(const std::filesystem::path& manifest, io::OutputSet* outputs) {
+part::Part loadPartManifest(const std::filesystem::path& manifest, io::OutputSet* outputs, const std::string& option) {
   part::Part part = part::loadPart(manifest);
-  if (part.faces.empty()) throw InputError("MODEL", manifest.string(), "the part has no converted face to mesh");
+  if (part.faces.empty()) throw InputError(option, manifest.string(), "the part has no converted face");
   if (outputs) {
-    outputs->reads(manifest, "MODEL");
+    outputs->reads(manifest, option);
     for (const part::PartFace& face : part.faces)
-      if (face.model != manifest) outputs->reads(face.model, "MODEL's face");
+      if (face.model != manifest) outputs->reads(face.model, option + "'s face");
   }
   return part;
 }

@@ -39,8 +39,9 @@ PartMeshSettings partMeshSettings(const PartMeshArgs& args, const part::Part& pa
                                   const std::string& model);
 
 // The part of a manifest (`import`), each file it reads added to `outputs` when given; InputError
-// naming MODEL when no face of it was converted.
-part::Part loadPartManifest(const std::filesystem::path& manifest, io::OutputSet* outputs);
+// naming `option` (the argument that named the manifest) when no face of it was converted.
+part::Part loadPartManifest(const std::filesystem::path& manifest, io::OutputSet* outputs,
+                            const std::string& option = "MODEL");
 
 // What `render` and `view` draw as a part's mesh: a part's manifest, or a face model with trim
 // loops (a part of one face). Any other model is read into `model` (InputError as loadModel), and

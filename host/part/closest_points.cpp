@@ -344,7 +344,8 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
   queue.push({tree_.nodes().front().box.distance2(q), 0});
-  std::vector<std::pair<double, int>> visited, doubtful;  // squared bound, cell
+  // Squared bound and cell: the cells reached (only kept for the sign) and the doubtful ones.
+  std::vector<std::pair<double, int>> visited, doubtful;
   // With a sign, cells a hair farther than the best are still listed (not solved): a face that
   // meets the best one at an edge may lie there.
   const double listed = signedDistance ? kSameFootFraction * tree_.diagonal() : 0.0;
@@ -354,7 +355,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     if (!within(d2, listed)) break;
     if (index < 0) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[-1 - index];
-      if (leaf.kind == ProjectionTree::LeafKind::Cell) visited.push_back({d2, leaf.index});
+      if (signedDistance && leaf.kind == ProjectionTree::LeafKind::Cell) visited.push_back({d2, leaf.index});
       if (!within(d2, 0.0)) continue;
       Candidate c;
       if (leaf.kind == ProjectionTree::LeafKind::Span) {

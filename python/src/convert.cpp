@@ -5,6 +5,16 @@
 
 namespace shapespline::python {
 
+DArray asArray(py::handle h, const char* name) {
+  DArray a;
+  try {
+    a = DArray::ensure(h);
+  } catch (const py::error_already_set&) {
+  }
+  if (!a) argumentError(name, "expected an array of numbers", py::str(py::repr(h)));
+  return a;
+}
+
 void argumentError(const std::string& name, const std::string& rule, const std::string& value) {
   throw py::value_error(name + ": " + rule + (value.empty() ? "" : " (got " + value + ")"));
 }

@@ -21,6 +21,11 @@ namespace py = pybind11;
 // A bad argument of a Python call (not a model field): ValueError "NAME: RULE (got VALUE)".
 [[noreturn]] void argumentError(const std::string& name, const std::string& rule, const std::string& value = "");
 
+// A value as a C-order array of doubles (converted if need be); ValueError naming `name` when it
+// is not numbers.
+using DArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+DArray asArray(py::handle h, const char* name);
+
 // A Python value (dict, list, tuple, number, bool, str, None, NumPy array or scalar) as JSON, for
 // the model parser. `path` names the value in errors (ModelError, as the JSON reader's paths).
 nlohmann::json toJson(py::handle value, const std::string& path, int depth = 0);

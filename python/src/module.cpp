@@ -499,17 +499,6 @@ py::dict pointDict(const std::vector<Point>& pts, Precision precision, FieldMask
   return out;
 }
 
-using DArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-DArray asArray(py::handle h, const char* name) {
-  DArray a;
-  try {
-    a = DArray::ensure(h);
-  } catch (const py::error_already_set&) {
-  }
-  if (!a) argumentError(name, "expected an array of numbers", py::str(py::repr(h)));
-  return a;
-}
 
 py::object curveEvaluate(CurveHandle& h, py::object params, py::object span, py::object t, const std::string& device,
                          const std::string& precision, bool require, bool withReport, py::object fields) {

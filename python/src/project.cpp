@@ -15,13 +15,7 @@ namespace shapespline::python {
 namespace py = pybind11;
 
 py::dict projectPoints(const part::ProjectionTree& tree, py::handle points, int threads, bool part) {
-  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-  Array a;
-  try {
-    a = Array::ensure(points);
-  } catch (const py::error_already_set&) {
-  }
-  if (!a) argumentError("points", "expected an (n, 3) array of numbers", py::str(py::repr(points)));
+  const DArray a = asArray(points, "points");
   if (a.ndim() != 2 || a.shape(1) != 3) argumentError("points", "expected an (n, 3) array");
   if (a.shape(0) == 0) argumentError("points", "the cloud has no points");
   if (threads < 0) argumentError("threads", "must be >= 0 (0 = one per CPU)", std::to_string(threads));
