@@ -87,6 +87,17 @@ MergeReadError::MergeReadError(std::string field, std::string value, std::string
 
 namespace {
 
+// A sidecar's value at `key` when it has that type, else "" or 0: nlohmann's value(key, default)
+// throws type_error when the key holds another type, and a sidecar is a foreign file.
+std::string stringOr(const nlohmann::json& doc, const char* key) {
+  const auto it = doc.is_object() ? doc.find(key) : doc.end();
+  return it != doc.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+uint64_t unsignedOr(const nlohmann::json& doc, const char* key) {
+  const auto it = doc.is_object() ? doc.find(key) : doc.end();
+  return it != doc.end() && it->is_number_unsigned() ? it->get<uint64_t>() : 0;
+}
+
 constexpr size_t kMaxLineBytes = 64 * 1024;       // OBJ/CSV lines; shapespline writes < 1 KiB
 constexpr size_t kMaxPlyHeaderBytes = 64 * 1024;
 constexpr int kMaxSidecarDepth = 16;
@@ -1205,10 +1216,10 @@ TrimmedPart readTrimmedPly(ShardFile& f) {
 TrimmedPart readTrimmedRaw(ShardFile& data, const Where& sideWhere, bool npy, std::optional<bool> float64) {
   TrimmedPart p;
   nlohmann::json doc = readSidecarJson(sideWhere);
-  if (doc.value("format", "") != kTrimmedSidecarFormat) refuse(sideWhere, "sidecar is not a trimmed point cloud's");
+  if (stringOr(doc, "format") != kTrimmedSidecarFormat) refuse(sideWhere, "sidecar is not a trimmed point cloud's");
   if (!doc.contains("shard")) refuse(sideWhere, "sidecar has no \"shard\" (not a shard: sample it with --shard)");
   p.shard = trimmedShardOf(doc["shard"], sideWhere);
-  const std::string dtype = doc.value("dtype", "");
+  const std::string dtype = stringOr(doc, "dtype");
   if ((dtype != "<f8" && dtype != "<f4") || (float64 && *float64 != (dtype == "<f8")))
     refuse(sideWhere, "sidecar \"dtype\" is not the data file's (\"<f8\" for .f64, \"<f4\" for .f32)");
   const nlohmann::json& fields = doc.contains("fields") ? doc["fields"] : nlohmann::json();
@@ -1231,7 +1242,7 @@ TrimmedPart readTrimmedRaw(ShardFile& data, const Where& sideWhere, bool npy, st
       refuse(data.where(), "does not begin with the .npy header its sidecar describes");
     p.dataOffset = expected.size();
   }
-  if (doc.value("records", uint64_t{0}) != p.shard.records) refuse(sideWhere, "sidecar \"records\" differs from its shard's");
+  if (unsignedOr(doc, "records") != p.shard.records) refuse(sideWhere, "sidecar \"records\" differs from its shard's");
   doc.erase("shard");
   doc.erase("records");
   doc.erase("data");
@@ -1314,7 +1325,7 @@ bool isTrimmedShard(const std::string& shard, OutputFormat format) {
   if (format != OutputFormat::Npy && format != OutputFormat::RawF32 && format != OutputFormat::RawF64) return false;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(shard + ".json", ec)) return false;
-  return readSidecarJson({shardField(1), shard + ".json"}).value("format", "") == kTrimmedSidecarFormat;
+  return stringOr(readSidecarJson({shardField(1), shard + ".json"}), "format") == kTrimmedSidecarFormat;
 }
 
 }  // namespace
