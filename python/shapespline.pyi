@@ -185,7 +185,7 @@ class Curve(_Model):
                       queue: int = 2) -> ChunkIterator:
         """The same job as an iterator of chunks in bounded memory: at most queue + 2 chunks of
         chunk_points points (default: 2^15 on the CPU, 4 MiB planes on the GPU) exist at once."""
-    def project(self, points: ArrayLike, *, threads: int = 0) -> dict[str, Any]:
+    def project(self, points: ArrayLike, *, threads: int = 0, tolerance: float | None = None) -> dict[str, Any]:
         """Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the
         curve: point (n, 3), t (n,), distance (n,); fp64, CPU."""
     def evaluate(self, params: Optional[ArrayLike] = None, *, span: Optional[ArrayLike] = None,
@@ -268,7 +268,7 @@ class Surface(_Model):
                       require: bool = False, first_item: int = 0, item_count: int = 0, chunk_points: int = 0,
                       queue: int = 2) -> ChunkIterator:
         """As Curve.sample_chunks."""
-    def project(self, points: ArrayLike, *, threads: int = 0) -> dict[str, Any]:
+    def project(self, points: ArrayLike, *, threads: int = 0, tolerance: float | None = None) -> dict[str, Any]:
         """Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the
         surface (inside its trim loops): point (n, 3), uv (n, 2), distance (n,), signed_distance (n,)
         (the side of the normal), normal (n, 3); fp64, CPU."""
@@ -332,7 +332,7 @@ class Part:
         """The trimmed point cloud (docs/cad.md 'Sampling a part'): each face's grid with only the samples
         inside its trim loops, face after face: uv (K, 2) float64, face_ids (K,) int32 and each field
         (K, 3). report=True: (dict, Report)."""
-    def project(self, points: ArrayLike, *, threads: int = 0) -> dict[str, Any]:
+    def project(self, points: ArrayLike, *, threads: int = 0, tolerance: float | None = None) -> dict[str, Any]:
         """Closest points (docs/math.md §15) on the faces, inside their trim loops: point (n, 3),
         uv (n, 2), face_ids (n,) int32, distance (n,), signed_distance (n,) (outside positive on a
         closed part), normal (n, 3); fp64, CPU."""

@@ -4,6 +4,7 @@
 // statistics.
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/part_mesh_options.h>
+#include <shapespline/core/value_text.h>
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/io/output_set.h>
@@ -17,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -31,6 +33,7 @@ constexpr std::size_t kProjectBlockPoints = std::size_t{1} << 18;
 struct ProjectArgs {
   std::string points, onto, out;
   int threads = 0;
+  std::optional<double> tolerance;
   bool report = false, quiet = false;
 };
 
@@ -68,6 +71,8 @@ void loadTarget(const std::string& path, io::OutputSet& outputs, Target& t) {
 
 void runProject(const ProjectArgs& a) {
   requireThreadCount(a.threads);
+  if (a.tolerance && !(std::isfinite(*a.tolerance) && *a.tolerance > 0.0))
+    throw InputError("--tolerance", shortestText(*a.tolerance), "expected a finite distance > 0 in the model's units");
   const auto start = std::chrono::steady_clock::now();
   io::OutputSet outputs;
   outputs.reads(a.points, "POINTS");
@@ -78,7 +83,7 @@ void runProject(const ProjectArgs& a) {
   const std::unique_ptr<io::ProjectionWriter> writer =
       io::makeProjectionWriter(out, a.out, "-o", target.kind, cloud.count());
 
-  const part::ClosestPoints closest(*target.tree);
+  const part::ClosestPoints closest(*target.tree, a.tolerance.value_or(0.0));
   const bool signedDistance = target.kind != io::ProjectionTarget::Curve;
   part::DeviationStats stats;
   std::vector<glm::dvec3> block;
@@ -115,6 +120,9 @@ void registerProject(CLI::App& app) {
   sub->add_option("--onto", args->onto, "a model file (surface or curve) or a part's part.json")->required();
   sub->add_option("-o,--output", args->out, "the feet: .npy, .f64, .csv or .ply (docs/cli.md \"project\")")->required();
   sub->add_flag("--report", args->report, "print the deviation statistics (overall and per face)");
+  sub->add_option("--tolerance", args->tolerance,
+                  "accept a foot within this distance (model units, > 0) of the nearest: faster near the surface; "
+                  "default exact");
   sub->add_option("--threads", args->threads, "threads (0 = one per CPU this process may use)");
   addQuietFlag(sub, args->quiet, "no summary line");
   sub->callback([args] { runProject(*args); });

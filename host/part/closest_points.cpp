@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <queue>
+#include <stdexcept>
 
 namespace shapespline::part {
 
@@ -183,7 +184,9 @@ struct ClosestPoints::Candidate {
   double lu = 0.0, lv = 0.0;
 };
 
-ClosestPoints::ClosestPoints(const ProjectionTree& tree) : tree_(tree) {
+ClosestPoints::ClosestPoints(const ProjectionTree& tree, double tolerance) : tree_(tree), tolerance_(tolerance) {
+  if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
+    throw std::invalid_argument("ClosestPoints: the tolerance must be finite and >= 0");
   for (const ProjectionFace& face : tree.faces()) {
     const TrimLoops& trim = face.surface->model().trim;
     inside_.emplace_back();
@@ -325,12 +328,15 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     const int b = tree_.faces().empty() ? 0 : tree_.faces()[best.face].id;
     return std::tie(a, c.u, c.v) < std::tie(b, best.u, best.v);
   };
-  // No farther than the best point so far (plus `slack`).
+  // No farther than the best point so far plus `slack` (a negative slack: nearer by at least -slack).
   auto within = [&](double d2, double slack) {
     if (best.d2 == kNone) return true;
     const double reach = std::sqrt(best.d2) + slack;
-    return d2 <= reach * reach;
+    return reach >= 0.0 && d2 <= reach * reach;
   };
+  // A piece is solved only where it could be nearer than the best by more than the tolerance (with
+  // none, ties too are solved, for the tie rule).
+  const double solved = -tolerance_;
   // Within a cell, the distance from q has one minimum when q is nearer to all of it than its
   // radius of curvature; otherwise (q near a centre of curvature) it may have two.
   auto nearCentreOfCurvature = [&](const ProjectionCell& cell, double d2) {
@@ -348,7 +354,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   std::vector<std::pair<double, int>> visited, doubtful;
   // With a sign, cells a hair farther than the best are still listed (not solved): a face that
   // meets the best one at an edge may lie there.
-  const double listed = signedDistance ? kSameFootFraction * tree_.diagonal() : 0.0;
+  const double listed = signedDistance ? kSameFootFraction * tree_.diagonal() : solved;
   while (!queue.empty()) {
     const auto [d2, index] = queue.top();
     queue.pop();
@@ -356,7 +362,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     if (index < 0) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[-1 - index];
       if (signedDistance && leaf.kind == ProjectionTree::LeafKind::Cell) visited.push_back({d2, leaf.index});
-      if (!within(d2, 0.0)) continue;
+      if (!within(d2, solved)) continue;
       Candidate c;
       if (leaf.kind == ProjectionTree::LeafKind::Span) {
         solveSpan(q, tree_.spans()[leaf.index], c);
@@ -399,7 +405,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
       }
   };
   for (const auto& [box2, cell] : doubtful)
-    if (within(box2, 0.0)) secondLook(tree_.cells()[cell], 1);
+    if (within(box2, solved)) secondLook(tree_.cells()[cell], 1);
   if (best.d2 == kNone) return foot;  // every piece outside its loops
   foot.point = best.point;
   foot.u = best.u;

@@ -32,8 +32,11 @@ struct FootPoint {
 
 class ClosestPoints {
  public:
-  // The tree must outlive this object.
-  explicit ClosestPoints(const ProjectionTree& tree);
+  // The tree must outlive this object. `tolerance` (model units, >= 0): a piece is searched only if
+  // it could hold a point nearer than the best so far by more than this, so every foot is within
+  // `tolerance` of the nearest and clouds near the surface stop after fewer pieces; 0 searches every
+  // piece that could be as near, which also resolves ties by the rule in docs/math.md.
+  explicit ClosestPoints(const ProjectionTree& tree, double tolerance = 0.0);
 
   // The foot point of q. With `signedDistance`, the sign is that of q - foot along the outward
   // normal at the foot, or, where the foot is on a boundary, along the sum of the outward normals of
@@ -58,6 +61,7 @@ class ClosestPoints {
   void solveSpan(const glm::dvec3& q, const ProjectionSpan& span, Candidate& out) const;
 
   const ProjectionTree& tree_;
+  double tolerance_ = 0.0;
   std::vector<std::optional<TrimClassifier>> inside_;  // per face: its loops, if it has any
 };
 

@@ -924,12 +924,12 @@ PYBIND11_MODULE(shapespline, m) {
           "field), produced by a thread in bounded memory.")
       .def(
           "project",
-          [](CurveHandle& h, py::handle points, int threads) {
+          [](CurveHandle& h, py::handle points, int threads, std::optional<double> tolerance) {
             const std::shared_ptr<const Curve> curve = h.model();
             const part::ProjectionTree tree = part::ProjectionTree::ofCurve(*curve);
-            return projectPoints(tree, points, threads, false);
+            return projectPoints(tree, points, threads, tolerance, false);
           },
-          py::arg("points"), py::kw_only(), py::arg("threads") = 0,
+          py::arg("points"), py::kw_only(), py::arg("threads") = 0, py::arg("tolerance") = py::none(),
           "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the curve: a dict "
           "of point (n, 3), t (n,) and distance (n,), fp64, CPU.")
       .def("evaluate", &curveEvaluate, py::arg("params") = py::none(), py::kw_only(), py::arg("span") = py::none(),
@@ -1073,12 +1073,12 @@ PYBIND11_MODULE(shapespline, m) {
            "run the lean list kernel.")
       .def(
           "project",
-          [](SurfaceHandle& h, py::handle points, int threads) {
+          [](SurfaceHandle& h, py::handle points, int threads, std::optional<double> tolerance) {
             const std::shared_ptr<const Surface> surface = h.model();
             const part::ProjectionTree tree = part::ProjectionTree::ofFaces({{surface.get(), 0, false}});
-            return projectPoints(tree, points, threads, false);
+            return projectPoints(tree, points, threads, tolerance, false);
           },
-          py::arg("points"), py::kw_only(), py::arg("threads") = 0,
+          py::arg("points"), py::kw_only(), py::arg("threads") = 0, py::arg("tolerance") = py::none(),
           "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the surface "
           "(inside its trim loops, if it has any): a dict of point (n, 3), uv (n, 2) (global U, V), distance (n,), "
           "signed_distance (n,) (the side of the normal) and normal (n, 3), fp64, CPU.")

@@ -16,6 +16,8 @@
 #include <shapespline/part/part_mesher.h>
 #include <shapespline/part/part_model.h>
 
+#include <pybind11/stl.h>
+
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -213,11 +215,11 @@ void bindPart(py::module_& m) {
            "(K, 3) ('point' by default; float32 with precision='float'). report=True: (dict, Report).")
       .def(
           "project",
-          [](PartHandle& h, py::handle points, int threads) {
+          [](PartHandle& h, py::handle points, int threads, std::optional<double> tolerance) {
             std::call_once(h.treeBuilt, [&] { h.tree = std::make_unique<part::ProjectionTree>(part::ProjectionTree::ofPart(h.part)); });
-            return projectPoints(*h.tree, points, threads, true);
+            return projectPoints(*h.tree, points, threads, tolerance, true);
           },
-          py::arg("points"), py::kw_only(), py::arg("threads") = 0,
+          py::arg("points"), py::kw_only(), py::arg("threads") = 0, py::arg("tolerance") = py::none(),
           "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the part's faces "
           "inside their trim loops: a dict of point (n, 3), uv (n, 2), face_ids (n,) int32, distance (n,), "
           "signed_distance (n,) (outside positive on a closed part) and normal (n, 3), fp64, CPU.")

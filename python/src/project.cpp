@@ -14,7 +14,10 @@ namespace shapespline::python {
 
 namespace py = pybind11;
 
-py::dict projectPoints(const part::ProjectionTree& tree, py::handle points, int threads, bool part) {
+py::dict projectPoints(const part::ProjectionTree& tree, py::handle points, int threads, std::optional<double> tolerance,
+                       bool part) {
+  if (tolerance && !(std::isfinite(*tolerance) && *tolerance > 0.0))
+    argumentError("tolerance", "must be a finite distance > 0 in the model's units (None: exact)", std::to_string(*tolerance));
   const DArray a = asArray(points, "points");
   if (a.ndim() != 2 || a.shape(1) != 3) argumentError("points", "expected an (n, 3) array");
   if (a.shape(0) == 0) argumentError("points", "the cloud has no points");
@@ -32,7 +35,7 @@ py::dict projectPoints(const part::ProjectionTree& tree, py::handle points, int 
   std::vector<part::FootPoint> feet(n);
   {
     py::gil_scoped_release release;
-    part::ClosestPoints(tree).of(queries, feet, !curve, threads);
+    part::ClosestPoints(tree, tolerance.value_or(0.0)).of(queries, feet, !curve, threads);
   }
   py::array_t<double> foot({n, size_t{3}}), distance(n);
   py::array_t<double> uv = curve ? py::array_t<double>(n) : py::array_t<double>({n, size_t{2}});

@@ -6,11 +6,15 @@
 
 #include <pybind11/pybind11.h>
 
+#include <optional>
+
 namespace shapespline::python {
 
 // A dict of point (n, 3), uv (n, 2) (a curve: t (n,)), distance (n,), and for surfaces and parts
 // signed_distance (n,) and normal (n, 3); for parts face_ids (n,) int32. ValueError naming
-// `points` for an array that is not (n, 3), empty, or has a non-finite value (its row).
-pybind11::dict projectPoints(const part::ProjectionTree& tree, pybind11::handle points, int threads, bool part);
+// `points` for an array that is not (n, 3), empty, or has a non-finite value (its row), and naming
+// `tolerance` for one that is not finite and > 0 (None: exact, part::ClosestPoints).
+pybind11::dict projectPoints(const part::ProjectionTree& tree, pybind11::handle points, int threads,
+                             std::optional<double> tolerance, bool part);
 
 }  // namespace shapespline::python

@@ -61,3 +61,19 @@ def test_bad_clouds_name_points(tmp_path, points, named):
     with pytest.raises(ValueError) as e:
         part.project(points)
     assert named in str(e.value)
+
+
+def test_tolerance_keeps_every_foot_within_it(tmp_path):
+    part = ss.load_part(str(write_cube(tmp_path)))
+    q = np.random.default_rng(6).uniform(-1, 3, (2000, 3))
+    exact = part.project(q)["distance"]
+    loose = part.project(q, tolerance=1e-3)["distance"]
+    assert np.all(loose <= exact + 1e-3) and np.all(loose >= exact - 1e-12)
+
+
+@pytest.mark.parametrize("tolerance", [0.0, -1.0, float("nan"), float("inf")])
+def test_bad_tolerance_names_it(tmp_path, tolerance):
+    part = ss.load_part(str(write_cube(tmp_path)))
+    with pytest.raises(ValueError) as e:
+        part.project(np.zeros((1, 3)), tolerance=tolerance)
+    assert "tolerance" in str(e.value)

@@ -193,6 +193,9 @@ print('OK')
       {"good.npy --onto alpha.json", "construction", "not polynomials"},
       {"absent.npy --onto " + part, "POINTS", "absent.npy"},
       {"good.npy --onto " + part + " --threads -1", "--threads", "must be in"},
+      {"good.npy --onto " + part + " --tolerance 0", "--tolerance", "> 0"},
+      {"good.npy --onto " + part + " --tolerance -1e-3", "--tolerance", "> 0"},
+      {"good.npy --onto " + part + " --tolerance nan", "--tolerance", "finite"},
   };
   for (const Case& c : cases) {
     const CliResult r = runCli("project " + c.args + " -o out.npy", dir_.path(), dir_.path());

@@ -19,8 +19,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 
 namespace shapespline::part {
 namespace {
@@ -249,6 +251,33 @@ void expectExactOnSurface(const Surface& s, const char* name, uint32_t seed, int
 }
 
 TEST(ClosestPoints, WavyNurbsMatchesTheBruteForceReference) { expectExactOnSurface(wavyNurbs(), "wavy NURBS", 1, kPoints); }
+
+// With a tolerance, every foot is within it of the exact one (and on the surface), never nearer.
+TEST(ClosestPoints, ToleranceBoundsTheGapToTheExactFoot) {
+  const Surface s = wavyNurbs();
+  const ProjectionTree tree = ProjectionTree::ofFaces({{&s, 0, false}});
+  const double diag = diagonalOf(tree);
+  const Queries q = queriesFor(s, diag, kPoints / 10, 4);
+  for (const double fraction : {1e-6, 1e-3}) {
+    const double tolerance = fraction * diag;
+    const ClosestPoints exact(tree), loose(tree, tolerance);
+    for (const std::vector<glm::dvec3>* points : {&q.on, &q.off}) {
+      std::vector<FootPoint> a(points->size()), b(points->size());
+      exact.of(*points, a, true, 0);
+      loose.of(*points, b, true, 0);
+      int outside = 0;
+      for (size_t k = 0; k < a.size(); ++k) {
+        if (b[k].distance > a[k].distance + tolerance || b[k].distance < a[k].distance - 1e-12 * diag) ++outside;
+        if (k % 97 == 0) {
+          EXPECT_LE(glm::length(s.evaluateAt(b[k].u, b[k].v).point - b[k].point), 1e-12 * diag);
+        }
+      }
+      EXPECT_EQ(outside, 0) << "tolerance " << fraction << " of the diagonal";
+    }
+  }
+  EXPECT_THROW(ClosestPoints(tree, -1.0), std::invalid_argument);
+  EXPECT_THROW(ClosestPoints(tree, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+}
 
 TEST(ClosestPoints, HalfCylinderMatchesTheBruteForceReference) {
   expectExactOnSurface(halfCylinder(), "half cylinder", 2, kPoints / 5);
