@@ -6,6 +6,7 @@
 // values into one tile instead, a colour each, named in a legend. The camera fits what is drawn
 // tightly into the tile (render::Camera::fit), below the header band. `demo` composes its sheet from
 // several plans (planRender, renderTiles, composeSheet) with one painter.
+#include "deviation_map.h"
 #include "distance_map.h"
 #include "tile_labels.h"
 
@@ -19,6 +20,7 @@
 #include <shapespline/core/value_text.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/png_writer.h>
+#include <shapespline/part/projection_tree.h>
 #include <shapespline/part/shaded_mesh.h>
 #include <shapespline/render/painter.h>
 
@@ -147,8 +149,13 @@ class TileHeaders {
   std::optional<LabelFont> font_;
 };
 
+// A --deviation cloud's markers: small enough that neighbours stay apart in a dense scan.
+constexpr float kDeviationMarkerPx = 3.0f;
+
+// `deviation` (optional): a cloud drawn over the surface, coloured up to `scaleTop`.
 std::vector<render::Image> surfaceTiles(const RenderArgs& a, const RenderPlan& p, const Sweep& sweep,
-                                        render::Painter& painter, const TileHeaders& headers) {
+                                        render::Painter& painter, const TileHeaders& headers,
+                                        const DeviationCloud* deviation = nullptr, double scaleTop = 0.0) {
   const int w = p.width, h = p.height;
   const render::PixelRect target = fitTarget(w, h, headers.band());
   const SurfaceModel& base = std::get<SurfaceModel>(p.model);
@@ -158,6 +165,7 @@ std::vector<render::Image> surfaceTiles(const RenderArgs& a, const RenderPlan& p
   std::vector<glm::dvec3> fitted;
   if (a.controlNet) fitted = base.points;
   for (size_t k = 0; k < count; ++k) addSurfaceSamples(Surface::create(withValue(base, sweep, k)), fitted);
+  if (deviation) fitted.insert(fitted.end(), deviation->points.begin(), deviation->points.end());
   const Surface first = Surface::create(withValue(base, sweep, 0));
   std::unique_ptr<render::SurfaceDrawing> drawing = painter.tessellate(first, a.rate, a.wireframe);
   const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, w, h, target);
@@ -177,6 +185,7 @@ std::vector<render::Image> surfaceTiles(const RenderArgs& a, const RenderPlan& p
     }
     for (const auto& q : base.points) render::addMarker(net.markers, q, 5.0f, kDataColour);
   }
+  if (deviation) addDeviationMarkers(net, *deviation, scaleTop, kDeviationMarkerPx, cam);
   std::vector<render::Image> tiles;
   for (size_t k = 0; k < count; ++k) {
     if (!sweep.values.empty()) {
@@ -252,7 +261,9 @@ std::vector<render::Image> curveTiles(const RenderArgs& a, const RenderPlan& p, 
 
 // A part (or a trimmed face): its mesh at about half a pixel's deflection unless one is given, shaded
 // with each face's own normals, with its edges and the triangles' edges where asked.
-render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter& painter, const TileHeaders& headers) {
+// `deviation` (optional): a cloud drawn over the part, coloured up to `scaleTop`.
+render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter& painter, const TileHeaders& headers,
+                       const DeviationCloud* deviation = nullptr, double scaleTop = 0.0) {
   const part::Part& part = *p.part;
   // The camera fits the part into the smaller side, so the diagonal spans at most that many pixels.
   const double halfPixel = 0.5 / double(std::min(p.width, p.height));
@@ -269,8 +280,11 @@ render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter
   }
   const auto drawing = painter.upload(shaded.positions, shaded.normals, shaded.triangles, lines);
   const render::PixelRect target = fitTarget(p.width, p.height, headers.band());
-  const render::Camera cam = render::Camera::fit(mesh.mesh.positions, p.az, p.el, p.width, p.height, target);
+  std::vector<glm::dvec3> fitted = mesh.mesh.positions;
+  if (deviation) fitted.insert(fitted.end(), deviation->points.begin(), deviation->points.end());
+  const render::Camera cam = render::Camera::fit(fitted, p.az, p.el, p.width, p.height, target);
   render::Scene scene;
+  if (deviation) addDeviationMarkers(scene, *deviation, scaleTop, kDeviationMarkerPx, cam);
   render::MeshDraw draw = drawing->draw();
   draw.color = render::kPartColour;
   draw.wireColor = render::kPartEdgeColour;
@@ -280,6 +294,25 @@ render::Image partTile(const RenderArgs& a, const RenderPlan& p, render::Painter
                  mesh.mesh.triangles.size(), shortestText(settings.options.deflection).c_str(),
                  static_cast<long long>(mesh.boundaryEdges));
   return headers.apply(painter.draw(scene, cam), 0, target.x0);
+}
+
+// --deviation: the cloud projected onto the part or surface and drawn over it, coloured by distance
+// from 0 to the largest, with the colour bar in the header.
+render::Image deviationTile(const RenderArgs& a, const RenderPlan& p, render::Painter& painter) {
+  std::optional<Surface> surface;
+  if (!p.part) surface.emplace(Surface::create(std::get<SurfaceModel>(p.model)));
+  const part::ProjectionTree tree =
+      p.part ? part::ProjectionTree::ofPart(*p.part) : part::ProjectionTree::ofFaces({{&*surface, 0, false}});
+  const DeviationCloud cloud = deviationCloud(a.deviation, "--deviation", tree);
+  char top[32];
+  std::snprintf(top, sizeof top, "%.3g", cloud.maxDistance);
+  const TileHeaders headers(a, p, ColourBar{"distance:", "0", top});
+  if (!a.quiet)
+    std::fprintf(stderr, "shapespline: %llu points, distance max %.6g, mean %.6g; every %llu%s drawn\n",
+                 static_cast<unsigned long long>(cloud.count), cloud.maxDistance, cloud.meanDistance,
+                 static_cast<unsigned long long>(cloud.stride), cloud.stride == 1 ? "" : "th");
+  if (p.part) return partTile(a, p, painter, headers, &cloud, cloud.maxDistance);
+  return surfaceTiles(a, p, Sweep{}, painter, headers, &cloud, cloud.maxDistance).front();
 }
 
 // Up to 4 tiles in one row, else ceil(sqrt(n)) columns.
@@ -316,6 +349,11 @@ RenderPlan planRender(const RenderArgs& a) {
     if (p.values.empty()) throw InputError("--overlay", a.sweep, "needs --sweep with the values to overlay");
     if (p.values.size() > kMaxOverlay)
       throw InputError("--overlay", a.sweep, "an overlay draws at most " + std::to_string(kMaxOverlay) + " values");
+  }
+  if (!a.deviation.empty()) {
+    if (!isSurface) throw InputError("--deviation", a.model, "a deviation map draws a cloud over a surface or a part, not a curve");
+    if (!p.values.empty()) throw InputError("--sweep", a.sweep, "does not apply to a deviation map (one tile)");
+    refuseOption(a.given, "--distance", "a deviation map (the cloud is coloured, not the surface)");
   }
   if (a.distance) {
     if (!isSurface) throw InputError("--distance", a.model, "distance maps colour surfaces; curves take --overlay");
@@ -360,6 +398,7 @@ std::vector<render::Image> renderTiles(const RenderArgs& a, const RenderPlan& pl
                    headers.value(1).c_str(), fromText.c_str(), mesh.maxDistance, mesh.scaleTop);
     return {distanceTile(plan, mesh, painter, headers)};
   }
+  if (!a.deviation.empty()) return {deviationTile(a, plan, painter)};
   const TileHeaders headers(a, plan);
   if (plan.part) return {partTile(a, plan, painter, headers)};
   if (std::holds_alternative<SurfaceModel>(plan.model)) return surfaceTiles(a, plan, sweep, painter, headers);
@@ -385,6 +424,7 @@ void renderModel(const RenderArgs& a, io::OutputSet& outputs) {
   // Opened before any rendering: a bad -o is bad input (exit 2), and the old PNG is replaced only
   // by a complete new one.
   outputs.reads(a.model, "MODEL");
+  if (!a.deviation.empty()) outputs.reads(a.deviation, "--deviation");
   if (plan.part)
     for (const part::PartFace& face : plan.part->faces)
       if (face.model != std::filesystem::path(a.model)) outputs.reads(face.model, "MODEL's face");
@@ -423,6 +463,8 @@ void registerRender(CLI::App& app) {
   sub->add_flag("--overlay", args->overlay, "curves: draw every --sweep value into one tile, a colour each, with a legend");
   sub->add_flag("--distance", args->distance,
                 "surfaces: with --sweep of two values, the surface at the second coloured by its distance from the first");
+  sub->add_option("--deviation", args->deviation,
+                  "a surface or a part: a cloud (as `project` reads) drawn over it, coloured by its distance to it");
   sub->add_option("--title", args->title, "a title over the picture (over each tile of a --sweep)");
   sub->add_flag("--edges", args->edges, "a part or a trimmed face: draw its edges (where faces meet, or a face ends)");
   addPartMeshOptions(sub, args->mesh, "half a pixel: 0.5 / the image's smaller side");

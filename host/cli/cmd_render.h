@@ -20,6 +20,7 @@ namespace shapespline::cli {
 
 struct RenderArgs {
   std::string model, output, size = "800x600", view, sweep, title;
+  std::string deviation;  // a cloud drawn over the model, coloured by its distance to it (deviation_map.h)
   std::optional<double> lambda;
   bool wireframe = false, controlNet = false, overlay = false, distance = false, quiet = false;
   int rate = 16;

@@ -2,12 +2,20 @@
 // read back from the PNG, seen from above, the hole of the handmade faces' trim loops is background
 // where the same surface without its loops is drawn; --edges adds dark edge pixels; options that
 // belong to models or to meshes are refused (exit 2) for the other, as are bad deflections and a
-// mesh over the triangle budget, and nothing is written.
+// mesh over the triangle budget, and nothing is written. `render --deviation CLOUD` colours a cloud by
+// its distance to the part: points far above it dark red, points near it pale.
 #include "cli_runner.h"
 #include "handmade_part.h"
+#include "one_patch_models.h"
 #include "output_checks.h"
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <utility>
 
 namespace shapespline::test {
 namespace {
@@ -97,6 +105,87 @@ TEST_F(PartRender, OptionsOfTheOtherKindAndBadDeflectionsExitTwoAndWriteNothing)
     const CliResult r = render(c.model, "bad.png", c.extra);
     EXPECT_EQ(r.rc, 2) << c.extra << "\n" << r.err;
     EXPECT_TRUE(contains(r.err, c.named)) << c.extra << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.png")) << c.extra;
+  }
+}
+
+// A CSV cloud over the handmade part (x, y in [0, 1]; the upper face at z 1 to 1.4): a block at
+// x < 0.3 at height `leftZ` and a block at x > 0.7 at height `rightZ`.
+void writeDeviationCloud(const fs::path& path, double leftZ, double rightZ) {
+  std::string text = "x,y,z\n";
+  char row[96];
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 40; ++j) {
+      const double y = 0.05 + 0.9 * j / 39.0, dx = 0.25 * i / 11.0;
+      std::snprintf(row, sizeof row, "%.6f,%.6f,%.6f\n%.6f,%.6f,%.6f\n", 0.05 + dx, y, leftZ, 0.7 + dx, y, rightZ);
+      text += row;
+    }
+  writeText(path, text);
+}
+
+// heatColour from 0.8 up (dark red) and up to 0.25 (light yellow to orange); the grey shading has neither.
+bool deepRedPixel(const uint8_t* p) { return p[0] > 100 && p[1] < 60 && p[2] < 80; }
+bool warmLightPixel(const uint8_t* p) { return p[0] > 230 && p[1] > 150 && p[0] - p[2] > 60; }
+
+// How many pixels from row y0 down are `which`, and their mean position.
+std::pair<int, glm::dvec2> pixelsBelow(const Rgb& image, int y0, bool (*which)(const uint8_t*)) {
+  int n = 0;
+  glm::dvec2 sum(0.0);
+  for (int y = y0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      if (which(image.at(x, y))) ++n, sum += glm::dvec2(x, y);
+  return {n, n ? sum / double(n) : sum};
+}
+
+TEST_F(PartRender, ADeviationCloudIsColouredByItsDistanceToThePart) {
+  REQUIRE_VULKAN();
+  auto renderCloud = [&](const std::string& name, double leftZ, double rightZ) {
+    writeDeviationCloud(dir_ / (name + ".csv"), leftZ, rightZ);
+    const CliResult r = render("part/part.json", name + ".png", "--deviation " + quote((dir_ / (name + ".csv")).string()));
+    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_TRUE(contains(r.err, "960 points")) << r.err;
+    return readPng(dir_ / (name + ".png"));
+  };
+  // The upper face lies at z 1 to 1.4: the far block is 1.6 to 2 from it, the near one 0.1 to 0.5.
+  const Rgb farLeft = renderCloud("far_left", 3.0, 1.5), farRight = renderCloud("far_right", 1.5, 3.0);
+  ASSERT_EQ(render("part/part.json", "plain.png").rc, 0);
+  const Rgb plain = readPng(dir_ / "plain.png");
+  ASSERT_EQ(farLeft.width, 160);
+  ASSERT_EQ(farRight.width, 160);
+  EXPECT_EQ(pixelsBelow(plain, 0, deepRedPixel).first, 0);
+  EXPECT_EQ(pixelsBelow(plain, 0, warmLightPixel).first, 0);
+  // Below the header (whose colour bar holds both colours too) each block shows in its colour, and
+  // the colours change places with the heights.
+  const int below = farLeft.height / 4;
+  const auto [redA, redAt] = pixelsBelow(farLeft, below, deepRedPixel);
+  const auto [lightA, lightAt] = pixelsBelow(farLeft, below, warmLightPixel);
+  const auto [redB, redBt] = pixelsBelow(farRight, below, deepRedPixel);
+  const auto [lightB, lightBt] = pixelsBelow(farRight, below, warmLightPixel);
+  EXPECT_GT(std::min({redA, lightA, redB, lightB}), 300);
+  EXPECT_GT(glm::length(redAt - lightAt), 30.0);
+  EXPECT_LT(glm::dot(redAt - lightAt, redBt - lightBt), 0.0);
+}
+
+TEST_F(PartRender, BadDeviationCloudsExitTwoAndWriteNothing) {
+  REQUIRE_VULKAN();
+  writeDeviationCloud(dir_ / "cloud.csv", 5.0, 1.7);
+  writeText(dir_ / "nan.csv", "1,2,3\n4,nan,6\n");
+  writeText(dir_ / "curve.json", kOneSpan);
+  const std::string cloud = "--deviation " + quote((dir_ / "cloud.csv").string());
+  const struct {
+    std::string model, extra, named, rule;
+  } cases[] = {
+      {"part/part.json", "--deviation " + quote((dir_ / "absent.csv").string()), "--deviation", "absent.csv"},
+      {"part/part.json", "--deviation " + quote((dir_ / "nan.csv").string()), "--deviation point 1", "finite"},
+      {"curve.json", cloud, "--deviation", "not a curve"},
+      {"untrimmed.json", cloud + " --sweep lambda=0,1", "--sweep", "deviation map"},
+      {"untrimmed.json", cloud + " --distance", "--distance", "deviation map"},
+  };
+  for (const auto& c : cases) {
+    const CliResult r = render(c.model, "bad.png", c.extra);
+    EXPECT_EQ(r.rc, 2) << c.extra << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, c.named)) << c.extra << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, c.rule)) << c.extra << "\n" << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad.png")) << c.extra;
   }
 }
