@@ -1,16 +1,23 @@
 // `shapespline project POINTS --onto MODEL|part.json -o OUT`: the closest point on a surface, a
 // part or a curve of every point of a cloud (docs/cli.md "project", docs/math.md "Closest points"),
 // a block of points at a time, on every core, in fp64 on the CPU; `--report` prints the deviation
-// statistics.
+// statistics. `--shard K/N|auto` projects the K-th of N equal runs of the cloud's points and writes
+// its record OUT.shard.json; `merge` joins the shards into the unsharded job's bytes.
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/part_mesh_options.h>
 #include <shapespline/core/value_text.h>
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/part_manifest.h>
+#include <shapespline/io/file_extension.h>
 #include <shapespline/io/point_cloud.h>
 #include <shapespline/io/projection_writer.h>
+#include <shapespline/io/shard_info.h>
+#include <shapespline/jobs/scheduler_env.h>
+#include <shapespline/jobs/shard_files.h>
+#include <shapespline/jobs/shard_record.h>
 #include <shapespline/part/closest_points.h>
 #include <shapespline/part/deviation_stats.h>
 #include <shapespline/part/part_model.h>
@@ -20,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <optional>
 
@@ -31,7 +39,7 @@ namespace {
 constexpr std::size_t kProjectBlockPoints = std::size_t{1} << 18;
 
 struct ProjectArgs {
-  std::string points, onto, out;
+  std::string points, onto, out, shard, shardCount;
   int threads = 0;
   std::optional<double> tolerance;
   bool report = false, quiet = false;
@@ -69,19 +77,77 @@ void loadTarget(const std::string& path, io::OutputSet& outputs, Target& t) {
   t.what = t.surface->model().trim.empty() ? "a surface" : "a trimmed surface";
 }
 
-void runProject(const ProjectArgs& a) {
-  requireThreadCount(a.threads);
-  if (a.tolerance && !(std::isfinite(*a.tolerance) && *a.tolerance > 0.0))
-    throw InputError("--tolerance", shortestText(*a.tolerance), "expected a finite distance > 0 in the model's units");
+const char* targetName(io::ProjectionTarget kind) {
+  return kind == io::ProjectionTarget::Part ? "part" : kind == io::ProjectionTarget::Curve ? "curve" : "surface";
+}
+
+// The SHA-256 of up to kEndBytes at the start and at the end of a file: a cloud of billions of
+// points is told apart from another of the same size without reading it whole in every shard.
+constexpr std::size_t kEndBytes = std::size_t{1} << 20;
+std::string endsSha256(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::uint64_t size = std::filesystem::file_size(path);
+  std::string bytes(static_cast<std::size_t>(std::min<std::uint64_t>(size, 2 * kEndBytes)), '\0');
+  const std::size_t head = std::min<std::size_t>(bytes.size(), kEndBytes);
+  in.read(bytes.data(), static_cast<std::streamsize>(head));
+  in.seekg(static_cast<std::streamoff>(size - (bytes.size() - head)));
+  in.read(bytes.data() + head, static_cast<std::streamsize>(bytes.size() - head));
+  if (!in) throw InputError("POINTS", path, "cannot be read");
+  return io::sha256Of(bytes);
+}
+
+// Every shard of one projection job has this fingerprint: what is projected (the cloud's size,
+// count and ends), onto what (the bytes of the model, or of part.json and every face file), how
+// (the tolerance) and into which format.
+std::string projectionJob(const ProjectArgs& a, const Target& t, std::uint64_t points) {
+  std::string text = "shapespline project\ntarget " + std::string(targetName(t.kind)) + "\nformat " +
+                     io::lowercaseExtension(a.out) + "\ntolerance " +
+                     (a.tolerance ? shortestText(*a.tolerance) : std::string("exact")) + "\npoints " +
+                     std::to_string(points) + " bytes " + std::to_string(std::filesystem::file_size(a.points)) +
+                     " ends " + endsSha256(a.points) + "\nonto " + io::sha256OfFile(a.onto) + "\n";
+  if (t.part)
+    for (const part::PartFace& face : t.part->faces) text += "face " + io::sha256OfFile(face.model) + "\n";
+  return io::sha256Of(text).substr(0, 16);
+}
+
+void runProject(const ProjectArgs& given) {
+  requireThreadCount(given.threads);
+  if (given.tolerance && !(std::isfinite(*given.tolerance) && *given.tolerance > 0.0))
+    throw InputError("--tolerance", shortestText(*given.tolerance), "expected a finite distance > 0 in the model's units");
+  // --shard auto and a shard pattern in -o first (jobs/shard_files.h): the rest sees K/N and a path.
+  const jobs::ShardOutput shardOut = jobs::resolveShardOutput(given.out, given.shard, given.shardCount);
+  ProjectArgs a = given;
+  a.out = shardOut.out;
+  const jobs::ShardChoice shard = jobs::parseShardOption(given.shard, given.shardCount);
+  const bool sharded = !given.shard.empty();
+  io::projectionFormat(a.out, "-o");  // a bad extension is refused before any work
+
   const auto start = std::chrono::steady_clock::now();
   io::OutputSet outputs;
   outputs.reads(a.points, "POINTS");
   Target target;
   loadTarget(a.onto, outputs, target);
   io::PointCloudReader cloud(a.points, "POINTS");
+  // Shard K of N: the points floor((K-1) P / N) .. floor(K P / N).
+  const std::uint64_t total = cloud.count(), k = std::uint64_t(shard.index), n = std::uint64_t(shard.count);
+  const std::uint64_t first = io::shardBound(total, k - 1, n), count = io::shardBound(total, k, n) - first;
   io::AtomicFile& out = outputs.add(a.out, "-o");
-  const std::unique_ptr<io::ProjectionWriter> writer =
-      io::makeProjectionWriter(out, a.out, "-o", target.kind, cloud.count());
+  io::AtomicFile* record = sharded ? &outputs.add(jobs::shardRecordPath(a.out), "-o") : nullptr;
+  jobs::ShardRecord want;
+  if (record) {
+    want.job = projectionJob(a, target, total);
+    want.projection = targetName(target.kind);
+    want.surface = target.kind != io::ProjectionTarget::Curve;
+    want.format = io::lowercaseExtension(a.out).substr(1);
+    want.shardIndex = shard.index;
+    want.shardCount = shard.count;
+    want.firstItem = first;
+    want.itemCount = want.points = want.vertices = count;
+    want.totalItems = total;
+    if (jobs::shardAlreadyDone(want, io::outputFormatFromPath(a.out, "-o"), {a.out, "", ""}, a.quiet)) return;
+  }
+  cloud.skip(first);
+  const std::unique_ptr<io::ProjectionWriter> writer = io::makeProjectionWriter(out, a.out, "-o", target.kind, count);
 
   const part::ClosestPoints closest(*target.tree, a.tolerance.value_or(0.0));
   const bool signedDistance = target.kind != io::ProjectionTarget::Curve;
@@ -89,7 +155,8 @@ void runProject(const ProjectArgs& a) {
   std::vector<glm::dvec3> block;
   std::vector<part::FootPoint> feet;
   std::vector<io::ProjectionRecord> records;
-  while (cloud.next(block, kProjectBlockPoints)) {
+  for (std::uint64_t left = count; left > 0 && cloud.next(block, std::min<std::uint64_t>(left, kProjectBlockPoints));
+       left -= block.size()) {
     feet.resize(block.size());
     closest.of(block, feet, signedDistance, a.threads);
     records.resize(block.size());
@@ -100,12 +167,21 @@ void runProject(const ProjectArgs& a) {
     }
     writer->write(records);
   }
+  if (record) {
+    out.flushToTemp();
+    jobs::writeShardRecord(*record, want, out, nullptr, "");
+  }
   outputs.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!a.quiet) {
     const part::DeviationStats::Summary all = stats.overall();
-    std::printf("projected %llu points onto %s in %.3f s; distance max %.6g, mean %.6g\n",
-                static_cast<unsigned long long>(all.count), target.what.c_str(), seconds, all.max, all.mean);
+    const std::string part = sharded ? " (shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
+                                           ", points " + std::to_string(first) + ".." + std::to_string(first + count) +
+                                           " of " + std::to_string(total) + ")"
+                                     : "";
+    std::printf("projected %llu points%s onto %s in %.3f s; distance max %.6g, mean %.6g\n",
+                static_cast<unsigned long long>(all.count), part.c_str(), target.what.c_str(), seconds, all.max,
+                all.mean);
   }
   if (a.report) std::fputs(stats.text(target.kind == io::ProjectionTarget::Part).c_str(), stdout);
 }
@@ -124,6 +200,12 @@ void registerProject(CLI::App& app) {
                   "accept a foot within this distance (model units, > 0) of the nearest: faster near the surface; "
                   "default exact");
   sub->add_option("--threads", args->threads, "threads (0 = one per CPU this process may use)");
+  sub->add_option("--shard", args->shard,
+                  "K/N: project only the K-th (1-based) of N equal runs of the cloud's points (merge joins them); "
+                  "auto: K/N from a Slurm job array or a Kubernetes Indexed Job (as sample). A shard also writes "
+                  "OUT.shard.json; rerun, a shard that verifies is left as it is");
+  sub->add_option("--shard-count", args->shardCount,
+                  "with --shard auto in a Kubernetes Indexed Job: N, the job's completions (else SHAPESPLINE_SHARD_COUNT)");
   addQuietFlag(sub, args->quiet, "no summary line");
   sub->callback([args] { runProject(*args); });
 }

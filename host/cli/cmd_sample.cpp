@@ -183,11 +183,9 @@ void requireTrimmable(const SampleArgs& args, const io::Model& model, io::Output
   if (args.meshLayoutGiven) throw InputError("--mesh-layout", args.meshLayout, "does not apply to --trim (a point cloud)");
 }
 
-// The first item of shard k of n of a job of `total` items (k = 0..n): floor(k T / N), computed as
-// (T / N) k + floor((T % N) k / N), since T (<= 5e11) times k (<= 1e9) would overflow.
+// The first item of shard k + 1 of n (io/shard_info.h).
 size_t shardBound(size_t total, int k, int shards) {
-  const size_t kk = static_cast<size_t>(k), n = static_cast<size_t>(shards);
-  return total / n * kk + total % n * kk / n;
+  return io::shardBound(total, static_cast<uint64_t>(k), static_cast<uint64_t>(shards));
 }
 
 // Whether this job could stream its net: a shard (only a shard can have no items) or a job whose

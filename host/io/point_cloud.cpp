@@ -66,6 +66,8 @@ struct PointCloudReader::Format {
   virtual ~Format() = default;
   // Appends up to `max` points; the reader checks them.
   virtual void read(std::vector<glm::dvec3>& out, std::size_t max) = 0;
+  // Passes over `count` points (there are that many left) without reading their values.
+  virtual void skip(std::uint64_t count) = 0;
 };
 
 namespace {
@@ -88,6 +90,7 @@ struct NpyFormat final : PointCloudReader::Format {
     reader.read(values.data(), values.size());
     for (std::size_t k = 0; k < max; ++k) out.emplace_back(values[3 * k], values[3 * k + 1], values[3 * k + 2]);
   }
+  void skip(std::uint64_t count) override { reader.skip(3 * count); }
 };
 
 // Fixed-size records of `recordBytes`, x, y and z at byte offsets of the given scalar type.
@@ -134,6 +137,10 @@ struct RecordFormat final : PointCloudReader::Format {
       out.emplace_back(valueAt(r + offset[0], type[0]), valueAt(r + offset[1], type[1]), valueAt(r + offset[2], type[2]));
     }
   }
+  void skip(std::uint64_t count) override {
+    in.seekg(static_cast<std::streamoff>(count * static_cast<std::uint64_t>(recordBytes)), std::ios::cur);
+    if (!in) throw ModelError(field, "", "the file ends before its last point");
+  }
 };
 
 struct TextFormat final : PointCloudReader::Format {
@@ -156,6 +163,14 @@ struct TextFormat final : PointCloudReader::Format {
         throw ModelError(field + " line " + std::to_string(line), shortText(text, kMaxValueChars),
                          "a point is " + std::to_string(needed) + " numbers");
       out.emplace_back(numbers[column[0]], numbers[column[1]], numbers[column[2]]);
+    }
+  }
+  void skip(std::uint64_t count) override {
+    while (count > 0) {
+      if (!readLine(in, text, field)) throw ModelError(field, "", "the file ends before its last point");
+      ++line;
+      if (skipHeader && line == 1) continue;
+      if (text.find_first_not_of(" \t,") != std::string::npos) --count;
     }
   }
 };
@@ -304,6 +319,17 @@ PointCloudReader::PointCloudReader(const std::filesystem::path& path, std::strin
 }
 
 PointCloudReader::~PointCloudReader() = default;
+
+void PointCloudReader::skip(std::uint64_t count) {
+  if (count > count_ - done_) throw std::logic_error("PointCloudReader::skip: past the cloud's end");
+  try {
+    format_->skip(count);
+  } catch (const std::invalid_argument& e) {
+    if (dynamic_cast<const ModelError*>(&e)) throw;
+    throw ModelError(field_, path_.string(), e.what());
+  }
+  done_ += count;
+}
 
 bool PointCloudReader::next(std::vector<glm::dvec3>& out, std::size_t max) {
   out.clear();

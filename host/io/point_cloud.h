@@ -28,6 +28,8 @@ class PointCloudReader {
   std::uint64_t count() const { return count_; }
   // The next at most `max` points into `out` (replacing its contents); false when none are left.
   bool next(std::vector<glm::dvec3>& out, std::size_t max);
+  // Passes over the next `count` points (at most those left) unread and unchecked: a shard's start.
+  void skip(std::uint64_t count);
 
   struct Format;
 

@@ -24,6 +24,71 @@ std::vector<std::pair<std::string, int>> projectionFields(ProjectionTarget targe
 
 namespace {
 
+std::string csvHeader(ProjectionTarget target) {
+  std::string header;
+  static const char* axes[] = {"x", "y", "z"};
+  for (const auto& [name, width] : projectionFields(target)) {
+    for (int k = 0; k < width; ++k) {
+      if (!header.empty()) header += ',';
+      header += width == 3 ? name + "_" + axes[k] : width == 2 ? std::string(k ? "v" : "u") : name;
+    }
+  }
+  return header + "\n";
+}
+
+std::string plyHeader(ProjectionTarget target, std::uint64_t count) {
+  std::string h = "ply\nformat binary_little_endian 1.0\ncomment shapespline project\nelement vertex " +
+                  std::to_string(count) + "\nproperty double x\nproperty double y\nproperty double z\n";
+  static const char* axes[] = {"x", "y", "z"};
+  for (const auto& [name, width] : projectionFields(target)) {
+    if (name == "query") continue;
+    for (int k = 0; k < width; ++k) {
+      const std::string property = name == "point"    ? std::string("foot_") + axes[k]
+                                   : name == "normal" ? std::string("n") + axes[k]
+                                   : width == 2       ? std::string(k ? "v" : "u")
+                                                      : name;
+      h += (name == "face" ? "property int " : "property double ") + property + "\n";
+    }
+  }
+  return h + "end_header\n";
+}
+
+int valueCount(ProjectionTarget target) {
+  int n = 0;
+  for (const auto& field : projectionFields(target)) n += field.second;
+  return n;
+}
+
+}  // namespace
+
+ProjectionFormat projectionFormat(const std::filesystem::path& path, const std::string& option) {
+  const std::string ext = lowercaseExtension(path);
+  if (ext == ".npy") return ProjectionFormat::Npy;
+  if (ext == ".f64") return ProjectionFormat::F64;
+  if (ext == ".csv") return ProjectionFormat::Csv;
+  if (ext == ".ply") return ProjectionFormat::Ply;
+  throw OutputPathError(option, path.string(), "the projection's output is .npy, .f64, .csv or .ply");
+}
+
+std::string projectionHeader(ProjectionFormat format, ProjectionTarget target, std::uint64_t count) {
+  switch (format) {
+    case ProjectionFormat::Npy: return npyHeader(projectionFields(target), true, count);
+    case ProjectionFormat::F64: return "";
+    case ProjectionFormat::Csv: return csvHeader(target);
+    case ProjectionFormat::Ply: return plyHeader(target, count);
+  }
+  return "";
+}
+
+std::uint64_t projectionRecordBytes(ProjectionFormat format, ProjectionTarget target) {
+  if (format == ProjectionFormat::Csv) return 0;
+  const std::uint64_t doubles = std::uint64_t(valueCount(target)) * 8;
+  // PLY stores the face as a 4-byte int.
+  return format == ProjectionFormat::Ply && target == ProjectionTarget::Part ? doubles - 4 : doubles;
+}
+
+namespace {
+
 // A record's values in the order of projectionFields.
 int valuesOf(const ProjectionRecord& r, ProjectionTarget target, double out[16]) {
   int n = 0;
@@ -58,17 +123,7 @@ class RecordWriter final : public ProjectionWriter {
 
 class CsvWriter final : public ProjectionWriter {
  public:
-  CsvWriter(AtomicFile& out, ProjectionTarget target) : out_(out), target_(target) {
-    std::string header;
-    static const char* axes[] = {"x", "y", "z"};
-    for (const auto& [name, width] : projectionFields(target)) {
-      for (int k = 0; k < width; ++k) {
-        if (!header.empty()) header += ',';
-        header += width == 3 ? name + "_" + axes[k] : width == 2 ? std::string(k ? "v" : "u") : name;
-      }
-    }
-    out_.write(header + "\n");
-  }
+  CsvWriter(AtomicFile& out, ProjectionTarget target) : out_(out), target_(target) {}
   void write(std::span<const ProjectionRecord> records) override {
     double values[16];
     for (const ProjectionRecord& r : records) {
@@ -92,22 +147,7 @@ class CsvWriter final : public ProjectionWriter {
 // Binary PLY: x, y, z the query point, then every other field as double properties (`face` an int).
 class PlyWriter final : public ProjectionWriter {
  public:
-  PlyWriter(AtomicFile& out, ProjectionTarget target, std::uint64_t count) : out_(out), target_(target) {
-    std::string h = "ply\nformat binary_little_endian 1.0\ncomment shapespline project\nelement vertex " +
-                    std::to_string(count) + "\nproperty double x\nproperty double y\nproperty double z\n";
-    static const char* axes[] = {"x", "y", "z"};
-    for (const auto& [name, width] : projectionFields(target)) {
-      if (name == "query") continue;
-      for (int k = 0; k < width; ++k) {
-        const std::string property = name == "point"    ? std::string("foot_") + axes[k]
-                                     : name == "normal" ? std::string("n") + axes[k]
-                                     : width == 2       ? std::string(k ? "v" : "u")
-                                                        : name;
-        h += (name == "face" ? "property int " : "property double ") + property + "\n";
-      }
-    }
-    out_.write(h + "end_header\n");
-  }
+  PlyWriter(AtomicFile& out, ProjectionTarget target) : out_(out), target_(target) {}
   void write(std::span<const ProjectionRecord> records) override {
     double values[16];
     for (const ProjectionRecord& r : records) {
@@ -133,15 +173,15 @@ class PlyWriter final : public ProjectionWriter {
 std::unique_ptr<ProjectionWriter> makeProjectionWriter(AtomicFile& out, const std::filesystem::path& path,
                                                        const std::string& option, ProjectionTarget target,
                                                        std::uint64_t count) {
-  const std::string ext = lowercaseExtension(path);
-  if (ext == ".npy") {
-    out.write(npyHeader(projectionFields(target), true, count));
-    return std::make_unique<RecordWriter>(out, target);
+  const ProjectionFormat format = projectionFormat(path, option);
+  out.write(projectionHeader(format, target, count));
+  switch (format) {
+    case ProjectionFormat::Npy:
+    case ProjectionFormat::F64: return std::make_unique<RecordWriter>(out, target);
+    case ProjectionFormat::Csv: return std::make_unique<CsvWriter>(out, target);
+    case ProjectionFormat::Ply: return std::make_unique<PlyWriter>(out, target);
   }
-  if (ext == ".f64") return std::make_unique<RecordWriter>(out, target);
-  if (ext == ".csv") return std::make_unique<CsvWriter>(out, target);
-  if (ext == ".ply") return std::make_unique<PlyWriter>(out, target, count);
-  throw OutputPathError(option, path.string(), "the projection's output is .npy, .f64, .csv or .ply");
+  return nullptr;
 }
 
 }  // namespace shapespline::io

@@ -34,6 +34,19 @@ class ProjectionWriter {
   virtual void write(std::span<const ProjectionRecord> records) = 0;
 };
 
+enum class ProjectionFormat { Npy, F64, Csv, Ply };
+
+// The format of `path`'s extension (.npy, .f64, .csv, .ply); OutputPathError naming `option` otherwise.
+ProjectionFormat projectionFormat(const std::filesystem::path& path, const std::string& option);
+
+// What a file of `count` records starts with ("" for .f64; a CSV's header line whatever the count):
+// every file is this header and then its records, so shards merge by joining their records under
+// the whole job's header (jobs/projection_merge.h).
+std::string projectionHeader(ProjectionFormat format, ProjectionTarget target, std::uint64_t count);
+
+// The bytes of one record (0 for CSV, whose rows vary).
+std::uint64_t projectionRecordBytes(ProjectionFormat format, ProjectionTarget target);
+
 // The writer for `path`'s extension (.npy, .f64, .csv, .ply; OutputPathError naming `option`
 // otherwise), its header written now.
 std::unique_ptr<ProjectionWriter> makeProjectionWriter(AtomicFile& out, const std::filesystem::path& path,

@@ -26,6 +26,11 @@ namespace shapespline::io {
 inline constexpr uint64_t kMaxShardCount = 1'000'000'000;
 inline constexpr uint64_t kMaxItemCount = (uint64_t{1} << 62) - 1;
 
+// The first item of shard k + 1 of n of a job of `total` items (k = 0..n; shard K covers
+// shardBound(T, K-1, N) .. shardBound(T, K, N)): floor(k T / N), computed as (T / N) k + floor((T % N) k / N),
+// since T times k would overflow (T <= kMaxItemCount, k <= N <= kMaxShardCount).
+inline uint64_t shardBound(uint64_t total, uint64_t k, uint64_t n) { return total / n * k + total % n * k / n; }
+
 // 16 lowercase hex digits. Equal for every shard of one job (and the unsharded job), different when
 // the model, samples per item, fields, computed precision or output format differ.
 std::string jobFingerprint(const CurveModel& model, const SampleLayout& layout, OutputFormat format);

@@ -7,6 +7,7 @@
 #include <shapespline/io/atomic_file.h>
 #include <shapespline/io/json_depth.h>
 #include <shapespline/io/output_set.h>
+#include <shapespline/io/projection_writer.h>
 #include <shapespline/io/raw_records.h>
 #include <shapespline/io/sample_writer.h>
 #include <shapespline/io/shard_info.h>
@@ -257,8 +258,7 @@ std::string describe(const ShardInfo& s) {
          std::to_string(s.samplesU) + "x" + std::to_string(s.samplesV);
 }
 
-// floor(k T / N) without overflow (T < 2^62, k <= N <= 10^9).
-uint64_t shardBound(uint64_t total, uint64_t k, uint64_t n) { return total / n * k + total % n * k / n; }
+using io::shardBound;
 
 // Shard k (1-based) of n given, against the first shard's job.
 void checkSequence(const ShardInfo& s, const ShardInfo& first, size_t k, size_t n, const Where& w) {
@@ -1328,6 +1328,105 @@ bool isTrimmedShard(const std::string& shard, OutputFormat format) {
   return stringOr(readSidecarJson({shardField(1), shard + ".json"}), "format") == kTrimmedSidecarFormat;
 }
 
+// ---- Projections (project --shard): each file its header, then its records ---------------------
+
+// Shard 1's record when it is a projection's (`project` writes one beside every shard).
+std::optional<ShardRecord> projectionRecord(const std::string& shard) {
+  std::error_code ec;
+  const std::filesystem::path path = shardRecordPath(shard);
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return std::nullopt;
+  try {
+    ShardRecord r = readShardRecord(path);
+    if (!r.projection.empty()) return r;
+  } catch (const ShardRecordError&) {
+    // mergeInputs has named it already; a sampling job's merge reports what it reads.
+  }
+  return std::nullopt;
+}
+
+io::ProjectionTarget projectionTargetOf(const std::string& name) {
+  return name == "part" ? io::ProjectionTarget::Part : name == "curve" ? io::ProjectionTarget::Curve
+                                                                         : io::ProjectionTarget::Surface;
+}
+
+// The shards' records say they are shards 1..N of one projection, in order, covering every point;
+// each file is the header of its own count, then exactly its records, which are copied under the
+// header of the whole count: the unsharded job's bytes.
+MergeResult mergeProjection(const std::vector<std::string>& shards, AtomicFile& out) {
+  std::vector<ShardRecord> records;
+  for (size_t k = 1; k <= shards.size(); ++k) {
+    const Where w{shardField(k), shards[k - 1]};
+    std::error_code ec;
+    if (!std::filesystem::exists(std::filesystem::symlink_status(shardRecordPath(w.path), ec)))
+      refuse(w, "has no shard record beside it (" + shardRecordPath(w.path).filename().string() +
+                    "), which `project --shard` writes; project the shard again");
+    try {
+      records.push_back(readShardRecord(shardRecordPath(w.path)));
+    } catch (const ShardRecordError& e) {
+      refuse(w, std::string("its shard record ") + e.what());
+    }
+  }
+  const ShardRecord& first = records.front();
+  uint64_t next = 0;
+  for (size_t k = 1; k <= shards.size(); ++k) {
+    const Where w{shardField(k), shards[k - 1]};
+    const ShardRecord& r = records[k - 1];
+    if (r.projection.empty()) refuse(w, "is a sampling job's shard, SHARD[1] a projection's");
+    if (r.job != first.job || r.projection != first.projection || r.format != first.format ||
+        r.totalItems != first.totalItems)
+      refuse(w, "belongs to another projection than SHARD[1] (job " + r.job + ", SHARD[1]: job " + first.job + ")");
+    if (static_cast<size_t>(r.shardCount) != shards.size())
+      refuse(w, "is shard " + std::to_string(r.shardIndex) + "/" + std::to_string(r.shardCount) + ", but " +
+                    std::to_string(shards.size()) + " shards were given (give all N, in order)");
+    if (static_cast<size_t>(r.shardIndex) != k)
+      refuse(w, "is shard " + std::to_string(r.shardIndex) + "/" + std::to_string(r.shardCount) + ", given as shard " +
+                    std::to_string(k) + " (give the shards in order)");
+    if (r.firstItem != next) refuse(w, "starts at point " + std::to_string(r.firstItem) + ", not " + std::to_string(next));
+    next += r.itemCount;
+  }
+  if (next != first.totalItems)
+    refuse({shardField(shards.size()), shards.back()},
+           "ends at point " + std::to_string(next) + " of " + std::to_string(first.totalItems));
+
+  const io::ProjectionFormat format = io::projectionFormat(shards.front(), shardField(1));
+  const io::ProjectionTarget target = projectionTargetOf(first.projection);
+  const uint64_t recordBytes = io::projectionRecordBytes(format, target);
+  out.write(io::projectionHeader(format, target, first.totalItems));
+  std::vector<char> buffer(kMergeBufferBytes);
+  for (size_t k = 1; k <= shards.size(); ++k) {
+    ShardFile data({shardField(k), shards[k - 1]});
+    const uint64_t count = records[k - 1].itemCount;
+    const std::string header = io::projectionHeader(format, target, count);
+    std::string got(header.size(), '\0');
+    if (data.read(got.data(), got.size()) != got.size() || got != header)
+      refuse(data.where(), "does not start with the header of a projection of its " + std::to_string(count) + " points");
+    const uint64_t body = data.size() - header.size();
+    if (recordBytes == 0) {
+      // CSV: whole lines, one per point.
+      uint64_t lines = 0, left = body;
+      char last = '\n';
+      while (left > 0) {
+        const size_t take = static_cast<size_t>(std::min<uint64_t>(left, buffer.size()));
+        data.readExact(buffer.data(), take);
+        lines += static_cast<uint64_t>(std::count(buffer.data(), buffer.data() + take, '\n'));
+        last = buffer[take - 1];
+        out.write(buffer.data(), take);
+        left -= take;
+      }
+      if (lines != count || last != '\n')
+        refuse(data.where(), "holds " + std::to_string(lines) + " whole lines, its record says " + std::to_string(count));
+    } else {
+      uint64_t want = 0;
+      if (!mulOk(count, recordBytes, &want) || body != want)
+        refuse(data.where(), "is " + std::to_string(data.size()) + " bytes, not its header and " + std::to_string(count) +
+                                 " records of " + std::to_string(recordBytes) + " bytes");
+      copyBytes(data, out, body, buffer);
+    }
+    data.expectEnd();
+  }
+  return {first.totalItems, out.bytesWritten()};
+}
+
 }  // namespace
 
 MergeResult mergeShards(const std::vector<std::string>& shards, const std::string& output) {
@@ -1351,6 +1450,11 @@ MergeResult mergeShards(const std::vector<std::string>& shards, const std::strin
   }
   AtomicFile& out = files.add(output, "-o");
   MergeResult result;
+  if (projectionRecord(shards.front())) {
+    result = mergeProjection(shards, out);
+    files.commit();
+    return result;
+  }
   if (isTrimmedShard(shards.front(), format)) {
     AtomicFile* side = format == OutputFormat::Ply ? nullptr : &files.add(output + ".json", "-o");
     result = mergeTrimmed(shards, format, out, side);

@@ -18,6 +18,10 @@
 // items (span / patch_i,patch_j) strictly increasing across all shards (order, overlaps, a shard
 // given twice), the same rows per item in every shard, every line complete. It cannot tell shards of
 // two models with the same header apart, nor a missing last shard: use raw, PLY or OBJ for that.
+//
+// A `project --shard` job's shards (each with its record OUT.shard.json, kind "projection") are
+// joined by their records: shards 1..N of one job in order, covering every point; each file must be
+// exactly the header of its own count and its records, which go under the whole count's header.
 #include <cstdint>
 #include <stdexcept>
 #include <string>

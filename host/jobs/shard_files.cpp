@@ -73,7 +73,8 @@ std::string kn(int k, int n) { return std::to_string(k) + "/" + std::to_string(n
 std::string recordDifference(const ShardRecord& got, const ShardRecord& want, io::OutputFormat format,
                              const ShardFileList& files) {
   if (got.job != want.job) return "it is of another job (" + got.job + ", this one is " + want.job + ")";
-  if (got.format != want.format || got.surface != want.surface) return "it describes another format or kind";
+  if (got.format != want.format || got.surface != want.surface || got.projection != want.projection)
+    return "it describes another format or kind";
   if (got.shardIndex != want.shardIndex || got.shardCount != want.shardCount) {
     return "it is shard " + kn(got.shardIndex, got.shardCount) + ", this one is " +
            kn(want.shardIndex, want.shardCount);
@@ -253,8 +254,8 @@ bool shardAlreadyDone(const ShardRecord& want, io::OutputFormat format, const Sh
   if (!fs::exists(fs::symlink_status(recordPath, ec))) return false;
   auto redo = [&](const std::string& why) {
     if (!quiet) {
-      std::fprintf(stderr, "shapespline: notice: %s: the shard record '%s' does not verify (%s); sampling the shard again\n",
-                   files.data.c_str(), recordPath.c_str(), why.c_str());
+      std::fprintf(stderr, "shapespline: notice: %s: the shard record '%s' does not verify (%s); %s the shard again\n",
+                   files.data.c_str(), recordPath.c_str(), why.c_str(), want.projection.empty() ? "sampling" : "projecting");
     }
     return false;
   };

@@ -61,7 +61,7 @@ bool plainFileName(const std::string& name) {
          name.find('/') == std::string::npos && name.find('\0') == std::string::npos;
 }
 
-const char* kKeys[] = {"format", "format_version", "job", "kind", "output_format", "shard",
+const char* kKeys[] = {"format", "format_version", "job", "kind", "target", "output_format", "shard",
                        "items", "points", "vertices", "files", "metadata"};
 
 }  // namespace
@@ -77,7 +77,8 @@ std::string shardRecordJson(const ShardRecord& r) {
   j["format"] = "shapespline-shard";
   j["format_version"] = kShardRecordVersion;
   j["job"] = r.job;
-  j["kind"] = r.surface ? "surface" : "curve";
+  j["kind"] = !r.projection.empty() ? "projection" : r.surface ? "surface" : "curve";
+  if (!r.projection.empty()) j["target"] = r.projection;
   j["output_format"] = r.format;
   j["shard"] = {{"index", r.shardIndex}, {"count", r.shardCount}};
   j["items"] = {{"first", r.firstItem}, {"count", r.itemCount}, {"total", r.totalItems}};
@@ -88,8 +89,9 @@ std::string shardRecordJson(const ShardRecord& r) {
     files.push_back({{"name", f.name}, {"role", f.role}, {"bytes", f.bytes}, {"sha256", f.sha256}});
   }
   j["files"] = std::move(files);
-  // metadataJson is a plain (sorted) json; its text parses back to the same object.
-  j["metadata"] = nlohmann::ordered_json::parse(metadataJson(r.metadata).dump());
+  // metadataJson is a plain (sorted) json; its text parses back to the same object. A projection's
+  // shard has none: what it projects and onto what is in its job fingerprint.
+  if (r.projection.empty()) j["metadata"] = nlohmann::ordered_json::parse(metadataJson(r.metadata).dump());
   return j.dump(2, ' ', /*ensure_ascii=*/false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
@@ -115,8 +117,16 @@ ShardRecord parseShardRecord(std::string_view text) {
   r.job = str(doc, "job");
   if (!isHex(r.job, 16)) throw ShardRecordError("job", "must be 16 lowercase hex digits");
   const std::string kind = str(doc, "kind");
-  if (kind != "curve" && kind != "surface") throw ShardRecordError("kind", "must be \"curve\" or \"surface\"");
-  r.surface = kind == "surface";
+  if (kind != "curve" && kind != "surface" && kind != "projection")
+    throw ShardRecordError("kind", "must be \"curve\", \"surface\" or \"projection\"");
+  if (kind == "projection") {
+    r.projection = str(doc, "target");
+    if (r.projection != "surface" && r.projection != "part" && r.projection != "curve")
+      throw ShardRecordError("target", "must be \"surface\", \"part\" or \"curve\"");
+  } else if (doc.contains("target")) {
+    throw ShardRecordError("target", "belongs to a projection's shard only");
+  }
+  r.surface = kind == "surface" || (kind == "projection" && r.projection != "curve");
   r.format = str(doc, "output_format");
   static const char* kFormats[] = {"obj", "ply", "csv", "f32", "f64", "npy", "svg", "glb", "gltf"};
   bool known = false;
@@ -154,6 +164,10 @@ ShardRecord parseShardRecord(std::string_view text) {
     f.sha256 = str(files[i], "sha256", at);
     if (!isHex(f.sha256, 64)) throw ShardRecordError(at + ".sha256", "must be 64 lowercase hex digits");
     r.files.push_back(std::move(f));
+  }
+  if (!r.projection.empty()) {
+    if (doc.contains("metadata")) throw ShardRecordError("metadata", "belongs to a sampling job's shard only");
+    return r;
   }
   try {
     r.metadata = metadataFromJson(member(doc, "metadata", ""));

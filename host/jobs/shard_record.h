@@ -39,6 +39,9 @@ struct ShardRecordFile {
 struct ShardRecord {
   std::string job;          // jobFingerprint, 16 hex digits
   bool surface = false;
+  // "" for a `sample` shard; a `project` shard's target, "surface", "part" or "curve" (its items
+  // are the cloud's points, its metadata names the --onto file: jobs/projection_merge.h).
+  std::string projection;
   std::string format;       // the data file's extension without the dot: "f32", "npy", "ply", ...
   int shardIndex = 1, shardCount = 1;
   uint64_t firstItem = 0, itemCount = 0, totalItems = 0;

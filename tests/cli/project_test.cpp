@@ -1,7 +1,9 @@
 // `shapespline project` (docs/cli.md "project"): a cloud in every input format gives the same feet,
 // every output format carries the same numbers (read back with numpy), points sampled on a face
 // come back at distance ~0 with their own (U, V), --report prints the statistics, and bad input
-// exits 2 naming the file and the rule with nothing written.
+// exits 2 naming the file and the rule with nothing written. Shards (--shard K/N, auto, a pattern in
+// -o) merge into the unsharded job's bytes in every format; a rerun shard that verifies is left as
+// it is; shards that do not belong together are refused by merge.
 #include "cli_runner.h"
 #include "handmade_part.h"
 #include "output_checks.h"
@@ -158,6 +160,72 @@ print('OK')
                  {});
 }
 
+TEST_F(Project, ShardsMergeIntoTheUnshardedBytes) {
+  expectPythonOk(dir_, kWriteClouds, {});
+  for (const std::string ext : {".npy", ".f64", ".csv", ".ply"}) {
+    ASSERT_EQ(project("cloud.npy", "whole" + ext, "-q").rc, 0);
+    std::string shards;
+    for (int k = 1; k <= 3; ++k) {
+      const std::string name = "shard" + std::to_string(k) + ext;
+      const CliResult r = project("cloud.npy", name, "--shard " + std::to_string(k) + "/3");
+      ASSERT_EQ(r.rc, 0) << ext << "\n" << r.err;
+      EXPECT_TRUE(contains(r.out, "(shard " + std::to_string(k) + "/3, points ")) << r.out;
+      EXPECT_TRUE(fs::exists(dir_ / (name + ".shard.json"))) << name;
+      shards += " " + quote((dir_ / name).string());
+    }
+    const CliResult m = runCli("merge -o " + quote((dir_ / ("merged" + ext)).string()) + shards, dir_.path());
+    ASSERT_EQ(m.rc, 0) << ext << "\n" << m.err;
+    EXPECT_EQ(readText(dir_ / ("merged" + ext)), readText(dir_ / ("whole" + ext))) << ext;
+  }
+  // Every cloud format starts a shard at the same point (PointCloudReader::skip).
+  ASSERT_EQ(project("cloud.npy", "middle.f64", "-q --shard 2/3").rc, 0);
+  for (const char* cloud : {"cloud.f64", "cloud.csv", "cloud_ascii.ply", "cloud_binary.ply"}) {
+    const std::string out = std::string("middle_") + cloud + ".f64";
+    ASSERT_EQ(project(cloud, out, "-q --shard 2/3").rc, 0) << cloud;
+    EXPECT_EQ(readText(dir_ / out), readText(dir_ / "middle.f64")) << cloud;
+  }
+  // A rerun shard whose record verifies is left as it is.
+  const CliResult again = project("cloud.npy", "shard2.npy", "--shard 2/3");
+  EXPECT_EQ(again.rc, 0) << again.err;
+  EXPECT_TRUE(contains(again.err, "nothing to do")) << again.err;
+  // --shard auto from a Slurm job array, into a shard pattern, merged by the pattern.
+  for (int k = 1; k <= 2; ++k) {
+    const CliResult r = runShell("cd " + quote(dir_.path().string()) + " && env SLURM_ARRAY_TASK_ID=" + std::to_string(k) +
+                                     " SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_MAX=2 " + quote(SHAPESPLINE_CLI) +
+                                     " project cloud.npy --onto part/part.json -o 'auto-{shard}-of-{count}.csv' "
+                                     "--shard auto -q",
+                                 dir_.path());
+    ASSERT_EQ(r.rc, 0) << r.err;
+  }
+  const CliResult m = runCli("merge -o merged_auto.csv 'auto-{shard}-of-{count}.csv'", dir_.path(), dir_.path());
+  ASSERT_EQ(m.rc, 0) << m.err;
+  EXPECT_EQ(readText(dir_ / "merged_auto.csv"), readText(dir_ / "whole.csv"));
+}
+
+TEST_F(Project, ShardsThatDoNotBelongTogetherAreNotMerged) {
+  expectPythonOk(dir_, kWriteClouds, {});
+  for (int k = 1; k <= 3; ++k)
+    ASSERT_EQ(project("cloud.npy", "s" + std::to_string(k) + ".npy", "-q --shard " + std::to_string(k) + "/3").rc, 0);
+  ASSERT_EQ(project("cloud.npy", "loose2.npy", "-q --shard 2/3 --tolerance 0.01").rc, 0);
+  ASSERT_EQ(project("cloud.npy", "bare2.npy", "-q --shard 2/3").rc, 0);
+  fs::remove(dir_ / "bare2.npy.shard.json");
+  const struct {
+    std::string shards, named, rule;
+  } cases[] = {
+      {"s1.npy s3.npy", "SHARD[1]", "2 shards were given"},
+      {"s2.npy s1.npy s3.npy", "SHARD[1]", "given as shard 1"},
+      {"s1.npy loose2.npy s3.npy", "SHARD[2]", "another projection"},
+      {"s1.npy bare2.npy s3.npy", "SHARD[2]", "no shard record"},
+  };
+  for (const auto& c : cases) {
+    const CliResult r = runCli("merge -o merged.npy " + c.shards, dir_.path(), dir_.path());
+    EXPECT_EQ(r.rc, 2) << c.shards << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, c.named)) << c.shards << "\n" << r.err;
+    EXPECT_TRUE(contains(r.err, c.rule)) << c.shards << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "merged.npy")) << c.shards;
+  }
+}
+
 TEST_F(Project, BadInputExitsTwoNamingItAndWritesNothing) {
   expectPythonOk(dir_, R"(
 import numpy as np
@@ -196,6 +264,8 @@ print('OK')
       {"good.npy --onto " + part + " --tolerance 0", "--tolerance", "> 0"},
       {"good.npy --onto " + part + " --tolerance -1e-3", "--tolerance", "> 0"},
       {"good.npy --onto " + part + " --tolerance nan", "--tolerance", "finite"},
+      {"good.npy --onto " + part + " --shard 4/3", "--shard", "K <= N"},
+      {"good.npy --onto " + part + " --shard auto", "--shard", "auto"},
   };
   for (const Case& c : cases) {
     const CliResult r = runCli("project " + c.args + " -o out.npy", dir_.path(), dir_.path());

@@ -147,5 +147,39 @@ TEST(ShardRecord, RefusesAnythingElseNamingTheKey) {
   }
 }
 
+// A projection's shard (`project --shard`): kind "projection", its target, no metadata.
+TEST(ShardRecord, AProjectionsShardReadsBackWithItsTarget) {
+  ShardRecord r = sample();
+  r.projection = "part";
+  r.format = "npy";
+  r.metadata = {};
+  const nlohmann::json j = nlohmann::json::parse(shardRecordJson(r));
+  EXPECT_EQ(j["kind"], "projection");
+  EXPECT_EQ(j["target"], "part");
+  EXPECT_FALSE(j.contains("metadata"));
+  const ShardRecord back = parseShardRecord(j.dump());
+  EXPECT_EQ(back.projection, "part");
+  EXPECT_TRUE(back.surface);
+  EXPECT_EQ(back.files, r.files);
+  auto refusedAt = [](const nlohmann::json& bad, const std::string& key) {
+    try {
+      parseShardRecord(bad.dump());
+      ADD_FAILURE() << "accepted: " << bad.dump().substr(0, 200);
+    } catch (const ShardRecordError& e) {
+      EXPECT_EQ(e.key(), key) << e.what();
+    }
+  };
+  nlohmann::json noTarget = j, badTarget = j, withMetadata = j;
+  noTarget.erase("target");
+  refusedAt(noTarget, "target");
+  badTarget["target"] = "volume";
+  refusedAt(badTarget, "target");
+  withMetadata["metadata"] = nlohmann::json::parse(shardRecordJson(sample()))["metadata"];
+  refusedAt(withMetadata, "metadata");
+  nlohmann::json sampled = nlohmann::json::parse(shardRecordJson(sample()));
+  sampled["target"] = "part";
+  refusedAt(sampled, "target");
+}
+
 }  // namespace
 }  // namespace shapespline::jobs

@@ -1,0 +1,110 @@
+// How closest points scale with the size of the part (issue 55: points x log(patches), not points x
+// patches). A sheet over [0, 1]^2 is cut into t x t faces, each a bicubic B-spline of 4 x 4 knot
+// intervals whose net waves in z (the wave continues across the faces), for t = 1, 2, 4, ... up to
+// --max-faces; the same N points (uniform over the sheet, z within +-0.1) are projected onto each
+// part, best of REPS, on every core. Printed per part: faces, patches, tree cells, the tree's build
+// time, microseconds per point, and that figure over log2(patches), which stays flat when the time
+// grows with the logarithm and would grow t^2-fold per row if every patch were visited.
+// Usage: shapespline_project_scaling_bench [--points N] [--reps N] [--max-faces N]
+#include <shapespline/part/closest_points.h>
+#include <shapespline/part/projection_tree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace shapespline;
+
+struct Options {
+  int points = 100000, reps = 3, maxFaces = 4096;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+    const int v = std::stoi(argv[++i]);
+    if (a == "--points") o.points = v;
+    else if (a == "--reps") o.reps = v;
+    else if (a == "--max-faces") o.maxFaces = v;
+    else throw std::invalid_argument("unknown option " + a);
+  }
+  if (o.points < 1 || o.reps < 1 || o.maxFaces < 1) throw std::invalid_argument("bad --points, --reps or --max-faces");
+  return o;
+}
+
+// Face (a, b) of a t x t sheet.
+Surface sheetFace(int a, int b, int t) {
+  SurfaceModel m;
+  m.family.construction = Construction::BSpline;
+  m.family.order = 4;
+  m.orderV = 4;
+  const int n = 4, rows = n + 3;
+  std::vector<double> knots = {0, 0, 0};
+  for (int i = 0; i <= n; ++i) knots.push_back(double(i) / n);
+  knots.insert(knots.end(), {1, 1, 1});
+  m.knotsU = m.knotsV = knots;
+  m.rows = m.cols = rows;
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < rows; ++j) {
+      const double x = (a + double(i) / (rows - 1)) / t, y = (b + double(j) / (rows - 1)) / t;
+      m.points.push_back({x, y, 0.05 * std::sin(9.0 * x + 4.0 * y) * std::cos(7.0 * y)});
+    }
+  return Surface::create(std::move(m));
+}
+
+double seconds(const std::function<void()>& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  run();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Options o = parse(argc, argv);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), height(-0.1, 0.1);
+    std::vector<glm::dvec3> points(o.points);
+    for (glm::dvec3& p : points) p = {unit(rng), unit(rng), height(rng)};
+    std::vector<part::FootPoint> feet(points.size());
+    std::printf("closest points of %d points onto a sheet of t x t faces (16 bicubic patches each), best of %d\n",
+                o.points, o.reps);
+    std::printf("%7s %8s %8s %9s %10s %18s\n", "faces", "patches", "cells", "build s", "us/point", "us/point/log2(p)");
+    for (int t = 1; t * t <= o.maxFaces; t *= 2) {
+      std::vector<Surface> faces;
+      faces.reserve(size_t(t) * t);
+      for (int a = 0; a < t; ++a)
+        for (int b = 0; b < t; ++b) faces.push_back(sheetFace(a, b, t));
+      std::vector<part::ProjectionFace> listed;
+      for (size_t k = 0; k < faces.size(); ++k) listed.push_back({&faces[k], int(k) + 1, false});
+      std::optional<part::ProjectionTree> tree;
+      const double build = seconds([&] { tree.emplace(part::ProjectionTree::ofFaces(listed)); });
+      const part::ClosestPoints closest(*tree);
+      double best = 1e300;
+      for (int r = 0; r <= o.reps; ++r) {  // the first run untimed
+        const double s = seconds([&] { closest.of(points, feet, false, 0); });
+        if (r > 0) best = std::min(best, s);
+      }
+      const int patches = 16 * t * t;
+      const double perPoint = 1e6 * best / o.points;
+      std::printf("%7d %8d %8zu %9.3f %10.3f %18.4f\n", t * t, patches, tree->cells().size(), build, perPoint,
+                  perPoint / std::log2(double(patches)));
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "shapespline_project_scaling_bench: %s\n", e.what());
+    return 1;
+  }
+}
