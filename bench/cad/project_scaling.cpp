@@ -1,10 +1,11 @@
 // How closest points scale with the size of the part (issue 55: points x log(patches), not points x
-// patches). A sheet over [0, 1]^2 is cut into t x t faces, each a bicubic B-spline of 4 x 4 knot
-// intervals whose net waves in z (the wave continues across the faces), for t = 1, 2, 4, ... up to
-// --max-faces; the same N points (uniform over the sheet, z within +-0.1) are projected onto each
-// part, best of REPS, on every core. Printed per part: faces, patches, tree cells, the tree's build
-// time, microseconds per point, and that figure over log2(patches), which stays flat when the time
-// grows with the logarithm and would grow t^2-fold per row if every patch were visited.
+// patches). A sheet over [0, t]^2 is made of t x t unit faces, each a bicubic B-spline of 4 x 4
+// knot intervals whose net waves in z (the wave runs on across the faces), for t = 1, 2, 4, ... up
+// to --max-faces; N points, uniform over the sheet with z within +-0.1, are projected onto each
+// part, best of REPS, on every core. The faces keep their size, so a point's neighbourhood looks
+// the same in every row and only the part grows. Printed per part: faces, patches, tree cells, the
+// tree's build time, microseconds per point, and that figure over log2(patches), which stays flat
+// when the time grows with the logarithm (it would grow 4-fold per row if every patch were visited).
 // Usage: shapespline_project_scaling_bench [--points N] [--reps N] [--max-faces N]
 #include <shapespline/part/closest_points.h>
 #include <shapespline/part/projection_tree.h>
@@ -43,8 +44,8 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-// Face (a, b) of a t x t sheet.
-Surface sheetFace(int a, int b, int t) {
+// Face (a, b) of the sheet: [a, a + 1] x [b, b + 1].
+Surface sheetFace(int a, int b) {
   SurfaceModel m;
   m.family.construction = Construction::BSpline;
   m.family.order = 4;
@@ -57,7 +58,7 @@ Surface sheetFace(int a, int b, int t) {
   m.rows = m.cols = rows;
   for (int i = 0; i < rows; ++i)
     for (int j = 0; j < rows; ++j) {
-      const double x = (a + double(i) / (rows - 1)) / t, y = (b + double(j) / (rows - 1)) / t;
+      const double x = a + double(i) / (rows - 1), y = b + double(j) / (rows - 1);
       m.points.push_back({x, y, 0.05 * std::sin(9.0 * x + 4.0 * y) * std::cos(7.0 * y)});
     }
   return Surface::create(std::move(m));
@@ -74,19 +75,19 @@ double seconds(const std::function<void()>& run) {
 int main(int argc, char** argv) {
   try {
     const Options o = parse(argc, argv);
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> unit(0.0, 1.0), height(-0.1, 0.1);
     std::vector<glm::dvec3> points(o.points);
-    for (glm::dvec3& p : points) p = {unit(rng), unit(rng), height(rng)};
     std::vector<part::FootPoint> feet(points.size());
-    std::printf("closest points of %d points onto a sheet of t x t faces (16 bicubic patches each), best of %d\n",
+    std::printf("closest points of %d points onto a sheet of t x t unit faces (16 bicubic patches each), best of %d\n",
                 o.points, o.reps);
     std::printf("%7s %8s %8s %9s %10s %18s\n", "faces", "patches", "cells", "build s", "us/point", "us/point/log2(p)");
     for (int t = 1; t * t <= o.maxFaces; t *= 2) {
+      std::mt19937_64 rng(11);
+      std::uniform_real_distribution<double> across(0.0, double(t)), height(-0.1, 0.1);
+      for (glm::dvec3& p : points) p = {across(rng), across(rng), height(rng)};
       std::vector<Surface> faces;
       faces.reserve(size_t(t) * t);
       for (int a = 0; a < t; ++a)
-        for (int b = 0; b < t; ++b) faces.push_back(sheetFace(a, b, t));
+        for (int b = 0; b < t; ++b) faces.push_back(sheetFace(a, b));
       std::vector<part::ProjectionFace> listed;
       for (size_t k = 0; k < faces.size(); ++k) listed.push_back({&faces[k], int(k) + 1, false});
       std::optional<part::ProjectionTree> tree;

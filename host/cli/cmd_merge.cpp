@@ -1,4 +1,4 @@
-// `shapespline merge -o OUT SHARD...`: joins the outputs of `sample --shard K/N` (given in shard
+// `shapespline merge -o OUT SHARD...`: joins the outputs of `sample --shard K/N` or `project --shard K/N` (given in shard
 // order) into the file the unsharded job writes, byte for byte, after verifying that they are the
 // shards 1..N of one job (jobs/merge.h, which does the work; this file only maps its errors).
 #include <shapespline/cli/common.h>
@@ -32,13 +32,13 @@ void runMerge(const MergeArgs& a) {
 void registerMerge(CLI::App& app) {
   auto a = std::make_shared<MergeArgs>();
   CLI::App* sub = app.add_subcommand(
-      "merge", "Join `sample --shard K/N` outputs (shards 1..N of one job, in order) into the unsharded job's file.");
+      "merge", "Join `sample --shard K/N` or `project --shard K/N` outputs (shards 1..N of one job, in order) into the unsharded job's file.");
   sub->add_option("SHARD", a->inputs,
                   "shard files, K = 1..N in order (errors name them SHARD[K]), or one shard pattern such as "
                   "'out-{shard:05d}-of-{count:05d}.f32' (expanded to the shards 1..N present); a shard's record "
                   "SHARD.shard.json, where present, is verified first")
       ->required();
-  sub->add_option("-o,--output", a->out, "merged file (.obj .ply .csv .f32 .f64)")->required();
+  sub->add_option("-o,--output", a->out, "merged file (.obj .ply .csv .f32 .f64 .npy)")->required();
   addQuietFlag(sub, a->quiet, "accepted for uniformity: merge prints only errors");
   sub->footer(kExitCodeHelp);
   sub->callback([a] { runMerge(*a); });
