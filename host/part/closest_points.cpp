@@ -1,6 +1,7 @@
 #include <shapespline/part/closest_points.h>
 
 #include <shapespline/core/parallel_for.h>
+#include <shapespline/core/point_math.h>
 
 #include <glm/geometric.hpp>
 
@@ -48,6 +49,34 @@ LocalPoint evaluateLocal(const Surface& s, int i, int j, double u, double v) {
   const glm::dvec3* net = &s.patchNet()[static_cast<size_t>(i + s.netOffsetU()) * s.netCols() + (j + s.netOffsetV())];
   evalTensorPatch(s.basisU(), s.basisV(), net, s.netCols(), u, v, out);
   return {out.p, out.u, out.v, out.uu, out.uv, out.vv};
+}
+
+// A point of a tree patch at local (u, v) and its local partials: the centred power form by Horner's
+// rule, each row in v first (value, first and half the second derivative), then the rows in u.
+LocalPoint evaluatePatch(const ProjectionTree& tree, const ProjectionPatch& patch, double u, double v) {
+  const glm::dvec4* c = &tree.coefficients()[patch.first];
+  const double su = u - 0.5, sv = v - 0.5;
+  const size_t rowLength = static_cast<size_t>(patch.m + 1);
+  glm::dvec4 p(0.0), pu(0.0), puu(0.0), pv(0.0), puv(0.0), pvv(0.0);  // puu, pvv: halved
+  for (int d = patch.n; d >= 0; --d) {
+    const glm::dvec4* row = c + static_cast<size_t>(d) * rowLength;
+    glm::dvec4 r(0.0), r1(0.0), r2(0.0);  // r2: halved
+    for (int e = patch.m; e >= 0; --e) {
+      r2 = r2 * sv + r1;
+      r1 = r1 * sv + r;
+      r = r * sv + row[e];
+    }
+    puu = puu * su + pu;
+    pu = pu * su + p;
+    p = p * su + r;
+    puv = puv * su + pv;
+    pv = pv * su + r1;
+    pvv = pvv * su + r2;
+  }
+  puu *= 2.0, pvv *= 2.0;
+  LocalPoint e{glm::dvec3(p), glm::dvec3(pu), glm::dvec3(pv), glm::dvec3(puu), glm::dvec3(puv), glm::dvec3(pvv)};
+  if (patch.rational) pm::rationalSurface(e.p, e.u, e.v, e.uu, e.uv, e.vv, p.w, pu.w, pv.w, puu.w, puv.w, pvv.w);
+  return e;
 }
 
 // A point of the surface at global (U, V) (clamped into the domain) and its partials with respect to
@@ -104,9 +133,9 @@ double newtonOnSegment(const glm::dvec3& q, double lo, double hi, double& x, glm
 // falls. Returns the squared distance at the final x, e the point there; `settled` when Newton's
 // matrix is positive definite there (a strict local minimum, or the nearest point of a border the
 // distance falls towards).
-double newtonOnPatch(const Surface& s, int i, int j, const double lo[2], const double hi[2], const glm::dvec3& q,
-                     double x[2], LocalPoint& e, bool& settled) {
-  e = evaluateLocal(s, i, j, x[0], x[1]);
+double newtonOnPatch(const ProjectionTree& tree, const ProjectionPatch& patch, const double lo[2], const double hi[2],
+                     const glm::dvec3& q, double x[2], LocalPoint& e, bool& settled) {
+  e = evaluatePatch(tree, patch, x[0], x[1]);
   glm::dvec3 r = e.p - q;
   double f = glm::dot(r, r);
   for (int step = 0; step < kMaxNewtonSteps; ++step) {
@@ -156,7 +185,7 @@ double newtonOnPatch(const Surface& s, int i, int j, const double lo[2], const d
     for (;; dx[0] *= 0.5, dx[1] *= 0.5) {
       for (int k = 0; k < 2; ++k) xn[k] = std::clamp(x[k] + dx[k], lo[k], hi[k]);
       if (halvings == 0 && stops >= 0) xn[stops] = border;
-      en = evaluateLocal(s, i, j, xn[0], xn[1]);
+      en = evaluatePatch(tree, patch, xn[0], xn[1]);
       fn = glm::dot(en.p - q, en.p - q);
       if (fn <= f || ++halvings > kMaxHalvings) break;
     }
@@ -218,7 +247,8 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, c
   const double start[2] = {x[0], x[1]};
   LocalPoint e;
   bool settled = false;
-  double f = newtonOnPatch(s, cell.i, cell.j, lo, hi, q, x, e, settled);
+  const ProjectionPatch& patch = tree_.patches()[cell.patch];
+  double f = newtonOnPatch(tree_, patch, lo, hi, q, x, e, settled);
   // On the domain's border the nearest point may be a minimum along the border that is not one of
   // the surface: a border side of the cell is searched on its own where Newton ended on it, or
   // every border side (a doubtful cell's second look, where a second minimum may be).
@@ -233,7 +263,7 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, c
     const bool border = alongV ? !shape.closedU && (U == uMin || U == uMax) : !shape.closedV && (V == vMin || V == vMax);
     if (!border || (!everySide && (alongV ? x[0] : x[1]) != fixed)) continue;
     const auto eval = [&](double t, glm::dvec3& p, glm::dvec3& d1, glm::dvec3& d2) {
-      const LocalPoint l = alongV ? evaluateLocal(s, cell.i, cell.j, fixed, t) : evaluateLocal(s, cell.i, cell.j, t, fixed);
+      const LocalPoint l = alongV ? evaluatePatch(tree_, patch, fixed, t) : evaluatePatch(tree_, patch, t, fixed);
       p = l.p, d1 = alongV ? l.v : l.u, d2 = alongV ? l.vv : l.uu;
     };
     double t = alongV ? start[1] : start[0];
@@ -404,8 +434,12 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
         if (depth < kSecondLookDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) secondLook(quarter, depth + 1);
       }
   };
-  for (const auto& [box2, cell] : doubtful)
-    if (within(box2, solved)) secondLook(tree_.cells()[cell], 1);
+  // A point on the surface (within kOnSurfaceFraction of the diagonal) cannot be bettered by more
+  // than that: its doubtful cells need no second look.
+  const double onSurface = kOnSurfaceFraction * tree_.diagonal();
+  if (best.d2 > onSurface * onSurface)
+    for (const auto& [box2, cell] : doubtful)
+      if (within(box2, solved)) secondLook(tree_.cells()[cell], 1);
   if (best.d2 == kNone) return foot;  // every piece outside its loops
   foot.point = best.point;
   foot.u = best.u;

@@ -200,6 +200,42 @@ BezierNet bezierOf(const SpanBasis& bu, const SpanBasis& bv, const std::function
   return net;
 }
 
+// The patch sum_r sum_s B_r(u) B_s(v) point(r, s) (homogeneous) in the powers of (u - 1/2) and
+// (v - 1/2), appended to `out` (ProjectionPatch). Each basis function's power coefficients about 0
+// are moved to 1/2 (Taylor: c'_j = sum_{k >= j} C(k, j) (1/2)^(k - j) c_k), then multiplied out.
+ProjectionPatch centredPowerOf(const SpanBasis& bu, const SpanBasis& bv, bool rational,
+                               const std::function<glm::dvec4(int, int)>& point, std::vector<glm::dvec4>& out) {
+  const auto centred = [](const SpanBasis& b, double c[kMaxBasisCount][kMaxBezier]) {
+    for (int r = 0; r < b.count; ++r)
+      for (int j = 0; j <= b.degree; ++j) {
+        double sum = 0.0, binom = 1.0, half = 1.0;  // C(k, j) and (1/2)^(k - j) for k = j, j + 1, ...
+        for (int k = j; k <= b.degree; ++k) {
+          sum += binom * half * b.coef[r][k];
+          binom = binom * (k + 1) / (k + 1 - j);
+          half *= 0.5;
+        }
+        c[r][j] = sum;
+      }
+  };
+  double cu[kMaxBasisCount][kMaxBezier], cv[kMaxBasisCount][kMaxBezier];
+  centred(bu, cu);
+  centred(bv, cv);
+  ProjectionPatch patch{bu.degree, bv.degree, out.size(), rational};
+  const size_t rowLength = static_cast<size_t>(patch.m + 1);
+  out.resize(out.size() + static_cast<size_t>(patch.n + 1) * rowLength, glm::dvec4(0.0));
+  glm::dvec4* c = &out[patch.first];
+  std::vector<glm::dvec4> partial(static_cast<size_t>(patch.n + 1) * bv.count, glm::dvec4(0.0));
+  for (int r = 0; r < bu.count; ++r)
+    for (int s = 0; s < bv.count; ++s) {
+      const glm::dvec4 p = point(r, s);
+      for (int d = 0; d <= patch.n; ++d) partial[static_cast<size_t>(d) * bv.count + s] += cu[r][d] * p;
+    }
+  for (int d = 0; d <= patch.n; ++d)
+    for (int s = 0; s < bv.count; ++s)
+      for (int e = 0; e <= patch.m; ++e) c[d * rowLength + e] += cv[s][e] * partial[static_cast<size_t>(d) * bv.count + s];
+  return patch;
+}
+
 // The principal curvatures at a point, signed towards +(du x dv) (a bowl that opens that way has
 // both positive); false where the point is not regular.
 bool principalCurvatures(const SurfacePoint& p, double& k1, double& k2) {
@@ -300,28 +336,38 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
     for (int i = range.u.first; i <= range.u.last; ++i)
       for (int j = range.v.first; j <= range.v.last; ++j) {
         starts.push_back(static_cast<int>(tree.cells_.size()));
-        BezierNet net;
+        // The patch's basis in each direction and its control point (r, s), homogeneous.
+        SpanBasis bu, bv;
+        std::function<glm::dvec4(int, int)> point;
+        bool rational = false;
         if (s.usesKnotVector()) {
           const BSplineSurfaceData& d = s.knotData();
           if (d.knotsU[i] == d.knotsU[i + 1] || d.knotsV[j] == d.knotsV[j + 1]) continue;  // empty interval
-          const SpanBasis bu = knotIntervalBasis(d.orderU, d.knotsU, i), bv = knotIntervalBasis(d.orderV, d.knotsV, j);
+          bu = knotIntervalBasis(d.orderU, d.knotsU, i), bv = knotIntervalBasis(d.orderV, d.knotsV, j);
           const int r0 = i - d.orderU + 1, s0 = j - d.orderV + 1;
-          net = bezierOf(bu, bv, [&](int r, int c) {
+          rational = !d.weights.empty();
+          point = [&d, r0, s0](int r, int c) {
             const size_t k = static_cast<size_t>(r0 + r) * d.cols + (s0 + c);
             const double w = d.weights.empty() ? 1.0 : d.weights[k];
             return glm::dvec4(w * d.points[k], w);
-          });
+          };
         } else {
           const glm::dvec3* first = &s.patchNet()[static_cast<size_t>(i + s.netOffsetU()) * s.netCols() +
                                                   (j + s.netOffsetV())];
-          net = bezierOf(s.basisU(), s.basisV(), [&](int r, int c) {
-            return glm::dvec4(first[static_cast<size_t>(r) * s.netCols() + c], 1.0);
-          });
+          bu = s.basisU(), bv = s.basisV();
+          point = [first, cols = s.netCols()](int r, int c) {
+            return glm::dvec4(first[static_cast<size_t>(r) * cols + c], 1.0);
+          };
         }
+        const int patch = static_cast<int>(tree.patches_.size());
+        tree.patches_.push_back(centredPowerOf(bu, bv, rational, point, tree.coefficients_));
         const size_t before = tree.cells_.size();
-        cutPatch(net, static_cast<int>(f), i, j, 0.0, 1.0, 0.0, 1.0, 0, 0, tree.cells_, cellBoxes);
+        cutPatch(bezierOf(bu, bv, point), static_cast<int>(f), i, j, 0.0, 1.0, 0.0, 1.0, 0, 0, tree.cells_, cellBoxes);
         if (tree.cells_.size() > kMaxCells) refuseSize(tree.cells_.size());
-        for (size_t k = before; k < tree.cells_.size(); ++k) measureBending(s, tree.cells_[k]);
+        for (size_t k = before; k < tree.cells_.size(); ++k) {
+          tree.cells_[k].patch = patch;
+          measureBending(s, tree.cells_[k]);
+        }
       }
     starts.push_back(static_cast<int>(tree.cells_.size()));
   }

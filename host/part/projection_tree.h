@@ -19,7 +19,9 @@
 #include <glm/vec2.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
+#include <cstddef>
 #include <limits>
 #include <span>
 #include <vector>
@@ -43,6 +45,17 @@ struct ProjectionFace {
   bool reversed = false;  // the outward normal is -(du x dv)
 };
 
+// A patch's polynomial over its local [0, 1]^2 in the powers of (u - 1/2) and (v - 1/2): (n + 1) x
+// (m + 1) homogeneous coefficients (w P, w; w = 1 where the patch is not rational), row-major by the
+// power of u, from ProjectionTree::coefficients()[first]. Centred, so the powers stay within 1/2
+// and the sums lose few digits; the search evaluates it by Horner's rule (part/closest_points.cpp),
+// with no knot search and no basis recursion.
+struct ProjectionPatch {
+  int n = 0, m = 0;
+  std::size_t first = 0;
+  bool rational = false;
+};
+
 // A piece of a face's patch: patch (i, j) over local [u0, u1] x [v0, v1], with the parallelogram of
 // its corners (middle, and the mean edge vectors along u and v: where Newton starts) and how much
 // it bends towards either side of du x dv: the largest principal curvature towards each side,
@@ -52,6 +65,7 @@ struct ProjectionFace {
 struct ProjectionCell {
   int index = 0;  // in ProjectionTree::cells()
   int face = 0, i = 0, j = 0;
+  int patch = 0;  // in ProjectionTree::patches()
   double u0 = 0.0, u1 = 1.0, v0 = 0.0, v1 = 1.0;
   glm::dvec3 middle{0.0}, alongU{0.0}, alongV{0.0};
   double bendsUp = 0.0, bendsDown = 0.0;  // towards +(du x dv), towards -(du x dv)
@@ -109,6 +123,8 @@ class ProjectionTree {
 
   const std::vector<ProjectionFace>& faces() const { return faces_; }
   const std::vector<ProjectionCell>& cells() const { return cells_; }
+  const std::vector<ProjectionPatch>& patches() const { return patches_; }
+  const std::vector<glm::dvec4>& coefficients() const { return coefficients_; }
   const std::vector<ProjectionRun>& runs() const { return runs_; }
   const std::vector<ProjectionSpan>& spans() const { return spans_; }
   // The trim pieces that meet cell k: runs()[cellRuns()[cellRunStart()[k] .. cellRunStart()[k + 1])].
@@ -127,6 +143,8 @@ class ProjectionTree {
   std::vector<ProjectionFace> faces_;
   const Curve* curve_ = nullptr;
   std::vector<ProjectionCell> cells_;
+  std::vector<ProjectionPatch> patches_;
+  std::vector<glm::dvec4> coefficients_;
   std::vector<ProjectionRun> runs_;
   std::vector<ProjectionSpan> spans_;
   std::vector<int> cellRunStart_, cellRuns_;
