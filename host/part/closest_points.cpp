@@ -7,9 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <queue>
 #include <stdexcept>
 
 namespace shapespline::part {
@@ -378,16 +376,26 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   // each solved; doubtful ones kept for a second look. A queue entry is a node (index >= 0) or a
   // leaf (-1 - index).
   using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  queue.push({tree_.nodes().front().box.distance2(q), 0});
+  // The queue (a heap) and the lists below are each thread's own, kept between queries: no
+  // allocation per point.
+  thread_local std::vector<Entry> queue;
+  queue.clear();
+  const auto push = [&](Entry e) {
+    queue.push_back(e);
+    std::push_heap(queue.begin(), queue.end(), std::greater<>{});
+  };
+  push({tree_.nodes().front().box.distance2(q), 0});
   // Squared bound and cell: the cells reached (only kept for the sign) and the doubtful ones.
-  std::vector<std::pair<double, int>> visited, doubtful;
+  thread_local std::vector<std::pair<double, int>> visited, doubtful;
+  visited.clear();
+  doubtful.clear();
   // With a sign, cells a hair farther than the best are still listed (not solved): a face that
   // meets the best one at an edge may lie there.
   const double listed = signedDistance ? kSameFootFraction * tree_.diagonal() : solved;
   while (!queue.empty()) {
-    const auto [d2, index] = queue.top();
-    queue.pop();
+    std::pop_heap(queue.begin(), queue.end(), std::greater<>{});
+    const auto [d2, index] = queue.back();
+    queue.pop_back();
     if (!within(d2, listed)) break;
     if (index < 0) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[-1 - index];
@@ -407,7 +415,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     if (node.count == 0) {
       for (const int child : {index + 1, node.right}) {
         const double c2 = tree_.nodes()[child].box.distance2(q);
-        if (within(c2, listed)) queue.push({c2, child});
+        if (within(c2, listed)) push({c2, child});
       }
       continue;
     }
@@ -415,12 +423,12 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
       double bound = leaf.box.distance2(q);
       if (leaf.kind == ProjectionTree::LeafKind::Cell) bound = std::max(bound, tree_.cells()[leaf.index].distance2(q));
-      if (within(bound, listed)) queue.push({bound, -1 - k});
+      if (within(bound, listed)) push({bound, -1 - k});
     }
   }
   // A doubtful cell's second look: Newton confined to each of its quarters, from its middle, every
   // border side searched, and the quarters' quarters where a quarter is doubtful too.
-  const std::function<void(const ProjectionCell&, int)> secondLook = [&](const ProjectionCell& cell, int depth) {
+  const auto secondLook = [&](const auto& self, const ProjectionCell& cell, int depth) -> void {
     const double um = 0.5 * (cell.u0 + cell.u1), vm = 0.5 * (cell.v0 + cell.v1);
     const double us[3] = {cell.u0, um, cell.u1}, vs[3] = {cell.v0, vm, cell.v1};
     for (int a = 0; a < 2; ++a)
@@ -431,7 +439,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
         Candidate c;
         const bool settled = solveCell(q, quarter, &middle, true, best.d2, c);
         if (better(c)) best = c;
-        if (depth < kSecondLookDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) secondLook(quarter, depth + 1);
+        if (depth < kSecondLookDepth && (!settled || nearCentreOfCurvature(quarter, c.d2))) self(self, quarter, depth + 1);
       }
   };
   // A point on the surface (within kOnSurfaceFraction of the diagonal) cannot be bettered by more
@@ -439,7 +447,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   const double onSurface = kOnSurfaceFraction * tree_.diagonal();
   if (best.d2 > onSurface * onSurface)
     for (const auto& [box2, cell] : doubtful)
-      if (within(box2, solved)) secondLook(tree_.cells()[cell], 1);
+      if (within(box2, solved)) secondLook(secondLook, tree_.cells()[cell], 1);
   if (best.d2 == kNone) return foot;  // every piece outside its loops
   foot.point = best.point;
   foot.u = best.u;
