@@ -107,6 +107,7 @@ double newtonOnSegment(const glm::dvec3& q, double lo, double hi, double& x, glm
     double h = glm::dot(d1, d1) + glm::dot(d2, r);
     if (!(h > 0.0)) h = glm::dot(d1, d1);
     double dx = h > 0.0 ? -g / h : (g > 0.0 ? lo - x : hi - x);
+    if (std::abs(dx) < kStepTolerance) break;
     double xn = 0.0, fn = 0.0;
     glm::dvec3 pn, d1n, d2n;
     int halvings = 0;
@@ -176,7 +177,8 @@ double newtonOnPatch(const ProjectionTree& tree, const ProjectionPatch& patch, c
       if (bound != x[k] + dx[k] && (bound - x[k]) / dx[k] < reach) reach = (bound - x[k]) / dx[k], stops = k, border = bound;
     }
     dx[0] *= reach, dx[1] *= reach;
-    if (dx[0] == 0.0 && dx[1] == 0.0) break;
+    // A step shorter than the tolerance would move nothing that matters: stop without evaluating it.
+    if (std::max(std::abs(dx[0]), std::abs(dx[1])) < kStepTolerance) break;
     double xn[2], fn = 0.0;
     LocalPoint en;
     int halvings = 0;
