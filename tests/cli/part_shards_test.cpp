@@ -164,6 +164,24 @@ TEST_F(PartShards, MergeRefusesShardsThatDoNotMakeTheJob) {
   }
 }
 
+// A trimmed sidecar whose keys hold other types (merge_fuzzer found `"dtype": [...]` thrown as an
+// unexpected exception) is refused like any broken sidecar, exit 2, nothing written.
+TEST_F(PartShards, SidecarKeysOfAnotherTypeAreRefused) {
+  for (int k = 1; k <= 2; ++k) sample(part(), "--grid 5 --device cpu --shard " + std::to_string(k) + "/2", "t" + std::to_string(k) + ".npy");
+  const std::string good = readText(dir_ / "t1.npy.json");
+  for (const char* key : {"dtype", "format", "records"}) {
+    json bad = json::parse(good);
+    bad[key] = json::array({1, 2});
+    writeText(dir_ / "t1.npy.json", bad.dump());
+    fs::remove(dir_ / "t1.npy.shard.json");  // else the record's SHA-256 refuses the edit first
+    const CliResult r = run("merge -o " + quote((dir_ / "m.npy").string()) + " " + quote((dir_ / "t1.npy").string()) + " " +
+                            quote((dir_ / "t2.npy").string()));
+    EXPECT_EQ(r.rc, 2) << key << "\n" << r.err;
+    EXPECT_NE(r.err.find("SHARD[1]"), std::string::npos) << key << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "m.npy")) << key;
+  }
+}
+
 TEST_F(PartShards, CsvShardsAreRefused) {
   for (const std::string& model : {part(), face()}) {
     const CliResult r = run("sample " + model + " --grid 4 --device cpu --shard 1/2 -o " + quote((dir_ / "s.csv").string()));
