@@ -295,8 +295,12 @@ void ClosestPoints::solveRuns(const glm::dvec3& q, int cell, double bestD2, Cand
     const double d2 = tree_.runs()[r].box.distance2(q);
     if (d2 <= bestD2) order.emplace_back(d2, r);
   }
-  std::sort(order.begin(), order.end());
-  for (const auto& [d2, r] : order) {
+  // A heap: most cells list dozens of pieces, and the first few usually settle it.
+  std::make_heap(order.begin(), order.end(), std::greater<>{});
+  while (!order.empty()) {
+    std::pop_heap(order.begin(), order.end(), std::greater<>{});
+    const auto [d2, r] = order.back();
+    order.pop_back();
     if (d2 > out.d2) break;
     Candidate c;
     solveRun(q, tree_.runs()[r], c);
@@ -387,22 +391,16 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     std::push_heap(queue.begin(), queue.end(), std::greater<>{});
   };
   push({tree_.nodes().front().box.distance2(q), 0});
-  // Squared bound and cell: the cells reached (only kept for the sign) and the doubtful ones.
-  thread_local std::vector<std::pair<double, int>> visited, doubtful;
-  visited.clear();
+  // Squared bound and cell of the doubtful cells.
+  thread_local std::vector<std::pair<double, int>> doubtful;
   doubtful.clear();
-  // With a sign, cells a hair farther than the best are still listed (not solved): a face that
-  // meets the best one at an edge may lie there.
-  const double listed = signedDistance ? kSameFootFraction * tree_.diagonal() : solved;
   while (!queue.empty()) {
     std::pop_heap(queue.begin(), queue.end(), std::greater<>{});
     const auto [d2, index] = queue.back();
     queue.pop_back();
-    if (!within(d2, listed)) break;
+    if (!within(d2, solved)) break;
     if (index < 0) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[-1 - index];
-      if (signedDistance && leaf.kind == ProjectionTree::LeafKind::Cell) visited.push_back({d2, leaf.index});
-      if (!within(d2, solved)) continue;
       Candidate c;
       if (leaf.kind == ProjectionTree::LeafKind::Span) {
         solveSpan(q, tree_.spans()[leaf.index], c);
@@ -417,7 +415,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     if (node.count == 0) {
       for (const int child : {index + 1, node.right}) {
         const double c2 = tree_.nodes()[child].box.distance2(q);
-        if (within(c2, listed)) push({c2, child});
+        if (within(c2, solved)) push({c2, child});
       }
       continue;
     }
@@ -425,7 +423,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
       double bound = leaf.box.distance2(q);
       if (leaf.kind == ProjectionTree::LeafKind::Cell) bound = std::max(bound, tree_.cells()[leaf.index].distance2(q));
-      if (within(bound, listed)) push({bound, -1 - k});
+      if (within(bound, solved)) push({bound, -1 - k});
     }
   }
   // A doubtful cell's second look: Newton confined to each of its quarters, from its middle, every
@@ -473,12 +471,12 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     // On an edge: the sum of the outward normals of the faces that meet there, each at its own
     // nearest boundary point (within kSameFootFraction of the diagonal of this one).
     const double sameFoot = kSameFootFraction * tree_.diagonal();
+    const double reach = foot.distance + sameFoot;
     std::vector<int> faces = {best.face};
-    for (const auto& [box2, cell] : visited) {
+    for (const int cell : cellsWithin(q, reach * reach)) {
       const int face = tree_.cells()[cell].face;
-      if (std::find(faces.begin(), faces.end(), face) != faces.end() || !within(box2, sameFoot)) continue;
+      if (std::find(faces.begin(), faces.end(), face) != faces.end()) continue;
       Candidate c;
-      const double reach = foot.distance + sameFoot;
       solveRuns(q, cell, reach * reach, c);
       if (c.d2 == kNone || std::sqrt(c.d2) > reach || glm::length(c.point - best.point) > sameFoot) continue;
       faces.push_back(face);
@@ -487,6 +485,29 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   }
   if (glm::dot(q - foot.point, direction) < 0.0) foot.signedDistance = -foot.distance;
   return foot;
+}
+
+std::vector<int> ClosestPoints::cellsWithin(const glm::dvec3& q, double reach2) const {
+  std::vector<int> cells;
+  thread_local std::vector<int> stack;
+  stack.assign(1, 0);
+  while (!stack.empty()) {
+    const int index = stack.back();
+    stack.pop_back();
+    const ProjectionTree::Node& node = tree_.nodes()[index];
+    if (node.box.distance2(q) > reach2) continue;
+    if (node.count == 0) {
+      stack.push_back(index + 1);
+      stack.push_back(node.right);
+      continue;
+    }
+    for (int k = node.first; k < node.first + node.count; ++k) {
+      const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
+      if (leaf.kind != ProjectionTree::LeafKind::Cell) continue;
+      if (std::max(leaf.box.distance2(q), tree_.cells()[leaf.index].distance2(q)) <= reach2) cells.push_back(leaf.index);
+    }
+  }
+  return cells;
 }
 
 void ClosestPoints::of(std::span<const glm::dvec3> points, std::span<FootPoint> out, bool signedDistance,

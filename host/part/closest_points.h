@@ -59,6 +59,9 @@ class ClosestPoints {
   void solveRuns(const glm::dvec3& q, int cell, double bestD2, Candidate& out) const;
   void solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const;
   void solveSpan(const glm::dvec3& q, const ProjectionSpan& span, Candidate& out) const;
+  // The cells whose bound (the larger of their two boxes' squared distances) is at most reach2:
+  // where the faces that meet at an edge foot lie, for its sign.
+  std::vector<int> cellsWithin(const glm::dvec3& q, double reach2) const;
 
   const ProjectionTree& tree_;
   double tolerance_ = 0.0;
