@@ -211,6 +211,9 @@ struct ClosestPoints::Candidate {
   // Where the normal is read: the patch and local parameters (cells), or the global ones (runs).
   int i = 0, j = 0;
   double lu = 0.0, lv = 0.0;
+  // The local partials at the point where Newton left them there (zero otherwise): their cross
+  // product gives the normal without another evaluation where it is regular.
+  glm::dvec3 du{0.0}, dv{0.0};
 };
 
 ClosestPoints::ClosestPoints(const ProjectionTree& tree, double tolerance) : tree_(tree), tolerance_(tolerance) {
@@ -273,12 +276,13 @@ bool ClosestPoints::solveCell(const glm::dvec3& q, const ProjectionCell& cell, c
       f = fb;
       x[0] = alongV ? fixed : t, x[1] = alongV ? t : fixed;
       e.p = foot;
+      e.u = e.v = glm::dvec3(0.0);  // not evaluated at the side's point
     }
   }
   const auto [U, V] = s.parameterOf(cell.i, cell.j, x[0], x[1]);
   const std::optional<TrimClassifier>& inside = inside_[cell.face];
   if (!inside || inside->inside({U, V})) {
-    out = {f, e.p, U, V, cell.face, false, cell.i, cell.j, x[0], x[1]};
+    out = {f, e.p, U, V, cell.face, false, cell.i, cell.j, x[0], x[1], e.u, e.v};
     return settled;
   }
   // Outside the loops: the nearest point of the cell inside them is on a loop piece that meets it.
@@ -459,8 +463,11 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
 
   auto outwardNormal = [&](const Candidate& c) {
     const ProjectionFace& face = tree_.faces()[c.face];
-    const glm::dvec3 n = c.boundary ? face.surface->evaluateAt(c.u, c.v).normal
-                                    : face.surface->evaluate(c.i, c.j, c.lu, c.lv).normal;
+    glm::dvec3 n;
+    // The local partials point as the global ones do (positive scales): where they are regular,
+    // their unit cross product is the surface's normal (docs/math.md §5.3's regular step).
+    if (c.boundary || !unitNormal(c.du, c.dv, n))
+      n = c.boundary ? face.surface->evaluateAt(c.u, c.v).normal : face.surface->evaluate(c.i, c.j, c.lu, c.lv).normal;
     return face.reversed ? -n : n;
   };
   foot.face = tree_.faces()[best.face].id;
