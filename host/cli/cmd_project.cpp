@@ -200,12 +200,7 @@ void registerProject(CLI::App& app) {
                   "accept a foot within this distance (model units, > 0) of the nearest: faster near the surface; "
                   "default exact");
   sub->add_option("--threads", args->threads, "threads (0 = one per CPU this process may use)");
-  sub->add_option("--shard", args->shard,
-                  "K/N: project only the K-th (1-based) of N equal runs of the cloud's points (merge joins them); "
-                  "auto: K/N from a Slurm job array or a Kubernetes Indexed Job (as sample). A shard also writes "
-                  "OUT.shard.json; rerun, a shard that verifies is left as it is");
-  sub->add_option("--shard-count", args->shardCount,
-                  "with --shard auto in a Kubernetes Indexed Job: N, the job's completions (else SHAPESPLINE_SHARD_COUNT)");
+  addShardOptions(sub, args->shard, args->shardCount, "project the K-th (1-based) of N equal runs of the cloud's points");
   addQuietFlag(sub, args->quiet, "no summary line");
   sub->callback([args] { runProject(*args); });
 }

@@ -961,14 +961,7 @@ void registerSample(CLI::App& app) {
   sub->add_option("--fields", args->fields,
                   "the sampled fields, comma-separated: point, du, dv, duu, duv, dvv, normal (surfaces) or point, d1, "
                   "d2 (curves); the point is always written (instead of --derivatives/--normals)");
-  sub->add_option("--shard", args->shard,
-                  "K/N: sample only the K-th (1-based) of N equal ranges of spans/patches (merge joins them); auto: "
-                  "K/N from a Slurm job array (SLURM_ARRAY_TASK_ID/MIN/MAX) or a Kubernetes Indexed Job "
-                  "(JOB_COMPLETION_INDEX + --shard-count). A shard also writes OUT.shard.json (sizes, SHA-256); "
-                  "rerun, a shard that verifies is left as it is");
-  sub->add_option("--shard-count", args->shardCount,
-                  "with --shard auto in a Kubernetes Indexed Job: N, the job's completions (else "
-                  "SHAPESPLINE_SHARD_COUNT)");
+  addShardOptions(sub, args->shard, args->shardCount, "sample the K-th (1-based) of N equal ranges of spans/patches");
   sub->add_option("--threads", args->threads, "CPU sampler threads (0 = one per CPU this process may use, less one beside a .f32/.f64/.npy writer; output is identical)");
   sub->add_option("--chunk-points", args->chunkPoints,
                   "points per streamed chunk: whole spans/patches while they fit, else rows of one (default 32768 "

@@ -147,6 +147,15 @@ void addQuietFlag(CLI::App* sub, bool& quiet, const std::string& silences) {
   sub->add_flag("-q,--quiet", quiet, silences);
 }
 
+void addShardOptions(CLI::App* sub, std::string& shard, std::string& shardCount, const std::string& what) {
+  sub->add_option("--shard", shard,
+                  "K/N: only " + what + " (merge joins them); auto: K/N from a Slurm job array "
+                  "(SLURM_ARRAY_TASK_ID/MIN/MAX) or a Kubernetes Indexed Job (JOB_COMPLETION_INDEX + --shard-count). "
+                  "A shard also writes OUT.shard.json (sizes, SHA-256); rerun, a shard that verifies is left as it is");
+  sub->add_option("--shard-count", shardCount,
+                  "with --shard auto in a Kubernetes Indexed Job: N, the job's completions (else SHAPESPLINE_SHARD_COUNT)");
+}
+
 GivenOptions givenOptions(const CLI::App& sub) {
   GivenOptions given;
   for (const CLI::Option* o : sub.get_options()) {

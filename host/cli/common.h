@@ -50,6 +50,10 @@ void requireThreadCount(int threads);
 // says what it silences in this one (help text).
 void addQuietFlag(CLI::App* sub, bool& quiet, const std::string& silences);
 
+// --shard K/N|auto and --shard-count, as `sample` and `project` take them; `what` says what shard K
+// of N covers ("the K-th (1-based) of N equal ranges of spans/patches").
+void addShardOptions(CLI::App* sub, std::string& shard, std::string& shardCount, const std::string& what);
+
 // Loads and validates a model file: ModelError passes through (exit 2), a file that cannot be read
 // becomes InputError("MODEL", path, ...). Arrays it references are read from its folder, or from
 // anywhere with `allowOutsideArrays` (--allow-outside-arrays). Each array file is also added to

@@ -179,25 +179,36 @@ void cutPatch(const BezierNet& net, int face, int i, int j, double u0, double u1
   }
 }
 
-// The Bézier net of a tensor patch: sum_r sum_s B_r(u) B_s(v) point(r, s) (homogeneous).
-BezierNet bezierOf(const SpanBasis& bu, const SpanBasis& bv, const std::function<glm::dvec4(int, int)>& point) {
-  double betaU[kMaxBasisCount][kMaxBezier], betaV[kMaxBasisCount][kMaxBezier];
-  bernsteinOf(bu, betaU);
-  bernsteinOf(bv, betaV);
-  BezierNet net;
-  net.n = bu.degree;
-  net.m = bv.degree;
-  net.q.assign(static_cast<size_t>(net.n + 1) * (net.m + 1), glm::dvec4(0.0));
-  std::vector<glm::dvec4> partial(static_cast<size_t>(net.n + 1) * bv.count, glm::dvec4(0.0));
+// Coefficients of a patch's basis functions in some polynomial basis of degree n: B_r = sum_k a[r][k] b_k.
+using BasisCoefficients = double[kMaxBasisCount][kMaxBezier];
+
+// The (n + 1) x (m + 1) coefficients, row-major, of the tensor patch sum_r sum_s B_r(u) B_s(v)
+// point(r, s) (homogeneous) in the bases whose coefficients are `au` (degree n, bu.count functions)
+// and `av` (degree m): sum_{r,s} au[r][k] av[s][l] point(r, s), the v sums of each row shared.
+std::vector<glm::dvec4> tensorCoefficients(const SpanBasis& bu, const SpanBasis& bv, const BasisCoefficients& au,
+                                           const BasisCoefficients& av,
+                                           const std::function<glm::dvec4(int, int)>& point) {
+  const int n = bu.degree, m = bv.degree;
+  std::vector<glm::dvec4> out(static_cast<size_t>(n + 1) * (m + 1), glm::dvec4(0.0));
+  std::vector<glm::dvec4> partial(static_cast<size_t>(n + 1) * bv.count, glm::dvec4(0.0));
   for (int r = 0; r < bu.count; ++r)
     for (int s = 0; s < bv.count; ++s) {
       const glm::dvec4 p = point(r, s);
-      for (int k = 0; k <= net.n; ++k) partial[static_cast<size_t>(k) * bv.count + s] += betaU[r][k] * p;
+      for (int k = 0; k <= n; ++k) partial[static_cast<size_t>(k) * bv.count + s] += au[r][k] * p;
     }
-  for (int k = 0; k <= net.n; ++k)
+  for (int k = 0; k <= n; ++k)
     for (int s = 0; s < bv.count; ++s)
-      for (int l = 0; l <= net.m; ++l) net.at(k, l) += betaV[s][l] * partial[static_cast<size_t>(k) * bv.count + s];
-  return net;
+      for (int l = 0; l <= m; ++l)
+        out[static_cast<size_t>(k) * (m + 1) + l] += av[s][l] * partial[static_cast<size_t>(k) * bv.count + s];
+  return out;
+}
+
+// The Bézier net of a tensor patch: sum_r sum_s B_r(u) B_s(v) point(r, s) (homogeneous).
+BezierNet bezierOf(const SpanBasis& bu, const SpanBasis& bv, const std::function<glm::dvec4(int, int)>& point) {
+  BasisCoefficients betaU, betaV;
+  bernsteinOf(bu, betaU);
+  bernsteinOf(bv, betaV);
+  return {bu.degree, bv.degree, tensorCoefficients(bu, bv, betaU, betaV, point)};
 }
 
 // The patch sum_r sum_s B_r(u) B_s(v) point(r, s) (homogeneous) in the powers of (u - 1/2) and
@@ -205,7 +216,7 @@ BezierNet bezierOf(const SpanBasis& bu, const SpanBasis& bv, const std::function
 // are moved to 1/2 (Taylor: c'_j = sum_{k >= j} C(k, j) (1/2)^(k - j) c_k), then multiplied out.
 ProjectionPatch centredPowerOf(const SpanBasis& bu, const SpanBasis& bv, bool rational,
                                const std::function<glm::dvec4(int, int)>& point, std::vector<glm::dvec4>& out) {
-  const auto centred = [](const SpanBasis& b, double c[kMaxBasisCount][kMaxBezier]) {
+  const auto centred = [](const SpanBasis& b, BasisCoefficients& c) {
     for (int r = 0; r < b.count; ++r)
       for (int j = 0; j <= b.degree; ++j) {
         double sum = 0.0, binom = 1.0, half = 1.0;  // C(k, j) and (1/2)^(k - j) for k = j, j + 1, ...
@@ -217,22 +228,12 @@ ProjectionPatch centredPowerOf(const SpanBasis& bu, const SpanBasis& bv, bool ra
         c[r][j] = sum;
       }
   };
-  double cu[kMaxBasisCount][kMaxBezier], cv[kMaxBasisCount][kMaxBezier];
+  BasisCoefficients cu, cv;
   centred(bu, cu);
   centred(bv, cv);
-  ProjectionPatch patch{bu.degree, bv.degree, out.size(), rational};
-  const size_t rowLength = static_cast<size_t>(patch.m + 1);
-  out.resize(out.size() + static_cast<size_t>(patch.n + 1) * rowLength, glm::dvec4(0.0));
-  glm::dvec4* c = &out[patch.first];
-  std::vector<glm::dvec4> partial(static_cast<size_t>(patch.n + 1) * bv.count, glm::dvec4(0.0));
-  for (int r = 0; r < bu.count; ++r)
-    for (int s = 0; s < bv.count; ++s) {
-      const glm::dvec4 p = point(r, s);
-      for (int d = 0; d <= patch.n; ++d) partial[static_cast<size_t>(d) * bv.count + s] += cu[r][d] * p;
-    }
-  for (int d = 0; d <= patch.n; ++d)
-    for (int s = 0; s < bv.count; ++s)
-      for (int e = 0; e <= patch.m; ++e) c[d * rowLength + e] += cv[s][e] * partial[static_cast<size_t>(d) * bv.count + s];
+  const ProjectionPatch patch{bu.degree, bv.degree, out.size(), rational};
+  const std::vector<glm::dvec4> c = tensorCoefficients(bu, bv, cu, cv, point);
+  out.insert(out.end(), c.begin(), c.end());
   return patch;
 }
 
