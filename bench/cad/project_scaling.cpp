@@ -10,6 +10,8 @@
 #include <shapespline/part/closest_points.h>
 #include <shapespline/part/projection_tree.h>
 
+#include "../../tests/part/wavy_face.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -44,24 +46,11 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-// Face (a, b) of the sheet: [a, a + 1] x [b, b + 1].
+// Face (a, b) of the sheet: [a, a + 1] x [b, b + 1], the wave running on across the faces.
 Surface sheetFace(int a, int b) {
-  SurfaceModel m;
-  m.family.construction = Construction::BSpline;
-  m.family.order = 4;
-  m.orderV = 4;
-  const int n = 4, rows = n + 3;
-  std::vector<double> knots = {0, 0, 0};
-  for (int i = 0; i <= n; ++i) knots.push_back(double(i) / n);
-  knots.insert(knots.end(), {1, 1, 1});
-  m.knotsU = m.knotsV = knots;
-  m.rows = m.cols = rows;
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < rows; ++j) {
-      const double x = a + double(i) / (rows - 1), y = b + double(j) / (rows - 1);
-      m.points.push_back({x, y, 0.05 * std::sin(9.0 * x + 4.0 * y) * std::cos(7.0 * y)});
-    }
-  return Surface::create(std::move(m));
+  return part::bicubicSheet({double(a), double(b)}, [](int, int, double x, double y) {
+    return 0.05 * std::sin(9.0 * x + 4.0 * y) * std::cos(7.0 * y);
+  });
 }
 
 double seconds(const std::function<void()>& run) {
