@@ -39,8 +39,9 @@ constexpr int kMaxDepth = 6;
 // kMaxRunDepth times).
 constexpr size_t kRunCells = 4;
 constexpr int kMaxRunDepth = 12;
-// The most cells a tree holds (about 250 bytes each with its box and leaf): a net of millions of
-// patches is refused rather than exhausting memory.
+// The most cells (and patches) a tree holds (about 250 bytes a cell with its box and leaf, and a
+// patch's power form: 512 bytes for a bicubic): a net of millions of patches is refused rather than
+// exhausting memory.
 constexpr size_t kMaxCells = size_t{1} << 23;
 // Leaves per hierarchy leaf node.
 constexpr int kLeafSize = 4;
