@@ -7,11 +7,11 @@
 #include <shapespline/cli/part_mesh_options.h>
 #include <shapespline/core/value_text.h>
 #include <shapespline/io/atomic_file.h>
+#include <shapespline/io/file_extension.h>
 #include <shapespline/io/job_metadata.h>
 #include <shapespline/io/model_json.h>
 #include <shapespline/io/output_set.h>
 #include <shapespline/io/part_manifest.h>
-#include <shapespline/io/file_extension.h>
 #include <shapespline/io/point_cloud.h>
 #include <shapespline/io/projection_writer.h>
 #include <shapespline/io/shard_info.h>
