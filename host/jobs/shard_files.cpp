@@ -319,7 +319,7 @@ std::vector<std::string> mergeInputs(const std::vector<std::string>& args) {
     } catch (const ShardRecordError& e) {
       throw JobInputError(field, path,
                        "its shard record '" + io::shortText(recordPath.string(), 120) + "' " + e.what() +
-                           " (not a record that sample writes; remove it or sample the shard again)");
+                           " (not a record that sample or project writes; remove it or run the shard again)");
     }
     for (const auto& f : r.files) {
       const fs::path p = f.role == "data" ? fs::path(path) : f.role == "sidecar" ? fs::path(path + ".json") : fs::path();
@@ -327,7 +327,7 @@ std::vector<std::string> mergeInputs(const std::vector<std::string>& args) {
       if (const std::string why = verifyShardFile(f, p); !why.empty()) {
         throw JobInputError(field, path,
                          "does not verify against its shard record '" + io::shortText(recordPath.string(), 120) +
-                             "': " + why + "; sample the shard again");
+                             "': " + why + (r.projection.empty() ? "; sample the shard again" : "; project the shard again"));
       }
     }
     // CSV carries no job line, so only the record shows a missing last shard (other formats: merge

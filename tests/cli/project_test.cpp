@@ -209,6 +209,8 @@ TEST_F(Project, ShardsThatDoNotBelongTogetherAreNotMerged) {
   ASSERT_EQ(project("cloud.npy", "loose2.npy", "-q --shard 2/3 --tolerance 0.01").rc, 0);
   ASSERT_EQ(project("cloud.npy", "bare2.npy", "-q --shard 2/3").rc, 0);
   fs::remove(dir_ / "bare2.npy.shard.json");
+  ASSERT_EQ(project("cloud.npy", "changed2.npy", "-q --shard 2/3").rc, 0);
+  writeText(dir_ / "changed2.npy", readText(dir_ / "changed2.npy") + "x");
   const struct {
     std::string shards, named, rule;
   } cases[] = {
@@ -216,6 +218,7 @@ TEST_F(Project, ShardsThatDoNotBelongTogetherAreNotMerged) {
       {"s2.npy s1.npy s3.npy", "SHARD[1]", "given as shard 1"},
       {"s1.npy loose2.npy s3.npy", "SHARD[2]", "another projection"},
       {"s1.npy bare2.npy s3.npy", "SHARD[2]", "no shard record"},
+      {"s1.npy changed2.npy s3.npy", "SHARD[2]", "project the shard again"},
   };
   for (const auto& c : cases) {
     const CliResult r = runCli("merge -o merged.npy " + c.shards, dir_.path(), dir_.path());
