@@ -12,6 +12,7 @@
 #include <shapespline/sampling/session.h>
 
 #include "../../tests/cad/test_parts.h"
+#include "bench_run.h"
 
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
@@ -26,7 +27,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -52,16 +52,7 @@ struct Face {
   std::vector<sampling::SurfaceQuery> shuffled;  // the same, in a random order
 };
 
-double bestSeconds(int reps, const std::function<void()>& run) {
-  run();  // untimed: caches, pipelines
-  double best = 1e300;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    run();
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return best;
-}
+using bench::bestSeconds;
 
 void occtRows(const Face& f, int firstRow, int lastRow, std::vector<double>& out) {
   gp_Pnt p;

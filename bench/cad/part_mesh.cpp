@@ -18,6 +18,7 @@
 #include <shapespline/sampling/session.h>
 
 #include "bench_parts.h"
+#include "bench_run.h"
 
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
@@ -39,12 +40,10 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <span>
 #include <string>
@@ -57,19 +56,7 @@ namespace {
 using namespace shapespline;
 namespace fs = std::filesystem;
 
-double seconds(const std::function<void()>& run) {
-  const auto t0 = std::chrono::steady_clock::now();
-  run();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Best of `reps` timed runs after one untimed run.
-double best(int reps, const std::function<void()>& run) {
-  run();
-  double fastest = INFINITY;
-  for (int r = 0; r < reps; ++r) fastest = std::min(fastest, seconds(run));
-  return fastest;
-}
+using bench::seconds;
 
 struct Triangle {
   std::array<glm::dvec3, 3> corners;
@@ -198,7 +185,7 @@ nlohmann::json benchPart(const std::string& name, const fs::path& file, const Op
   const double weld = 1e-9 * diagonal;
 
   MeshFigures occt;
-  occt.seconds = best(o.reps, [&] {
+  occt.seconds = bench::bestSeconds(o.reps, [&] {
     BRepTools::Clean(shape.shape);
     BRepMesh_IncrementalMesh(shape.shape, d, false, o.angle, true);
   });
@@ -222,7 +209,7 @@ nlohmann::json benchPart(const std::string& name, const fs::path& file, const Op
   };
   part::CpuFaceEvaluator cpu;
   part::PartMesh cpuMesh;
-  const MeshFigures ours = figures(cpuMesh, best(o.reps, [&] { cpuMesh = part::meshPart(p, options, cpu); }));
+  const MeshFigures ours = figures(cpuMesh, bench::bestSeconds(o.reps, [&] { cpuMesh = part::meshPart(p, options, cpu); }));
 
   std::printf("%s: %d faces, D = %.4g (%.0e of the diagonal %.4g), angle %.2f; read %.3f s, import %.3f s, load %.3f s\n",
               name.c_str(), faces.Extent(), d, o.relative, diagonal, o.angle, row["occt_read_seconds"].get<double>(),
@@ -248,11 +235,11 @@ nlohmann::json benchPart(const std::string& name, const fs::path& file, const Op
       part::PartMesh gpuMesh;
       CountingEvaluator counted(device);
       const double first = seconds([&] { gpuMesh = part::meshPart(p, options, counted); });
-      const MeshFigures warm = figures(gpuMesh, best(o.reps, [&] { gpuMesh = part::meshPart(p, options, device); }));
+      const MeshFigures warm = figures(gpuMesh, bench::bestSeconds(o.reps, [&] { gpuMesh = part::meshPart(p, options, device); }));
       part::MeshOptions finer = options;
       finer.deflection = d / 2;
-      const double remesh = best(o.reps, [&] { part::meshPart(p, finer, device); });
-      const double occtRemesh = best(o.reps, [&] {
+      const double remesh = bench::bestSeconds(o.reps, [&] { part::meshPart(p, finer, device); });
+      const double occtRemesh = bench::bestSeconds(o.reps, [&] {
         BRepTools::Clean(shape.shape);
         BRepMesh_IncrementalMesh(shape.shape, d / 2, false, o.angle, true);
       });
@@ -282,20 +269,15 @@ nlohmann::json benchPart(const std::string& name, const fs::path& file, const Op
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
+  o.parts = bench::parseArguments(argc, argv, [&](const std::string& a, const bench::OptionValue& value) {
     if (a == "--relative") o.relative = std::stod(value());
     else if (a == "--angle") o.angle = std::stod(value());
     else if (a == "--reps") o.reps = std::stoi(value());
     else if (a == "--json") o.json = value();
     else if (a == "--no-gpu") o.gpu = false;
-    else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
-    else o.parts.emplace_back(a);
-  }
+    else return false;
+    return true;
+  });
   if (!(o.relative > 0.0) || !(o.angle > 0.0) || o.reps < 1) throw std::invalid_argument("bad --relative, --angle or --reps");
   return o;
 }

@@ -18,6 +18,7 @@
 #include <shapespline/part/part_model.h>
 
 #include "bench_parts.h"
+#include "bench_run.h"
 
 #include <shapespline/cad/occt_part.h>
 #include <shapespline/cad/part_import.h>
@@ -33,10 +34,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <functional>
 #include <random>
 #include <thread>
 #include <unistd.h>
@@ -51,17 +50,6 @@ struct Options {
   std::string json;
   std::vector<fs::path> parts;
 };
-
-double best(int reps, const std::function<void()>& run) {
-  run();  // untimed
-  double b = 1e300;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    run();
-    b = std::min(b, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return b;
-}
 
 struct Cloud {
   std::vector<glm::dvec3> points;
@@ -108,7 +96,7 @@ Figures compare(const part::Part& p, const TopTools_IndexedMapOfShape& faces, co
   std::vector<std::vector<size_t>> byFace(p.faces.size());
   for (size_t k = 0; k < cloud.points.size(); ++k) byFace[cloud.face[k]].push_back(k);
   std::vector<double> occtDistance(cloud.points.size(), -1.0);
-  fig.occtSeconds = best(reps, [&] {
+  fig.occtSeconds = bench::bestSeconds(reps, [&] {
     parallelFor(p.faces.size(), static_cast<int>(threads), [&](size_t f) {
       if (byFace[f].empty()) return;
       const TopoDS_Face& face = TopoDS::Face(faces(p.faces[f].id));
@@ -124,7 +112,7 @@ Figures compare(const part::Part& p, const TopTools_IndexedMapOfShape& faces, co
     });
   });
   std::vector<part::FootPoint> feet(cloud.points.size());
-  fig.oursSeconds = best(reps, [&] { closest.of(cloud.points, feet, true, static_cast<int>(threads)); });
+  fig.oursSeconds = bench::bestSeconds(reps, [&] { closest.of(cloud.points, feet, true, static_cast<int>(threads)); });
   for (size_t k = 0; k < feet.size(); ++k) {
     if (occtDistance[k] < 0.0) {
       ++fig.occtNoAnswer;
@@ -149,9 +137,7 @@ nlohmann::json benchPart(const std::string& name, const fs::path& file, const Op
   TopTools_IndexedMapOfShape faces;
   TopExp::MapShapes(shape.shape, TopAbs_FACE, faces);
   std::optional<part::ProjectionTree> tree;
-  const auto t0 = std::chrono::steady_clock::now();
-  tree.emplace(part::ProjectionTree::ofPart(p));
-  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double build = bench::seconds([&] { tree.emplace(part::ProjectionTree::ofPart(p)); });
   const part::ClosestPoints closest(*tree);
   const double diagonal = tree->diagonal();
   std::printf("%s: %zu faces, diagonal %.4g; tree %zu cells, %zu trim pieces, built in %.3f s\n", name.c_str(),
@@ -174,18 +160,13 @@ nlohmann::json benchPart(const std::string& name, const fs::path& file, const Op
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
+  o.parts = bench::parseArguments(argc, argv, [&](const std::string& a, const bench::OptionValue& value) {
     if (a == "--points") o.points = std::stoi(value());
     else if (a == "--reps") o.reps = std::stoi(value());
     else if (a == "--json") o.json = value();
-    else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
-    else o.parts.emplace_back(a);
-  }
+    else return false;
+    return true;
+  });
   if (o.points < 1 || o.reps < 1) throw std::invalid_argument("bad --points or --reps");
   return o;
 }

@@ -11,12 +11,11 @@
 #include <shapespline/part/projection_tree.h>
 
 #include "../../tests/part/wavy_face.h"
+#include "bench_run.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -33,15 +32,14 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-    const int v = std::stoi(argv[++i]);
-    if (a == "--points") o.points = v;
-    else if (a == "--reps") o.reps = v;
-    else if (a == "--max-faces") o.maxFaces = v;
-    else throw std::invalid_argument("unknown option " + a);
-  }
+  const auto parts = bench::parseArguments(argc, argv, [&](const std::string& a, const bench::OptionValue& value) {
+    if (a == "--points") o.points = std::stoi(value());
+    else if (a == "--reps") o.reps = std::stoi(value());
+    else if (a == "--max-faces") o.maxFaces = std::stoi(value());
+    else return false;
+    return true;
+  });
+  if (!parts.empty()) throw std::invalid_argument("takes no part files (it makes its sheets): " + parts.front().string());
   if (o.points < 1 || o.reps < 1 || o.maxFaces < 1) throw std::invalid_argument("bad --points, --reps or --max-faces");
   return o;
 }
@@ -51,12 +49,6 @@ Surface sheetFace(int a, int b) {
   return part::bicubicSheet({double(a), double(b)}, [](int, int, double x, double y) {
     return 0.05 * std::sin(9.0 * x + 4.0 * y) * std::cos(7.0 * y);
   });
-}
-
-double seconds(const std::function<void()>& run) {
-  const auto t0 = std::chrono::steady_clock::now();
-  run();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
@@ -80,13 +72,9 @@ int main(int argc, char** argv) {
       std::vector<part::ProjectionFace> listed;
       for (size_t k = 0; k < faces.size(); ++k) listed.push_back({&faces[k], int(k) + 1, false});
       std::optional<part::ProjectionTree> tree;
-      const double build = seconds([&] { tree.emplace(part::ProjectionTree::ofFaces(listed)); });
+      const double build = bench::seconds([&] { tree.emplace(part::ProjectionTree::ofFaces(listed)); });
       const part::ClosestPoints closest(*tree);
-      double best = 1e300;
-      for (int r = 0; r <= o.reps; ++r) {  // the first run untimed
-        const double s = seconds([&] { closest.of(points, feet, false, 0); });
-        if (r > 0) best = std::min(best, s);
-      }
+      const double best = bench::bestSeconds(o.reps, [&] { closest.of(points, feet, false, 0); });
       const int patches = 16 * t * t;
       const double perPoint = 1e6 * best / o.points;
       std::printf("%7d %8d %8zu %9.3f %10.3f %18.4f\n", t * t, patches, tree->cells().size(), build, perPoint,
