@@ -288,14 +288,10 @@ int main(int argc, char** argv) {
   try {
     const Options o = parse(argc, argv);
     cad::initOcctControllers();
-    const fs::path scratch = fs::temp_directory_path() / ("shapespline_part_mesh_bench_" + std::to_string(::getpid()));
-    fs::create_directories(scratch);
     std::printf("part meshes at %.0e of the diagonal, angle %.2f, best of %d, %u threads\n", o.relative, o.angle, o.reps,
                 std::thread::hardware_concurrency());
-    const nlohmann::json rows = bench::benchEachPart(
-        o.parts, scratch, [&](const std::string& name, const fs::path& file) { return benchPart(name, file, o, scratch); });
-    fs::remove_all(scratch);
-    if (!o.json.empty()) std::ofstream(o.json) << rows.dump(1) << "\n";
+    bench::benchEachPart("shapespline_part_mesh_bench", o.parts, o.json, [&](const std::string& name, const fs::path& file,
+                                                       const fs::path& scratch) { return benchPart(name, file, o, scratch); });
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "shapespline_part_mesh_bench: %s\n", e.what());
