@@ -425,8 +425,7 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     }
     for (int k = node.first; k < node.first + node.count; ++k) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
-      double bound = leaf.box.distance2(q);
-      if (leaf.kind == ProjectionTree::LeafKind::Cell) bound = std::max(bound, tree_.cells()[leaf.index].distance2(q));
+      const double bound = leafBound(q, leaf);
       if (within(bound, solved)) push({bound, -1 - k});
     }
   }
@@ -466,8 +465,11 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
     glm::dvec3 n;
     // The local partials point as the global ones do (positive scales): where they are regular,
     // their unit cross product is the surface's normal (docs/math.md §5.3's regular step).
-    if (c.boundary || !unitNormal(c.du, c.dv, n))
-      n = c.boundary ? face.surface->evaluateAt(c.u, c.v).normal : face.surface->evaluate(c.i, c.j, c.lu, c.lv).normal;
+    if (c.boundary) {
+      n = face.surface->evaluateAt(c.u, c.v).normal;
+    } else if (!unitNormal(c.du, c.dv, n)) {
+      n = face.surface->evaluate(c.i, c.j, c.lu, c.lv).normal;
+    }
     return face.reversed ? -n : n;
   };
   foot.face = tree_.faces()[best.face].id;
@@ -494,6 +496,11 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   return foot;
 }
 
+double ClosestPoints::leafBound(const glm::dvec3& q, const ProjectionTree::Leaf& leaf) const {
+  const double box = leaf.box.distance2(q);
+  return leaf.kind == ProjectionTree::LeafKind::Cell ? std::max(box, tree_.cells()[leaf.index].distance2(q)) : box;
+}
+
 std::vector<int> ClosestPoints::cellsWithin(const glm::dvec3& q, double reach2) const {
   std::vector<int> cells;
   thread_local std::vector<int> stack;
@@ -511,7 +518,7 @@ std::vector<int> ClosestPoints::cellsWithin(const glm::dvec3& q, double reach2) 
     for (int k = node.first; k < node.first + node.count; ++k) {
       const ProjectionTree::Leaf& leaf = tree_.leaves()[k];
       if (leaf.kind != ProjectionTree::LeafKind::Cell) continue;
-      if (std::max(leaf.box.distance2(q), tree_.cells()[leaf.index].distance2(q)) <= reach2) cells.push_back(leaf.index);
+      if (leafBound(q, leaf) <= reach2) cells.push_back(leaf.index);
     }
   }
   return cells;

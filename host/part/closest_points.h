@@ -59,7 +59,10 @@ class ClosestPoints {
   void solveRuns(const glm::dvec3& q, int cell, double bestD2, Candidate& out) const;
   void solveRun(const glm::dvec3& q, const ProjectionRun& run, Candidate& out) const;
   void solveSpan(const glm::dvec3& q, const ProjectionSpan& span, Candidate& out) const;
-  // The cells whose bound (the larger of their two boxes' squared distances) is at most reach2:
+  // A leaf's squared lower bound on the distance from q: its box's, and for a cell the larger of
+  // that and its oriented box's.
+  double leafBound(const glm::dvec3& q, const ProjectionTree::Leaf& leaf) const;
+  // The cells whose bound (leafBound) is at most reach2:
   // where the faces that meet at an edge foot lie, for its sign.
   std::vector<int> cellsWithin(const glm::dvec3& q, double reach2) const;
 
