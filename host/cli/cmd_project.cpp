@@ -15,7 +15,6 @@
 #include <shapespline/io/point_cloud.h>
 #include <shapespline/io/projection_writer.h>
 #include <shapespline/io/shard_info.h>
-#include <shapespline/jobs/scheduler_env.h>
 #include <shapespline/jobs/shard_files.h>
 #include <shapespline/jobs/shard_record.h>
 #include <shapespline/part/closest_points.h>
@@ -118,8 +117,7 @@ void runProject(const ProjectArgs& given) {
   const jobs::ShardOutput shardOut = jobs::resolveShardOutput(given.out, given.shard, given.shardCount);
   ProjectArgs a = given;
   a.out = shardOut.out;
-  const jobs::ShardChoice shard = jobs::parseShardOption(given.shard, given.shardCount);
-  const bool sharded = !given.shard.empty();
+  const bool sharded = !shardOut.shard.empty();
   io::projectionFormat(a.out, "-o");  // a bad extension is refused before any work
 
   const auto start = std::chrono::steady_clock::now();
@@ -129,7 +127,7 @@ void runProject(const ProjectArgs& given) {
   loadTarget(a.onto, outputs, target);
   io::PointCloudReader cloud(a.points, "POINTS");
   // Shard K of N: the points floor((K-1) P / N) .. floor(K P / N).
-  const std::uint64_t total = cloud.count(), k = std::uint64_t(shard.index), n = std::uint64_t(shard.count);
+  const std::uint64_t total = cloud.count(), k = std::uint64_t(shardOut.index), n = std::uint64_t(shardOut.count);
   const std::uint64_t first = io::shardBound(total, k - 1, n), count = io::shardBound(total, k, n) - first;
   io::AtomicFile& out = outputs.add(a.out, "-o");
   io::AtomicFile* record = sharded ? &outputs.add(jobs::shardRecordPath(a.out), "-o") : nullptr;
@@ -139,8 +137,8 @@ void runProject(const ProjectArgs& given) {
     want.projection = targetName(target.kind);
     want.surface = target.kind != io::ProjectionTarget::Curve;
     want.format = io::lowercaseExtension(a.out).substr(1);
-    want.shardIndex = shard.index;
-    want.shardCount = shard.count;
+    want.shardIndex = shardOut.index;
+    want.shardCount = shardOut.count;
     want.firstItem = first;
     want.itemCount = want.points = want.vertices = count;
     want.totalItems = total;
@@ -175,7 +173,7 @@ void runProject(const ProjectArgs& given) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!a.quiet) {
     const part::DeviationStats::Summary all = stats.overall();
-    const std::string part = sharded ? " (shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
+    const std::string part = sharded ? " (shard " + shardOut.shard +
                                            ", points " + std::to_string(first) + ".." + std::to_string(first + count) +
                                            " of " + std::to_string(total) + ")"
                                      : "";

@@ -236,6 +236,8 @@ ShardOutput resolveShardOutput(const std::string& out, const std::string& shard,
   const ShardChoice c = parseShardOption(shard, shardCount);
   ShardOutput o;
   o.shard = shard.empty() ? "" : kn(c.index, c.count);
+  o.index = c.index;
+  o.count = c.count;
   o.source = c.source;
   o.out = out;
   if (ShardPattern::looksLikePattern(out)) {

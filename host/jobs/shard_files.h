@@ -16,6 +16,7 @@ namespace shapespline::jobs {
 struct ShardOutput {
   std::string out;    // -o with a shard pattern expanded
   std::string shard;  // "" (unsharded) or "K/N" (--shard K/N or auto resolved)
+  int index = 1, count = 1;  // K and N (1/1 unsharded)
   std::string source; // where K/N came from: "" or "Slurm job array" / "Kubernetes Indexed Job"
 };
 
