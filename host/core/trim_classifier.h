@@ -22,10 +22,21 @@ class TrimClassifier {
 
   bool inside(glm::dvec2 p) const;
 
- private:
   struct Edge {
     glm::dvec2 a, b;
   };
+  // The index as inside() reads it, for a copy that runs elsewhere (the GPU's closest points):
+  // slab s of `slabs` covers v in [v0 + s h, v0 + (s + 1) h) (the first and last reach on) and
+  // lists edges slabEdges[slabStart[s] .. slabStart[s + 1]).
+  const std::vector<Edge>& edges() const { return edges_; }
+  const std::vector<int>& slabStart() const { return slabStart_; }
+  const std::vector<int>& slabEdges() const { return slabEdges_; }
+  double v0() const { return v0_; }
+  double slabHeight() const { return slabHeight_; }
+  double tolerance() const { return tolerance_; }
+  int slabs() const { return slabs_; }
+
+ private:
   int slabOf(double v) const;
 
   std::vector<Edge> edges_;

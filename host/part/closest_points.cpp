@@ -16,14 +16,12 @@ namespace {
 
 constexpr int kMaxNewtonSteps = 60;
 constexpr int kMaxHalvings = 40;
-// Newton stops when a step moves the parameters by less than this, in a piece's local units (the
-// piece's patch is [0, 1]): a few hundred ulps of 1, far below what changes the distance.
-constexpr double kStepTolerance = 1e-14;
+constexpr double kStepTolerance = ClosestPoints::kStepTolerance;
+constexpr double kTrustedStep = ClosestPoints::kTrustedStep;
 // Boundary feet of other faces within this fraction of the diagonal of the best one are the same
 // place (an edge that two faces share meets within their trim tolerance), for the sign.
 constexpr double kSameFootFraction = 1e-6;
-// A foot this near (a fraction of the diagonal) cannot be bettered: the query is on the surface.
-constexpr double kOnSurfaceFraction = 1e-13;
+constexpr double kOnSurfaceFraction = ClosestPoints::kOnSurfaceFraction;
 // A cell that may hold a nearer point than Newton found on it (Newton did not settle, or the query
 // is near a centre of the cell's curvature: the curvature towards the query's side times the
 // distance at least kFocalFraction) gets a second look while its bound is nearer than the best
@@ -104,10 +102,11 @@ double newtonOnSegment(const glm::dvec3& q, double lo, double hi, double& x, glm
   for (int step = 0; step < kMaxNewtonSteps; ++step) {
     const double g = glm::dot(d1, r);
     if ((x <= lo && g > 0.0) || (x >= hi && g < 0.0) || g == 0.0) break;
-    double h = glm::dot(d1, d1) + glm::dot(d2, r);
-    if (!(h > 0.0)) h = glm::dot(d1, d1);
+    const double curvature = glm::dot(d1, d1) + glm::dot(d2, r);
+    const double h = curvature > 0.0 ? curvature : glm::dot(d1, d1);
     double dx = h > 0.0 ? -g / h : (g > 0.0 ? lo - x : hi - x);
     if (std::abs(dx) < kStepTolerance) break;
+    const bool trusted = curvature > 0.0 && std::abs(dx) < kTrustedStep;
     double xn = 0.0, fn = 0.0;
     glm::dvec3 pn, d1n, d2n;
     int halvings = 0;
@@ -115,9 +114,9 @@ double newtonOnSegment(const glm::dvec3& q, double lo, double hi, double& x, glm
       xn = std::clamp(x + dx, lo, hi);
       eval(xn, pn, d1n, d2n);
       fn = glm::dot(pn - q, pn - q);
-      if (fn <= f || ++halvings > kMaxHalvings) break;
+      if (fn <= f || trusted || ++halvings > kMaxHalvings) break;
     }
-    if (fn > f) break;
+    if (fn > f && !trusted) break;
     const double moved = std::abs(xn - x);
     x = xn, p = pn, d1 = d1n, d2 = d2n, r = pn - q, f = fn;
     if (moved < kStepTolerance) break;
@@ -142,7 +141,8 @@ double newtonOnPatch(const ProjectionTree& tree, const ProjectionPatch& patch, c
     // Gauss-Newton's matrix, and Newton's (with the residual's curvature) where it is positive.
     const double a00 = glm::dot(e.u, e.u), a01 = glm::dot(e.u, e.v), a11 = glm::dot(e.v, e.v);
     double h00 = a00 + glm::dot(e.uu, r), h01 = a01 + glm::dot(e.uv, r), h11 = a11 + glm::dot(e.vv, r);
-    if (!(h00 > 0.0 && h00 * h11 - h01 * h01 > 0.0)) h00 = a00, h01 = a01, h11 = a11;
+    const bool curvesUp = h00 > 0.0 && h00 * h11 - h01 * h01 > 0.0;
+    if (!curvesUp) h00 = a00, h01 = a01, h11 = a11;
     // A parameter on its bound with the gradient pushing outwards stays there; so does one on its
     // bound that the step would push out.
     bool held[2] = {(x[0] <= lo[0] && g[0] > 0.0) || (x[0] >= hi[0] && g[0] < 0.0),
@@ -178,7 +178,9 @@ double newtonOnPatch(const ProjectionTree& tree, const ProjectionPatch& patch, c
     }
     dx[0] *= reach, dx[1] *= reach;
     // A step shorter than the tolerance would move nothing that matters: stop without evaluating it.
-    if (std::max(std::abs(dx[0]), std::abs(dx[1])) < kStepTolerance) break;
+    const double stepLength = std::max(std::abs(dx[0]), std::abs(dx[1]));
+    if (stepLength < kStepTolerance) break;
+    const bool trusted = curvesUp && !held[0] && !held[1] && stops < 0 && stepLength < kTrustedStep;
     double xn[2], fn = 0.0;
     LocalPoint en;
     int halvings = 0;
@@ -187,9 +189,9 @@ double newtonOnPatch(const ProjectionTree& tree, const ProjectionPatch& patch, c
       if (halvings == 0 && stops >= 0) xn[stops] = border;
       en = evaluatePatch(tree, patch, xn[0], xn[1]);
       fn = glm::dot(en.p - q, en.p - q);
-      if (fn <= f || ++halvings > kMaxHalvings) break;
+      if (fn <= f || trusted || ++halvings > kMaxHalvings) break;
     }
-    if (fn > f) break;
+    if (fn > f && !trusted) break;
     const double moved = std::max(std::abs(xn[0] - x[0]), std::abs(xn[1] - x[1]));
     x[0] = xn[0], x[1] = xn[1], e = en, r = en.p - q, f = fn;
     if (moved < kStepTolerance) break;
@@ -201,20 +203,6 @@ double newtonOnPatch(const ProjectionTree& tree, const ProjectionPatch& patch, c
 }
 
 }  // namespace
-
-struct ClosestPoints::Candidate {
-  double d2 = std::numeric_limits<double>::infinity();
-  glm::dvec3 point{0.0};
-  double u = 0.0, v = 0.0;  // global parameters
-  int face = 0;             // index into tree.faces()
-  bool boundary = false;
-  // Where the normal is read: the patch and local parameters (cells), or the global ones (runs).
-  int i = 0, j = 0;
-  double lu = 0.0, lv = 0.0;
-  // The local partials at the point where Newton left them there (zero otherwise): their cross
-  // product gives the normal without another evaluation where it is regular.
-  glm::dvec3 du{0.0}, dv{0.0};
-};
 
 ClosestPoints::ClosestPoints(const ProjectionTree& tree, double tolerance) : tree_(tree), tolerance_(tolerance) {
   if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
@@ -355,8 +343,7 @@ void ClosestPoints::solveSpan(const glm::dvec3& q, const ProjectionSpan& span, C
 }
 
 FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
-  FootPoint foot;
-  if (tree_.nodes().empty()) return foot;
+  if (tree_.nodes().empty()) return {};
   constexpr double kNone = std::numeric_limits<double>::infinity();
   Candidate best;
   auto better = [&](const Candidate& c) {
@@ -451,6 +438,12 @@ FootPoint ClosestPoints::of(const glm::dvec3& q, bool signedDistance) const {
   if (best.d2 > onSurface * onSurface)
     for (const auto& [box2, cell] : doubtful)
       if (within(box2, solved)) secondLook(secondLook, tree_.cells()[cell], 1);
+  return finish(q, best, signedDistance);
+}
+
+FootPoint ClosestPoints::finish(const glm::dvec3& q, const Candidate& best, bool signedDistance) const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  FootPoint foot;
   if (best.d2 == kNone) return foot;  // every piece outside its loops
   foot.point = best.point;
   foot.u = best.u;

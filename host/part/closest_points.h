@@ -13,6 +13,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -46,9 +47,39 @@ class ClosestPoints {
   void of(std::span<const glm::dvec3> points, std::span<FootPoint> out, bool signedDistance, int threads) const;
 
   const ProjectionTree& tree() const { return tree_; }
+  double tolerance() const { return tolerance_; }
+
+  // Newton stops when a step moves the parameters by less than this, in a piece's local units (the
+  // piece's patch is [0, 1]): a few hundred ulps of 1, far below what changes the distance.
+  static constexpr double kStepTolerance = 1e-14;
+  // A Newton step shorter than this (local units) where the distance curves up in every direction
+  // is taken even if the distance does not fall: so near the minimum the distance is flat to its
+  // rounding, and a rounding-level rise would stop Newton short of it (off the surface, at
+  // parameters about 1e-9 away).
+  static constexpr double kTrustedStep = 1e-6;
+  // A foot this near (a fraction of the diagonal) cannot be bettered: the query is on the surface.
+  static constexpr double kOnSurfaceFraction = 1e-13;
+
+  // The nearest point a search found (d2 infinite: none, every piece outside its loops).
+  struct Candidate {
+    double d2 = std::numeric_limits<double>::infinity();
+    glm::dvec3 point{0.0};
+    double u = 0.0, v = 0.0;  // global parameters
+    int face = 0;             // index into tree.faces()
+    bool boundary = false;
+    // Where the normal is read: the patch and local parameters (cells), or the global ones (runs).
+    int i = 0, j = 0;
+    double lu = 0.0, lv = 0.0;
+    // The local partials at the point where Newton left them there (zero otherwise): their cross
+    // product gives the normal without another evaluation where it is regular.
+    glm::dvec3 du{0.0}, dv{0.0};
+  };
+  // The foot point of q at the nearest point a search found: the normal, the face's id and, with
+  // `signedDistance`, the sign. Both searches end here: this one's and the GPU's
+  // (part/gpu_closest_points.h).
+  FootPoint finish(const glm::dvec3& q, const Candidate& best, bool signedDistance) const;
 
  private:
-  struct Candidate;
   // Newton from where q falls on the cell's parallelogram, or from the patch parameters `from`;
   // false when it did not settle (see newtonOnPatch). `everySide`: every side on the domain's
   // border is searched, not only the one Newton ended on. A foot outside the face's loops gives way

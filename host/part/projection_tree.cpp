@@ -232,7 +232,8 @@ ProjectionPatch centredPowerOf(const SpanBasis& bu, const SpanBasis& bv, bool ra
   BasisCoefficients cu, cv;
   centred(bu, cu);
   centred(bv, cv);
-  const ProjectionPatch patch{bu.degree, bv.degree, out.size(), rational};
+  ProjectionPatch patch;
+  patch.n = bu.degree, patch.m = bv.degree, patch.first = out.size(), patch.rational = rational;
   const std::vector<glm::dvec4> c = tensorCoefficients(bu, bv, cu, cv, point);
   out.insert(out.end(), c.begin(), c.end());
   return patch;
@@ -363,6 +364,7 @@ ProjectionTree ProjectionTree::ofFaces(std::vector<ProjectionFace> faces) {
         }
         const int patch = static_cast<int>(tree.patches_.size());
         tree.patches_.push_back(centredPowerOf(bu, bv, rational, point, tree.coefficients_));
+        tree.patches_.back().face = static_cast<int>(f), tree.patches_.back().i = i, tree.patches_.back().j = j;
         const size_t before = tree.cells_.size();
         cutPatch(bezierOf(bu, bv, point), static_cast<int>(f), i, j, 0.0, 1.0, 0.0, 1.0, 0, 0, tree.cells_, cellBoxes);
         if (tree.cells_.size() > kMaxCells) refuseSize(tree.cells_.size());

@@ -51,6 +51,7 @@ struct ProjectionFace {
 // and the sums lose few digits; the search evaluates it by Horner's rule (part/closest_points.cpp),
 // with no knot search and no basis recursion.
 struct ProjectionPatch {
+  int face = 0, i = 0, j = 0;  // patch (i, j) of face `face` (a curve: span i)
   int n = 0, m = 0;
   std::size_t first = 0;
   bool rational = false;
