@@ -1,6 +1,7 @@
 #include <shapespline/gpu/kernels.h>
 
 #include <shapespline/shaders/layout.h>
+#include <shapespline/shaders/projection_layout.h>
 #include <shapespline/vk/pipeline_table.h>
 #include "shaders/alpha_eb_vertices_comp.h"
 #include "shaders/alpha_eb_vertices_comp_f64.h"
@@ -14,6 +15,8 @@
 #include "shaders/bspline_surface_eval_comp_f64.h"
 #include "shaders/bspline_surface_grid_comp.h"
 #include "shaders/bspline_surface_grid_comp_f64.h"
+#include "shaders/closest_points_comp.h"
+#include "shaders/closest_points_comp_f64.h"
 #include "shaders/curve_eval_comp.h"
 #include "shaders/curve_grid_comp.h"
 #include "shaders/curve_grid_comp_f64.h"
@@ -184,6 +187,11 @@ const vk::ComputePipeline& KernelSet::pipeline(Kernel kernel, const SpecValues& 
       code = {basis_table_comp, basis_table_comp_f64, {}, {}};
       push = sizeof(layout::TablePush);
       label = "basis_table";
+      break;
+    case Kernel::ClosestPoints:
+      code = {closest_points_comp, closest_points_comp_f64, {}, {}};
+      push = sizeof(projection_layout::ProjectionPush);
+      label = "closest_points";
       break;
   }
   vk::ComputePipelineDesc desc;

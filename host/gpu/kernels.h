@@ -21,7 +21,8 @@
 namespace shapespline::gpu {
 
 enum class Kernel { CurveEval, SurfaceEval, AlphaEBVertices, BasisTable, BSplineCurveEval, BSplineSurfaceEval,
-                    BSplineCurveGrid, BSplineSurfaceGrid, SurfaceGrid, CurveGrid, TessellateGrid, AdaptiveRates, AdaptiveLayout, AdaptiveMesh };
+                    BSplineCurveGrid, BSplineSurfaceGrid, SurfaceGrid, CurveGrid, TessellateGrid, AdaptiveRates, AdaptiveLayout, AdaptiveMesh,
+                    ClosestPoints };
 
 // Bytes of one REAL.
 inline size_t realSize(Precision p) { return p == Precision::Double ? 8 : 4; }
