@@ -1,6 +1,7 @@
 // `shapespline project POINTS --onto MODEL|part.json -o OUT`: the closest point on a surface, a
 // part or a curve of every point of a cloud (docs/cli.md "project", docs/math.md "Closest points"),
-// a block of points at a time, on every core, in fp64 on the CPU; `--report` prints the deviation
+// a block of points at a time, on every core, in fp64 on the CPU, or with the search on a Vulkan
+// device (`--device vulkan`: part/gpu_closest_points.h, a curve stays on the CPU); `--report` prints the deviation
 // statistics. `--shard K/N|auto` projects the K-th of N equal runs of the cloud's points and writes
 // its record OUT.shard.json; `merge` joins the shards into the unsharded job's bytes.
 #include <shapespline/cli/common.h>
@@ -18,8 +19,10 @@
 #include <shapespline/jobs/shard_files.h>
 #include <shapespline/jobs/shard_record.h>
 #include <shapespline/part/closest_points.h>
+#include <shapespline/part/gpu_closest_points.h>
 #include <shapespline/part/deviation_stats.h>
 #include <shapespline/part/part_model.h>
+#include <shapespline/sampling/session.h>
 
 #include <CLI/CLI.hpp>
 
@@ -39,6 +42,8 @@ constexpr std::size_t kProjectBlockPoints = std::size_t{1} << 18;
 
 struct ProjectArgs {
   std::string points, onto, out, shard, shardCount;
+  std::string device = "cpu", precision = "double";
+  bool requireDevice = false;
   int threads = 0;
   std::optional<double> tolerance;
   bool report = false, quiet = false;
@@ -98,8 +103,8 @@ std::string endsSha256(const std::string& path) {
 // Every shard of one projection job has this fingerprint: what is projected (the cloud's size,
 // count and ends), onto what (the bytes of the model, or of part.json and every face file), how
 // (the tolerance) and into which format.
-std::string projectionJob(const ProjectArgs& a, const Target& t, std::uint64_t points) {
-  std::string text = "shapespline project\ntarget " + std::string(targetName(t.kind)) + "\nformat " +
+std::string projectionJob(const ProjectArgs& a, const Target& t, std::uint64_t points, const std::string& path) {
+  std::string text = "shapespline project\ntarget " + std::string(targetName(t.kind)) + "\npath " + path + "\nformat " +
                      io::lowercaseExtension(a.out) + "\ntolerance " +
                      (a.tolerance ? shortestText(*a.tolerance) : std::string("exact")) + "\npoints " +
                      std::to_string(points) + " bytes " + std::to_string(std::filesystem::file_size(a.points)) +
@@ -125,6 +130,20 @@ void runProject(const ProjectArgs& given) {
   outputs.reads(a.points, "POINTS");
   Target target;
   loadTarget(a.onto, outputs, target);
+  // The search's device: the CPU (the default, exact in fp64), or Vulkan where the request can use
+  // it; a curve is projected on the CPU.
+  const sampling::DeviceRequest request = parseDeviceRequest(a.device, a.precision, a.requireDevice);
+  sampling::Session session;
+  sampling::Report plan = session.planDevice(request);
+  if (plan.gpu && target.kind == io::ProjectionTarget::Curve) {
+    if (a.requireDevice) throw sampling::DeviceError("closest points on a curve run on the CPU only", true);
+    plan = {};
+    plan.fallbacks.push_back("closest points on a curve run on the CPU");
+  }
+  if (!plan.gpu) plan.outputPrecision = plan.computedPrecision;  // the feet are written in fp64 either way
+  printNotices(plan, a.quiet);
+  const std::string path = plan.gpu ? "vulkan " + std::string(plan.computedPrecision == Precision::Double ? "fp64" : "fp32")
+                                    : "cpu";
   io::PointCloudReader cloud(a.points, "POINTS");
   // Shard K of N: the points floor((K-1) P / N) .. floor(K P / N).
   const std::uint64_t total = cloud.count(), k = std::uint64_t(shardOut.index), n = std::uint64_t(shardOut.count);
@@ -133,7 +152,7 @@ void runProject(const ProjectArgs& given) {
   io::AtomicFile* record = sharded ? &outputs.add(jobs::shardRecordPath(a.out), "-o") : nullptr;
   jobs::ShardRecord want;
   if (record) {
-    want.job = projectionJob(a, target, total);
+    want.job = projectionJob(a, target, total, path);
     want.projection = targetName(target.kind);
     want.surface = target.kind != io::ProjectionTarget::Curve;
     want.format = io::lowercaseExtension(a.out).substr(1);
@@ -148,15 +167,22 @@ void runProject(const ProjectArgs& given) {
   const std::unique_ptr<io::ProjectionWriter> writer = io::makeProjectionWriter(out, a.out, "-o", target.kind, count);
 
   const part::ClosestPoints closest(*target.tree, a.tolerance.value_or(0.0));
+  std::optional<part::GpuClosestPoints> gpu;
+  if (plan.gpu) gpu.emplace(closest, session.vulkanContext(), plan.computedPrecision);
   const bool signedDistance = target.kind != io::ProjectionTarget::Curve;
   part::DeviationStats stats;
+  std::uint64_t redone = 0;  // GPU searches past the kernel's budget, done again on the CPU
   std::vector<glm::dvec3> block;
   std::vector<part::FootPoint> feet;
   std::vector<io::ProjectionRecord> records;
   for (std::uint64_t left = count; left > 0 && cloud.next(block, std::min<std::uint64_t>(left, kProjectBlockPoints));
        left -= block.size()) {
     feet.resize(block.size());
-    closest.of(block, feet, signedDistance, a.threads);
+    if (gpu) {
+      gpu->of(block, feet, signedDistance, a.threads);
+      redone += gpu->redone();
+    } else
+      closest.of(block, feet, signedDistance, a.threads);
     records.resize(block.size());
     for (std::size_t k = 0; k < block.size(); ++k) {
       const part::FootPoint& f = feet[k];
@@ -177,9 +203,11 @@ void runProject(const ProjectArgs& given) {
                                            ", points " + std::to_string(first) + ".." + std::to_string(first + count) +
                                            " of " + std::to_string(total) + ")"
                                      : "";
-    std::printf("projected %llu points%s onto %s in %.3f s; distance max %.6g, mean %.6g\n",
-                static_cast<unsigned long long>(all.count), part.c_str(), target.what.c_str(), seconds, all.max,
-                all.mean);
+    std::printf("projected %llu points%s onto %s in %.3f s (%s); distance max %.6g, mean %.6g\n",
+                static_cast<unsigned long long>(all.count), part.c_str(), target.what.c_str(), seconds,
+                plan.gpu ? (plan.device + ", " + path.substr(7) + (redone ? ", " + std::to_string(redone) + " searched again on the CPU" : "")).c_str()
+                         : "cpu fp64",
+                all.max, all.mean);
   }
   if (a.report) std::fputs(stats.text(target.kind == io::ProjectionTarget::Part).c_str(), stdout);
 }
@@ -189,7 +217,7 @@ void runProject(const ProjectArgs& given) {
 void registerProject(CLI::App& app) {
   auto args = std::make_shared<ProjectArgs>();
   CLI::App* sub = app.add_subcommand(
-      "project", "Closest points: each point of a cloud onto a surface, a part or a curve (fp64, CPU).");
+      "project", "Closest points: each point of a cloud onto a surface, a part or a curve (fp64 CPU, or Vulkan).");
   sub->add_option("POINTS", args->points, "the cloud: .npy (N, 3), .ply, .csv, .f32 or .f64")->required();
   sub->add_option("--onto", args->onto, "a model file (surface or curve) or a part's part.json")->required();
   sub->add_option("-o,--output", args->out, "the feet: .npy, .f64, .csv or .ply (docs/cli.md \"project\")")->required();
@@ -198,6 +226,12 @@ void registerProject(CLI::App& app) {
                   "accept a foot within this distance (model units, > 0) of the nearest: faster near the surface; "
                   "default exact");
   sub->add_option("--threads", args->threads, "threads (0 = one per CPU this process may use)");
+  sub->add_option("--device", args->device,
+                  "cpu (default: exact, fp64), vulkan or auto: the search on the GPU, each foot finished on the "
+                  "CPU, falling back to the CPU with a notice (a curve always runs on the CPU)");
+  sub->add_option("--precision", args->precision, "the GPU search's float or double (default double)");
+  sub->add_flag("--require-device", args->requireDevice,
+                "with --device auto or vulkan: fail (exit 3) instead of falling back to the CPU");
   addShardOptions(sub, args->shard, args->shardCount, "project the K-th (1-based) of N equal runs of the cloud's points");
   addQuietFlag(sub, args->quiet, "no summary line");
   sub->callback([args] { runProject(*args); });

@@ -924,14 +924,16 @@ PYBIND11_MODULE(shapespline, m) {
           "field), produced by a thread in bounded memory.")
       .def(
           "project",
-          [](CurveHandle& h, py::handle points, int threads, std::optional<double> tolerance) {
+          [](CurveHandle& h, py::handle points, int threads, std::optional<double> tolerance, const std::string& device,
+             const std::string& precision, bool require) {
             const std::shared_ptr<const Curve> curve = h.model();
             const part::ProjectionTree tree = part::ProjectionTree::ofCurve(*curve);
-            return projectPoints(tree, points, threads, tolerance, false);
+            return projectPoints(tree, points, threads, tolerance, false, device, precision, require);
           },
           py::arg("points"), py::kw_only(), py::arg("threads") = 0, py::arg("tolerance") = py::none(),
+          py::arg("device") = "cpu", py::arg("precision") = "double", py::arg("require") = false,
           "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the curve: a dict "
-          "of point (n, 3), t (n,) and distance (n,), fp64, CPU.")
+          "of point (n, 3), t (n,) and distance (n,), fp64, on the CPU (a GPU device is refused with require=True).")
       .def("evaluate", &curveEvaluate, py::arg("params") = py::none(), py::kw_only(), py::arg("span") = py::none(),
            py::arg("t") = py::none(), py::arg("device") = "auto", py::arg("precision") = "double",
            py::arg("require") = false, py::arg("report") = false, py::arg("fields") = py::none(),
@@ -1073,15 +1075,18 @@ PYBIND11_MODULE(shapespline, m) {
            "run the lean list kernel.")
       .def(
           "project",
-          [](SurfaceHandle& h, py::handle points, int threads, std::optional<double> tolerance) {
+          [](SurfaceHandle& h, py::handle points, int threads, std::optional<double> tolerance, const std::string& device,
+             const std::string& precision, bool require) {
             const std::shared_ptr<const Surface> surface = h.model();
             const part::ProjectionTree tree = part::ProjectionTree::ofFaces({{surface.get(), 0, false}});
-            return projectPoints(tree, points, threads, tolerance, false);
+            return projectPoints(tree, points, threads, tolerance, false, device, precision, require);
           },
           py::arg("points"), py::kw_only(), py::arg("threads") = 0, py::arg("tolerance") = py::none(),
+          py::arg("device") = "cpu", py::arg("precision") = "double", py::arg("require") = false,
           "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the surface "
           "(inside its trim loops, if it has any): a dict of point (n, 3), uv (n, 2) (global U, V), distance (n,), "
-          "signed_distance (n,) (the side of the normal) and normal (n, 3), fp64, CPU.")
+          "signed_distance (n,) (the side of the normal) and normal (n, 3); fp64 on the CPU by default, device='auto' or "
+          "'vulkan': the search on the GPU in precision, each foot finished on the CPU.")
       .def("tessellate", &tessellate, py::arg("rate") = 8, py::kw_only(), py::arg("device") = "auto",
            py::arg("precision") = "float", py::arg("require") = false, py::arg("report") = false,
            "Watertight triangle mesh: (vertices (V, 8) float32 [x y z nx ny nz U V], indices (T, 3) uint32).")

@@ -215,14 +215,17 @@ void bindPart(py::module_& m) {
            "(K, 3) ('point' by default; float32 with precision='float'). report=True: (dict, Report).")
       .def(
           "project",
-          [](PartHandle& h, py::handle points, int threads, std::optional<double> tolerance) {
+          [](PartHandle& h, py::handle points, int threads, std::optional<double> tolerance, const std::string& device,
+             const std::string& precision, bool require) {
             std::call_once(h.treeBuilt, [&] { h.tree = std::make_unique<part::ProjectionTree>(part::ProjectionTree::ofPart(h.part)); });
-            return projectPoints(*h.tree, points, threads, tolerance, true);
+            return projectPoints(*h.tree, points, threads, tolerance, true, device, precision, require);
           },
           py::arg("points"), py::kw_only(), py::arg("threads") = 0, py::arg("tolerance") = py::none(),
+          py::arg("device") = "cpu", py::arg("precision") = "double", py::arg("require") = false,
           "Closest points (docs/math.md §15): for each row of points (n, 3), the nearest point of the part's faces "
           "inside their trim loops: a dict of point (n, 3), uv (n, 2), face_ids (n,) int32, distance (n,), "
-          "signed_distance (n,) (outside positive on a closed part) and normal (n, 3), fp64, CPU.")
+          "signed_distance (n,) (outside positive on a closed part) and normal (n, 3); fp64 on the CPU by default, "
+          "device='auto' or 'vulkan': the search on the GPU in precision, each foot finished on the CPU.")
       .def("__repr__", [](const PartHandle& h) {
         return "<shapespline.Part " + h.dir.string() + ": " + std::to_string(h.part.faces.size()) + " faces, " +
                std::to_string(h.part.edges.size()) + " edges>";

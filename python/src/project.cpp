@@ -1,8 +1,11 @@
 #include "project.h"
 
 #include "convert.h"
+#include "handle.h"
 
 #include <shapespline/part/closest_points.h>
+#include <shapespline/part/gpu_closest_points.h>
+#include <shapespline/sampling/session.h>
 
 #include <pybind11/numpy.h>
 
@@ -15,7 +18,8 @@ namespace shapespline::python {
 namespace py = pybind11;
 
 py::dict projectPoints(const part::ProjectionTree& tree, py::handle points, int threads, std::optional<double> tolerance,
-                       bool part) {
+                       bool part, const std::string& device, const std::string& precision, bool require) {
+  const sampling::DeviceRequest request = deviceRequest(device, precision, require);
   if (tolerance && !(std::isfinite(*tolerance) && *tolerance > 0.0))
     argumentError("tolerance", "must be a finite distance > 0 in the model's units (None: exact)", std::to_string(*tolerance));
   const DArray a = asArray(points, "points");
@@ -35,7 +39,14 @@ py::dict projectPoints(const part::ProjectionTree& tree, py::handle points, int 
   std::vector<part::FootPoint> feet(n);
   {
     py::gil_scoped_release release;
-    part::ClosestPoints(tree, tolerance.value_or(0.0)).of(queries, feet, !curve, threads);
+    const part::ClosestPoints closest(tree, tolerance.value_or(0.0));
+    const sampling::Report plan = curve ? sampling::Report{} : session().planDevice(request);
+    if (curve && request.device != sampling::DeviceKind::Cpu && request.require)
+      throw sampling::DeviceError("closest points on a curve run on the CPU only", true);
+    if (plan.gpu)
+      part::GpuClosestPoints(closest, session().vulkanContext(), plan.computedPrecision).of(queries, feet, !curve, threads);
+    else
+      closest.of(queries, feet, !curve, threads);
   }
   py::array_t<double> foot({n, size_t{3}}), distance(n);
   py::array_t<double> uv = curve ? py::array_t<double>(n) : py::array_t<double>({n, size_t{2}});

@@ -77,3 +77,26 @@ def test_bad_tolerance_names_it(tmp_path, tolerance):
     with pytest.raises(ValueError) as e:
         part.project(np.zeros((1, 3)), tolerance=tolerance)
     assert "tolerance" in str(e.value)
+
+
+def test_vulkan_search_gives_the_cpu_feet(tmp_path, gpu):
+    # The search on the device, each foot finished on the CPU: fp64 the CPU's distances to 1e-12 of
+    # the part's size, fp32 within 64 ulps of it (docs/math.md "Closest points", on the GPU).
+    part = ss.load_part(str(write_cube(tmp_path)))
+    rng = np.random.default_rng(9)
+    q = rng.uniform(-1.0, 3.0, (2000, 3))
+    cpu = part.project(q)
+    for precision, bound in [("double", 1e-12), ("float", 64 * 2.0 ** -24)]:
+        if precision == "double" and not gpu["fp64"]:
+            continue
+        dev = part.project(q, device="vulkan", precision=precision, require=True)
+        assert np.max(np.abs(dev["distance"] - cpu["distance"])) <= bound * part.diagonal
+        assert np.all(np.isfinite(dev["normal"]))
+
+
+def test_curve_search_stays_on_the_cpu():
+    c = ss.Curve(np.array(CIRCLE, float), construction="bspline", order=3, knots=CIRCLE_KNOTS, weights=CIRCLE_W)
+    q = np.array([[2.0, 0.0, 0.0]])
+    assert c.project(q, device="auto")["distance"][0] == pytest.approx(1.0, abs=1e-12)
+    with pytest.raises(RuntimeError, match="curve run on the CPU only"):
+        c.project(q, device="vulkan", require=True)

@@ -3,7 +3,8 @@
 // come back at distance ~0 with their own (U, V), --report prints the statistics, and bad input
 // exits 2 naming the file and the rule with nothing written. Shards (--shard K/N, auto, a pattern in
 // -o) merge into the unsharded job's bytes in every format; a rerun shard that verifies is left as
-// it is; shards that do not belong together are refused by merge.
+// it is; shards that do not belong together are refused by merge. `--device vulkan` gives the CPU's
+// feet (fp64 to 1e-12 of the part's size, fp32 within its bound); a curve stays on the CPU.
 #include "cli_runner.h"
 #include "handmade_part.h"
 #include "output_checks.h"
@@ -54,6 +55,33 @@ TEST_F(Project, EveryCloudFormatGivesTheSameFeet) {
     ASSERT_EQ(r.rc, 0) << cloud << "\n" << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
     EXPECT_EQ(readText(dir_ / (std::string(cloud) + ".f64")), readText(dir_ / "cloud.npy.f64")) << cloud;
+  }
+}
+
+// The search on the Vulkan device: the same distances as the CPU's (fp64 to 1e-12 of the part's
+// diagonal, fp32 to 64 ulps of it: tests/part/closest_points_gpu_test.cpp), the same faces where the
+// CPU's foot is clearly nearer than any other face's, and the path named in the summary.
+TEST_F(Project, VulkanSearchGivesTheCpuFeet) {
+  REQUIRE_VULKAN();
+  expectPythonOk(dir_, kWriteClouds, {});
+  const CliResult cpu = project("cloud.npy", "cpu.npy", "");
+  ASSERT_EQ(cpu.rc, 0) << cpu.err;
+  EXPECT_TRUE(contains(cpu.out, "(cpu fp64)")) << cpu.out;
+  for (const char* precision : {"double", "float"}) {
+    const std::string out = std::string("gpu_") + precision + ".npy";
+    const CliResult gpu = project("cloud.npy", out, std::string("--device vulkan --require-device --precision ") + precision);
+    ASSERT_EQ(gpu.rc, 0) << gpu.err;
+    EXPECT_TRUE(contains(gpu.out, precision == std::string("double") ? "fp64)" : "fp32)")) << gpu.out;
+    expectPythonOk(dir_, R"(
+import numpy as np, sys
+a, b = np.load('cpu.npy'), np.load(sys.argv[1])
+diag = np.linalg.norm(a['point'].max(axis=0) - a['point'].min(axis=0))  # at most the part's diagonal
+bound = (1e-12 if sys.argv[2] == 'double' else 64 * 2.0**-24) * diag
+gap = np.abs(a['distance'] - b['distance'])
+assert gap.max() <= bound, (gap.max(), bound)
+assert np.all(np.isfinite(b['point'])) and np.all(np.isfinite(b['normal']))
+print('OK')
+)", {out, precision});
   }
 }
 
