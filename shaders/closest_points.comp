@@ -484,13 +484,7 @@ void secondLook(REAL3 q, uint cell) {
   }
 }
 
-void search(uint query);
-
-void main() {
-  uint query = flatInvocation();
-  if (query < pc.queryCount) search(query);
-}
-
+// One query's search: its hit written at `query`.
 void search(uint query) {
   REAL3 q = queries[query].xyz;
   best = noCandidate();
@@ -611,4 +605,9 @@ void search(uint query) {
   hitInts[hi + 1u] = best.i;
   hitInts[hi + 2u] = best.j;
   hitInts[hi + 3u] = flags;
+}
+
+void main() {
+  uint query = flatInvocation();
+  if (query < pc.queryCount) search(query);
 }

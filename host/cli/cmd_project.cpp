@@ -1,8 +1,8 @@
 // `shapespline project POINTS --onto MODEL|part.json -o OUT`: the closest point on a surface, a
 // part or a curve of every point of a cloud (docs/cli.md "project", docs/math.md "Closest points"),
 // a block of points at a time, on every core, in fp64 on the CPU, or with the search on a Vulkan
-// device (`--device vulkan`: part/gpu_closest_points.h, a curve stays on the CPU); `--report` prints the deviation
-// statistics. `--shard K/N|auto` projects the K-th of N equal runs of the cloud's points and writes
+// device (`--device vulkan`: part/gpu_closest_points.h; a curve stays on the CPU); `--report`
+// prints the deviation statistics. `--shard K/N|auto` projects the K-th of N equal runs of the cloud's points and writes
 // its record OUT.shard.json; `merge` joins the shards into the unsharded job's bytes.
 #include <shapespline/cli/common.h>
 #include <shapespline/cli/part_mesh_options.h>
@@ -19,8 +19,8 @@
 #include <shapespline/jobs/shard_files.h>
 #include <shapespline/jobs/shard_record.h>
 #include <shapespline/part/closest_points.h>
-#include <shapespline/part/gpu_closest_points.h>
 #include <shapespline/part/deviation_stats.h>
+#include <shapespline/part/gpu_closest_points.h>
 #include <shapespline/part/part_model.h>
 #include <shapespline/sampling/session.h>
 
@@ -102,7 +102,7 @@ std::string endsSha256(const std::string& path) {
 
 // Every shard of one projection job has this fingerprint: what is projected (the cloud's size,
 // count and ends), onto what (the bytes of the model, or of part.json and every face file), how
-// (the tolerance) and into which format.
+// (the path, CPU or Vulkan and its precision, and the tolerance) and into which format.
 std::string projectionJob(const ProjectArgs& a, const Target& t, std::uint64_t points, const std::string& path) {
   std::string text = "shapespline project\ntarget " + std::string(targetName(t.kind)) + "\npath " + path + "\nformat " +
                      io::lowercaseExtension(a.out) + "\ntolerance " +
@@ -181,8 +181,9 @@ void runProject(const ProjectArgs& given) {
     if (gpu) {
       gpu->of(block, feet, signedDistance, a.threads);
       redone += gpu->redone();
-    } else
+    } else {
       closest.of(block, feet, signedDistance, a.threads);
+    }
     records.resize(block.size());
     for (std::size_t k = 0; k < block.size(); ++k) {
       const part::FootPoint& f = feet[k];
@@ -203,10 +204,13 @@ void runProject(const ProjectArgs& given) {
                                            ", points " + std::to_string(first) + ".." + std::to_string(first + count) +
                                            " of " + std::to_string(total) + ")"
                                      : "";
+    std::string how = "cpu fp64";
+    if (plan.gpu) {
+      how = plan.device + ", " + (plan.computedPrecision == Precision::Double ? "fp64" : "fp32");
+      if (redone > 0) how += ", " + std::to_string(redone) + " searched again on the CPU";
+    }
     std::printf("projected %llu points%s onto %s in %.3f s (%s); distance max %.6g, mean %.6g\n",
-                static_cast<unsigned long long>(all.count), part.c_str(), target.what.c_str(), seconds,
-                plan.gpu ? (plan.device + ", " + path.substr(7) + (redone ? ", " + std::to_string(redone) + " searched again on the CPU" : "")).c_str()
-                         : "cpu fp64",
+                static_cast<unsigned long long>(all.count), part.c_str(), target.what.c_str(), seconds, how.c_str(),
                 all.max, all.mean);
   }
   if (a.report) std::fputs(stats.text(target.kind == io::ProjectionTarget::Part).c_str(), stdout);

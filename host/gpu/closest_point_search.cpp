@@ -16,7 +16,7 @@ namespace pl = projection_layout;
 
 namespace {
 
-// A buffer holding `bytes` (at least 16) for the kernel to read, uploaded; std::length_error naming
+// A buffer holding `bytes` for the kernel to read, uploaded; std::length_error naming
 // `what` past the device's storage-buffer range.
 vk::Buffer uploaded(KernelSet& k, std::span<const std::byte> bytes, const char* what) {
   const uint64_t limit = k.context().limits().maxStorageBufferRange;
@@ -105,7 +105,6 @@ void ClosestPointSearch::search(std::span<const glm::dvec3> queries, std::span<P
       h.local = {r[6], r[7]};
       h.du = {r[8], r[9], r[10]};
       h.dv = {r[11], r[12], r[13]};
-      h.debug = r[14];
       h.face = i[0], h.i = i[1], h.j = i[2], h.flags = i[3];
     }
   }

@@ -39,7 +39,6 @@ struct ProjectionHit {
   glm::dvec2 uv{0.0};     // relative to the face's domain's low corner
   glm::dvec2 local{0.0};  // in patch (i, j)
   glm::dvec3 du{0.0}, dv{0.0};
-  double debug = 0;
   uint32_t face = 0, i = 0, j = 0, flags = 0;  // flags: projection_layout kHit*
 };
 

@@ -8,10 +8,17 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 
 namespace shapespline::part {
 
 namespace pl = gpu::projection_layout;
+
+namespace {
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
 
 GpuClosestPoints::GpuClosestPoints(const ClosestPoints& cpu, std::shared_ptr<vk::Context> ctx, Precision precision,
                                    gpu::EvaluatorOptions options)
@@ -66,6 +73,12 @@ void GpuClosestPoints::of(std::span<const glm::dvec3> points, std::span<FootPoin
           c.i = static_cast<int>(h.i), c.j = static_cast<int>(h.j);
           c.lu = std::clamp(h.local.x, 0.0, 1.0), c.lv = std::clamp(h.local.y, 0.0, 1.0);
           c.du = h.du, c.dv = h.dv;
+          // A value fp32 could not hold (a part far beyond its range): the CPU's search instead.
+          if (!finite(c.point) || !finite(c.du) || !finite(c.dv) || !finite({c.u, c.v, c.lu + c.lv})) {
+            out[first + k] = cpu_.of(q, signedDistance);
+            ++redone;
+            continue;
+          }
         }
         out[first + k] = cpu_.finish(q, c, signedDistance);
       }

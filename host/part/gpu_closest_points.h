@@ -34,7 +34,8 @@ class GpuClosestPoints {
 
   // out[k] = the foot of points[k], finished on `threads` threads (0: every core).
   void of(std::span<const glm::dvec3> points, std::span<FootPoint> out, bool signedDistance, int threads);
-  // How many queries the last of() searched again on the CPU (past the kernel's stack or loop budget).
+  // How many queries the last of() searched again on the CPU (past the kernel's stack or loop budget,
+  // or a value fp32 could not hold).
   size_t redone() const { return redone_; }
 
  private:

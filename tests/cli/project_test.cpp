@@ -71,7 +71,7 @@ TEST_F(Project, VulkanSearchGivesTheCpuFeet) {
     const std::string out = std::string("gpu_") + precision + ".npy";
     const CliResult gpu = project("cloud.npy", out, std::string("--device vulkan --require-device --precision ") + precision);
     ASSERT_EQ(gpu.rc, 0) << gpu.err;
-    EXPECT_TRUE(contains(gpu.out, precision == std::string("double") ? "fp64)" : "fp32)")) << gpu.out;
+    EXPECT_TRUE(contains(gpu.out, precision == std::string("double") ? ", fp64" : ", fp32")) << gpu.out;
     expectPythonOk(dir_, R"(
 import numpy as np, sys
 a, b = np.load('cpu.npy'), np.load(sys.argv[1])
