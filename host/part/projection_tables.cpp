@@ -103,7 +103,6 @@ FlatProjectionTree flattenProjectionTree(const ProjectionTree& tree, double tole
                              runStart[c + 1], borders, 0u});
   }
 
-  // Patches, their power forms moved to the origin: (w P, w) -> (w (P - o), w), term by term.
   // Patches, padded with zeros to the largest degrees (the kernel's Horner loops have constant
   // counts), their power forms moved to the origin: (w P, w) -> (w (P - o), w), term by term. At
   // least bicubic: one compiled kernel serves every part of degree 3 or less (lavapipe takes tens of
